@@ -1,0 +1,35 @@
+//! Brute force: every shape for every ray. Slow, obviously right: the reference the other
+//! intersectors are tested against.
+
+use super::Hit;
+use crate::math::Ray;
+use crate::scene::Shape;
+
+pub struct ListAccel<'s> {
+    shapes: &'s [Shape],
+}
+
+impl<'s> ListAccel<'s> {
+    pub fn new(shapes: &'s [Shape]) -> ListAccel<'s> {
+        ListAccel { shapes }
+    }
+
+    pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut t_best = t_max;
+        for (i, s) in self.shapes.iter().enumerate() {
+            if let Some(t) = s.intersect(ray, t_best) {
+                t_best = t;
+                best = Some(Hit { t, shape: i as u32 });
+            }
+        }
+        best
+    }
+
+    pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
+        self.shapes
+            .iter()
+            .enumerate()
+            .any(|(i, s)| blocks(i as u32) && s.intersect(ray, t_max).is_some())
+    }
+}

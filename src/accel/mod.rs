@@ -1,0 +1,94 @@
+//! Ray queries over a scene's shapes: the closest hit, and whether a shadow ray is
+//! blocked. One enum over the intersectors keeps the per-ray path free of dynamic
+//! dispatch; every intersector must give the answers of [`ListAccel`], the reference.
+
+mod list;
+mod octree;
+
+pub use list::ListAccel;
+pub use octree::Octree;
+
+use crate::math::Ray;
+use crate::scene::Shape;
+use std::fmt;
+use std::str::FromStr;
+
+/// The closest intersection found: distance along the (unit) ray and the shape index.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub shape: u32,
+}
+
+/// Which intersector to build.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AccelKind {
+    /// Every ray against every shape: the reference.
+    List,
+    /// The report's octree (section 2.4), with its fixes.
+    #[default]
+    Octree,
+}
+
+impl AccelKind {
+    pub const ALL: [AccelKind; 2] = [AccelKind::List, AccelKind::Octree];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            AccelKind::List => "list",
+            AccelKind::Octree => "octree",
+        }
+    }
+}
+
+impl fmt::Display for AccelKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for AccelKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        AccelKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| format!("unknown intersector `{s}`: expected list or octree"))
+    }
+}
+
+/// An intersector built over a slice of shapes.
+pub enum Accel<'s> {
+    List(ListAccel<'s>),
+    Octree(Octree<'s>),
+}
+
+impl<'s> Accel<'s> {
+    pub fn build(kind: AccelKind, shapes: &'s [Shape]) -> Accel<'s> {
+        match kind {
+            AccelKind::List => Accel::List(ListAccel::new(shapes)),
+            AccelKind::Octree => Accel::Octree(Octree::build(shapes)),
+        }
+    }
+
+    /// The nearest hit with `0 < t < t_max`.
+    #[inline]
+    pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        match self {
+            Accel::List(a) => a.closest(ray, t_max),
+            Accel::Octree(a) => a.closest(ray, t_max),
+        }
+    }
+
+    /// Whether a shape for which `blocks(shape)` holds is hit with `0 < t < t_max`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
+        match self {
+            Accel::List(a) => a.occluded(ray, t_max, blocks),
+            Accel::Octree(a) => a.occluded(ray, t_max, blocks),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

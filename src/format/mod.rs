@@ -1,0 +1,206 @@
+//! Scene, material and camera files in, plain [`Scene`] and [`Camera`] data out.
+//!
+//! The 2014 formats: [`objx`] (scene), [`mtlx`] (materials, named by the scene's
+//! `mtllib`) and [`cmr`] (camera). Each has a `load(path)` that reads files and a
+//! `parse(text, path, ...)` that works on text in memory, for tests and fuzzing.
+//!
+//! Every error is a [`crate::Error`] naming the file and the 1-based line, and saying
+//! what was expected and what was found (`scene.objx:12: expected a number for the
+//! radius, found `abc``). A file that cannot be read is an [`crate::Error::File`].
+//! No input makes a parser panic, overflow or hang.
+//!
+//! Relative paths inside a file (`mtllib`, textures) are resolved against the folder of
+//! the file that names them, never the working directory.
+//!
+//! Dialects: for now the 2014 dialect is used for every scene file. A standard Wavefront
+//! OBJ dialect will come later, chosen by the extension `.obj` (`.objx` is always 2014);
+//! [`SceneDialect`] is where it slots in.
+
+pub mod cmr;
+pub mod mtlx;
+pub mod objx;
+mod text;
+
+use std::path::Path;
+
+use crate::Result;
+use crate::scene::{Camera, Scene};
+
+/// The dialects a scene file can be written in.
+///
+/// Only the 2014 dialect exists for now, so it is used for every scene file. The
+/// standard Wavefront OBJ dialect will be a second variant: [`SceneDialect::for_path`]
+/// will then pick it for the extension `.obj`, while `.objx` always stays 2014, and
+/// [`load_scene_as`] lets a command-line flag override the choice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SceneDialect {
+    /// The course report's `.objx` + `.mtlx` (see [`objx`]).
+    Objx2014,
+}
+
+impl SceneDialect {
+    /// The dialect of a scene file, told by its name. Today always [`Self::Objx2014`].
+    pub fn for_path(_path: &Path) -> SceneDialect {
+        SceneDialect::Objx2014
+    }
+}
+
+/// Reads a scene file with the dialect [`SceneDialect::for_path`] picks (for now the
+/// 2014 dialect for every file), with its material files and textures.
+pub fn load_scene(path: &Path) -> Result<Scene> {
+    load_scene_as(path, SceneDialect::for_path(path))
+}
+
+/// Reads a scene file in the given dialect, whatever its name.
+pub fn load_scene_as(path: &Path, dialect: SceneDialect) -> Result<Scene> {
+    match dialect {
+        SceneDialect::Objx2014 => objx::load(path),
+    }
+}
+
+/// Reads a 2014 camera file (`.cmr`).
+pub fn load_camera(path: &Path) -> Result<Camera> {
+    cmr::load(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{FillMode, Shape};
+    use std::path::PathBuf;
+
+    /// `to` written relative to the working directory, so a test can load a file by a
+    /// relative path without changing the (process-wide) working directory.
+    fn relative_to_cwd(to: &Path) -> PathBuf {
+        let cwd = std::env::current_dir().unwrap();
+        let mut rel = PathBuf::new();
+        for _ in cwd.components().skip(1) {
+            rel.push("..");
+        }
+        rel.join(to.strip_prefix("/").unwrap())
+    }
+
+    #[test]
+    fn paths_resolve_against_the_folder_of_the_file_that_names_them() {
+        let root = tempfile::tempdir().unwrap();
+        let scenes = root.path().join("scenes");
+        std::fs::create_dir_all(scenes.join("mats/tex")).unwrap();
+        // A 2x1 image: red then blue.
+        let mut png = image::RgbImage::new(2, 1);
+        png.put_pixel(0, 0, image::Rgb([255, 0, 0]));
+        png.put_pixel(1, 0, image::Rgb([0, 0, 255]));
+        png.save(scenes.join("mats/tex/checker.png")).unwrap();
+        std::fs::write(
+            scenes.join("mats/room.mtlx"),
+            "# header\nnewmtl tiled 1 2 3 1 1 0 1 1 0 0 0 tex/checker.png 0.5\n\
+             newmtl same 1 2 3 1 1 0 1 1 0 0 0 ./tex/checker.png 0.5\n\
+             newmtl fitted 1 2 3 1 1 0 1 1 0 0 0 tex/../tex/checker.png fit\n",
+        )
+        .unwrap();
+        std::fs::write(
+            scenes.join("room.objx"),
+            "mtllib mats/room.mtlx\nv 0 0 0\nusemtl tiled\nf 0 1\nusemtl fitted\nf 0 2\n",
+        )
+        .unwrap();
+
+        let path = relative_to_cwd(&scenes.join("room.objx"));
+        assert!(path.is_relative() && std::env::current_dir().unwrap() != scenes);
+        let scene = load_scene(&path).unwrap();
+        assert_eq!(scene.shapes.len(), 2);
+        let names: Vec<_> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+        assert_eq!(names, ["tiled", "same", "fitted"]);
+        // One texture per (image, fill mode): `same` shares the first one.
+        assert_eq!(scene.textures.len(), 2);
+        let textures: Vec<_> = scene.materials.iter().map(|m| m.texture).collect();
+        assert_eq!(textures, [Some(0), Some(0), Some(1)]);
+        let t = &scene.textures[0];
+        assert_eq!((t.width, t.height), (2, 1));
+        assert_eq!(t.texels, vec![[255, 0, 0], [0, 0, 255]]);
+        assert_eq!(t.fill, FillMode::Tile { scale: 0.5 });
+        assert_eq!(scene.textures[1].fill, FillMode::Fit);
+        assert_eq!(scene.textures[1].texels, t.texels);
+    }
+
+    #[test]
+    fn texture_errors_name_the_material_file_line_and_image() {
+        let root = tempfile::tempdir().unwrap();
+        std::fs::write(root.path().join("bad.png"), b"not a png").unwrap();
+        for (image, line) in [("missing.jpg", 1), ("bad.png", 2)] {
+            let mtl = root.path().join(format!("{image}.mtlx"));
+            let text = format!(
+                "{}newmtl a 0 0 0 1 1 1 1 1 0 0 0 {image}\n",
+                "\n".repeat(line - 1)
+            );
+            std::fs::write(&mtl, text).unwrap();
+            let e = mtlx::load(&mtl, &mut mtlx::MaterialLibrary::new()).unwrap_err();
+            let expected = format!(
+                "{}:{line}: cannot load texture {}: ",
+                mtl.display(),
+                root.path().join(image).display()
+            );
+            assert!(e.to_string().starts_with(&expected), "{e}");
+        }
+    }
+
+    #[test]
+    fn unreadable_files_are_file_errors() {
+        let e = load_scene(Path::new("/nonexistent/prism/s.objx")).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("/nonexistent/prism/s.objx: cannot read: "),
+            "{e}"
+        );
+        assert!(load_camera(Path::new("/nonexistent/prism/c.cmr")).is_err());
+        let root = tempfile::tempdir().unwrap();
+        let scene = root.path().join("s.objx");
+        std::fs::write(&scene, "v 0 0 0\n\nmtllib nowhere.mtlx\n").unwrap();
+        let e = load_scene(&scene).unwrap_err().to_string();
+        let expected = format!(
+            "{}:3: cannot read material file {}: ",
+            scene.display(),
+            root.path().join("nowhere.mtlx").display()
+        );
+        assert!(e.starts_with(&expected), "{e}");
+        std::fs::write(&scene, b"v 0 0 0\nv \xc3\x28 0 0\n").unwrap();
+        let e = load_scene(&scene).unwrap_err().to_string();
+        assert!(e.contains(":2: expected UTF-8 text"), "{e}");
+    }
+
+    #[test]
+    fn seed_scenes_load_with_the_expected_contents() {
+        let root = Path::new("/work/shared/seed-scenes/Ray-Tracing");
+        if !root.join("scene0/scene.objx").exists() {
+            println!("skipped: the seed scenes are not at {}", root.display());
+            return;
+        }
+        let scene0 = load_scene(&root.join("scene0/scene.objx")).unwrap();
+        assert_eq!(scene0.shapes.len(), 9);
+        assert_eq!(scene0.lights.len(), 1);
+        let spheres = scene0
+            .shapes
+            .iter()
+            .filter(|s| matches!(s, Shape::Sphere(_)));
+        assert_eq!(spheres.count(), 2);
+        assert_eq!(scene0.materials.len(), 7);
+        // wall, water, ceiling and floor each name a different image.
+        assert_eq!(scene0.textures.len(), 4);
+        let water = scene0.material(6);
+        assert_eq!(water.name, "water");
+        assert_eq!(
+            scene0.textures[water.texture.unwrap() as usize].fill,
+            FillMode::Tile { scale: 0.25 }
+        );
+        let camera0 = load_camera(&root.join("scene0/scene.cmr")).unwrap();
+        assert_eq!((camera0.width, camera0.height), (3840, 2160));
+
+        let scene1 = load_scene(&root.join("scene1/scene.objx")).unwrap();
+        // 6 walls, floor, ceiling, water, 5 table faces, big sphere, 12 footstep faces, 5 marbles.
+        assert_eq!(scene1.shapes.len(), 32);
+        assert_eq!(scene1.lights.len(), 1);
+        let camera1 = load_camera(&root.join("scene1/scene.cmr")).unwrap();
+        assert_eq!((camera1.width, camera1.height), (3840, 2160));
+        assert_eq!((camera1.aa, camera1.rays_per_pixel), (4, 128));
+        assert_eq!(camera1.theta_deg, 78.0614);
+    }
+}

@@ -1,0 +1,498 @@
+//! The 2014 material file (`.mtlx`).
+//!
+//! One material per line:
+//!
+//! ```text
+//! newmtl NAME R G B ka kd ks shininess ior reflect refract transparent [texture [scale]]
+//! ```
+//!
+//! - `R G B`: 0 to 255, stored divided by 255.
+//! - `ka kd ks shininess reflect refract`: >= 0.
+//! - `ior`: > 0. The one exception is found in the 2014 files themselves: their
+//!   `lightsource` material says `ior 0` with refract weight 0. An index of a material
+//!   that does not refract is never used, so `0` is accepted there and read as 1.
+//! - `transparent`: exactly `0` or `1`.
+//! - `texture`: an image file (PNG, JPEG, BMP, TGA or PNM), relative to the folder of
+//!   the material file. With a texture the colour is ignored where the image shows.
+//! - `scale`: how the image covers the surface. A number > 0 tiles it with one texel =
+//!   `scale` world units; `0` stretches it over the shape; absent means tile at 1; a
+//!   negative number is an error.
+//!
+//! **Extension (Prism's, backward compatible):** the scale field may also be one of the
+//! words `stretch`, `fit` (whole image shown, uniformly scaled and centred; the rest of
+//! the surface keeps the material colour), `crop` (uniformly scaled to cover the shape,
+//! centred, the overflow cut) or `tile` (tile at scale 1). No 2014 file has a word there,
+//! so every 2014 file reads as before.
+//!
+//! Comment lines start with `#`; blank lines are skipped; any other line is an error, as
+//! is a name defined twice (also across several files read into one library).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use super::text::{At, data_lines, index_u32, read_text, shown};
+use crate::Result;
+use crate::math::Vec3;
+use crate::scene::{FillMode, Material, Texture};
+
+/// The fields of a material line, as the count error lists them.
+const SYNTAX: &str =
+    "newmtl NAME R G B ka kd ks shininess ior reflect refract transparent [texture [scale]]";
+
+/// Materials and textures read from one or more material files, in file order, with
+/// what is needed to reject duplicate names and to decode each image only once.
+#[derive(Debug, Default)]
+pub struct MaterialLibrary {
+    materials: Vec<Material>,
+    textures: Vec<Texture>,
+    /// Where each name was defined, for lookups and duplicate errors.
+    names: HashMap<String, Definition>,
+    /// Texture index per (canonical image path, fill mode).
+    texture_of: HashMap<(PathBuf, FillKey), u32>,
+    /// First texture decoded from each canonical image path: another fill mode of the
+    /// same image copies its texels instead of decoding the file again.
+    image_of: HashMap<PathBuf, u32>,
+}
+
+#[derive(Debug)]
+struct Definition {
+    index: u32,
+    path: PathBuf,
+    line: usize,
+}
+
+/// `FillMode` as a hashable key (its tile scale is an f32).
+type FillKey = (u8, u32);
+
+fn fill_key(fill: FillMode) -> FillKey {
+    match fill {
+        FillMode::Tile { scale } => (0, scale.to_bits()),
+        FillMode::Stretch => (1, 0),
+        FillMode::Fit => (2, 0),
+        FillMode::Crop => (3, 0),
+    }
+}
+
+impl MaterialLibrary {
+    pub fn new() -> MaterialLibrary {
+        MaterialLibrary::default()
+    }
+
+    /// Index (into [`MaterialLibrary::materials`]) of the material called `name`.
+    pub fn find(&self, name: &str) -> Option<u32> {
+        self.names.get(name).map(|d| d.index)
+    }
+
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    pub fn textures(&self) -> &[Texture] {
+        &self.textures
+    }
+
+    /// The materials and the textures they index, to move into a `Scene`.
+    pub fn into_parts(self) -> (Vec<Material>, Vec<Texture>) {
+        (self.materials, self.textures)
+    }
+
+    /// Adds a material that no `usemtl` can name (the default white of faces that come
+    /// before any `usemtl`), so it cannot clash with a file's `default`.
+    pub(super) fn push_unnamed(&mut self, at: At, material: Material) -> Result<u32> {
+        let index = index_u32(at, self.materials.len(), "materials")?;
+        self.materials.push(material);
+        Ok(index)
+    }
+
+    /// Rejects a second definition of `name`, saying where the first one is.
+    fn check_new_name(&self, at: At, name: &str) -> Result<()> {
+        match self.names.get(name) {
+            Some(first) => Err(at.error(format!(
+                "material {} is already defined at {}:{}",
+                shown(name),
+                first.path.display(),
+                first.line
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    fn push_named(&mut self, at: At, material: Material) -> Result<()> {
+        self.check_new_name(at, &material.name)?;
+        let index = self.push_unnamed(at, material.clone())?;
+        let definition = Definition {
+            index,
+            path: at.path.to_path_buf(),
+            line: at.line,
+        };
+        self.names.insert(material.name, definition);
+        Ok(())
+    }
+
+    /// Index of the texture for image `file` (already resolved) with `fill`, decoding
+    /// the image unless the same file was decoded before.
+    fn texture(&mut self, at: At, file: &Path, fill: FillMode) -> Result<u32> {
+        let cannot = |why: &dyn std::fmt::Display| {
+            at.error(format!("cannot load texture {}: {why}", file.display()))
+        };
+        let canonical = std::fs::canonicalize(file).map_err(|e| cannot(&e))?;
+        let key = (canonical, fill_key(fill));
+        if let Some(&index) = self.texture_of.get(&key) {
+            return Ok(index);
+        }
+        let texture = match self.image_of.get(&key.0) {
+            Some(&same_image) => Texture {
+                fill,
+                ..self.textures[same_image as usize].clone()
+            },
+            None => decode_image(&key.0, fill).map_err(|why| cannot(&why))?,
+        };
+        let index = index_u32(at, self.textures.len(), "textures")?;
+        self.textures.push(texture);
+        self.image_of.entry(key.0.clone()).or_insert(index);
+        self.texture_of.insert(key, index);
+        Ok(index)
+    }
+}
+
+/// Decodes an image file into an 8-bit RGB texture. The format is taken from the
+/// content when it can be, so a PNG named `.jpg` still loads.
+fn decode_image(path: &Path, fill: FillMode) -> std::result::Result<Texture, String> {
+    // Only regular files: a FIFO or device would block or never end.
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return Err("not a regular file".into());
+    }
+    let image = image::ImageReader::open(path)
+        .and_then(|reader| reader.with_guessed_format())
+        .map_err(|e| e.to_string())?
+        .decode()
+        .map_err(|e| e.to_string())?
+        .to_rgb8();
+    let (width, height) = image.dimensions();
+    if width == 0 || height == 0 {
+        return Err("the image is empty".into());
+    }
+    let texels = image.pixels().map(|p| p.0).collect();
+    Ok(Texture::new(width, height, texels, fill))
+}
+
+/// Reads a material file into `library`.
+pub fn load(path: &Path, library: &mut MaterialLibrary) -> Result<()> {
+    parse(&read_text(path)?, path, library)
+}
+
+/// Parses the text of a material file at `path` into `library`. `path` names the file
+/// in errors, and its folder is where texture paths are resolved.
+pub fn parse(text: &str, path: &Path, library: &mut MaterialLibrary) -> Result<()> {
+    let folder = path.parent().unwrap_or(Path::new(""));
+    for line in data_lines(text) {
+        let at = At {
+            path,
+            line: line.number,
+        };
+        parse_line(at, &line.tokens, folder, library)?;
+    }
+    Ok(())
+}
+
+fn parse_line(at: At, tokens: &[&str], folder: &Path, library: &mut MaterialLibrary) -> Result<()> {
+    if tokens[0] != "newmtl" {
+        return Err(at.error(format!(
+            "unknown keyword {}: expected newmtl (a material file holds one `{SYNTAX}` per line)",
+            shown(tokens[0])
+        )));
+    }
+    let values = tokens.len() - 1;
+    if !(12..=14).contains(&values) {
+        return Err(at.error(format!(
+            "expected `{SYNTAX}`: 12 to 14 values after newmtl, found {values}"
+        )));
+    }
+    let name = tokens[1];
+    // Before the texture is decoded, which is the slow part.
+    library.check_new_name(at, name)?;
+    let component = |i: usize, what: &str| -> Result<f32> {
+        let value = at.number(tokens[i], what)?;
+        if !(0.0..=255.0).contains(&value) {
+            return Err(at.error(format!(
+                "expected {what} from 0 to 255, found {}",
+                shown(tokens[i])
+            )));
+        }
+        Ok(value as f32)
+    };
+    let non_negative = |i: usize, what: &str| -> Result<f32> {
+        Ok(at.number_above(tokens[i], what, 0.0, false)? as f32)
+    };
+
+    let color = Vec3::new(
+        component(2, "the red component")?,
+        component(3, "the green component")?,
+        component(4, "the blue component")?,
+    ) / 255.0;
+    let ambient = non_negative(5, "the ambient coefficient ka")?;
+    let diffuse = non_negative(6, "the diffuse coefficient kd")?;
+    let specular = non_negative(7, "the specular coefficient ks")?;
+    let shininess = non_negative(8, "the shininess")?;
+    let reflect = non_negative(10, "the reflection weight")?;
+    let refract = non_negative(11, "the refraction weight")?;
+    let ior = if refract > 0.0 {
+        at.number_above(tokens[9], "the refractive index", 0.0, true)? as f32
+    } else {
+        // Never used without refraction; the 2014 light-source material says 0.
+        let ior = non_negative(9, "the refractive index")?;
+        if ior == 0.0 { 1.0 } else { ior }
+    };
+    let transparent = match tokens[12] {
+        "0" => false,
+        "1" => true,
+        other => {
+            return Err(at.error(format!(
+                "expected 0 or 1 for the transparent flag, found {}",
+                shown(other)
+            )));
+        }
+    };
+    let texture = match tokens.get(13) {
+        None => None,
+        Some(file) => {
+            let fill = fill_mode(at, tokens.get(14).copied())?;
+            Some(library.texture(at, &folder.join(file), fill)?)
+        }
+    };
+    let material = Material {
+        name: name.to_string(),
+        color,
+        ambient,
+        diffuse,
+        specular,
+        shininess,
+        ior,
+        reflect,
+        refract,
+        transparent,
+        texture,
+    };
+    library.push_named(at, material)
+}
+
+/// The fill mode of the optional scale field (see the module doc).
+fn fill_mode(at: At, token: Option<&str>) -> Result<FillMode> {
+    let Some(token) = token else {
+        return Ok(FillMode::Tile { scale: 1.0 });
+    };
+    Ok(match token {
+        "stretch" => FillMode::Stretch,
+        "fit" => FillMode::Fit,
+        "crop" => FillMode::Crop,
+        "tile" => FillMode::Tile { scale: 1.0 },
+        _ => {
+            let what = "the texture scale (a number >= 0, or stretch, fit, crop or tile)";
+            let scale = at.number_above(token, what, 0.0, false)?;
+            if scale == 0.0 {
+                FillMode::Stretch
+            } else if scale as f32 > 0.0 {
+                FillMode::Tile {
+                    scale: scale as f32,
+                }
+            } else {
+                // Positive but below f32 precision: it would tile by zero.
+                return Err(at.error(format!(
+                    "expected a texture scale of at least {:e}, found {}",
+                    f32::MIN_POSITIVE,
+                    shown(token)
+                )));
+            }
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Parses `text` as `/nonexistent-prism/m.mtlx` into a fresh library; no texture
+    /// path can resolve there, so only texture-free lines succeed.
+    fn parse_str(text: &str) -> Result<MaterialLibrary> {
+        let mut library = MaterialLibrary::new();
+        parse(text, Path::new("/nonexistent-prism/m.mtlx"), &mut library)?;
+        Ok(library)
+    }
+
+    fn err(text: &str) -> String {
+        parse_str(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn reads_every_field_of_a_seed_line() {
+        let text = "#newmtl mtl name, color, ambient coef, diffuse reflectivity, ... \n\
+                    #       shininess, refractiveIndex, reflection weight, refraction weight, \n\
+                    #       texture file, texture scale ratio\n\
+                    newmtl ball 221 125 22  10 1 15 8.5 1.33 0.5 0 0\n\
+                    \n\
+                    newmtl glass 34 103 16 0.0001 0.1 0.01 4.9 1.3 0.2 1 1\r\n";
+        let library = parse_str(text).unwrap();
+        assert_eq!(
+            library.materials()[0],
+            Material {
+                name: "ball".into(),
+                color: Vec3::new(221.0, 125.0, 22.0) / 255.0,
+                ambient: 10.0,
+                diffuse: 1.0,
+                specular: 15.0,
+                shininess: 8.5,
+                ior: 1.33,
+                reflect: 0.5,
+                refract: 0.0,
+                transparent: false,
+                texture: None,
+            }
+        );
+        let glass = &library.materials()[1];
+        assert_eq!(
+            (glass.refract, glass.transparent, glass.ior),
+            (1.0, true, 1.3)
+        );
+        assert_eq!(library.find("glass"), Some(1));
+        assert_eq!(library.find("nope"), None);
+    }
+
+    #[test]
+    fn ior_zero_is_read_as_one_on_a_material_that_does_not_refract() {
+        let library = parse_str("newmtl lightsource 255 255 255 0 0 0 0 0 0 0 0\n").unwrap();
+        assert_eq!(library.materials()[0].ior, 1.0);
+        assert_eq!(library.materials()[0].color, Vec3::ONE);
+        assert_eq!(
+            err("newmtl g 0 0 0 1 1 1 1 0 0 1 1\n"),
+            "/nonexistent-prism/m.mtlx:1: expected the refractive index > 0, found `0`"
+        );
+    }
+
+    #[test]
+    fn scale_field_gives_the_fill_mode() {
+        let at = At {
+            path: Path::new("m.mtlx"),
+            line: 1,
+        };
+        let fill = |token| fill_mode(at, token);
+        assert_eq!(fill(None).unwrap(), FillMode::Tile { scale: 1.0 });
+        assert_eq!(fill(Some("0")).unwrap(), FillMode::Stretch);
+        assert_eq!(fill(Some("0.25")).unwrap(), FillMode::Tile { scale: 0.25 });
+        assert_eq!(fill(Some("stretch")).unwrap(), FillMode::Stretch);
+        assert_eq!(fill(Some("fit")).unwrap(), FillMode::Fit);
+        assert_eq!(fill(Some("crop")).unwrap(), FillMode::Crop);
+        assert_eq!(fill(Some("tile")).unwrap(), FillMode::Tile { scale: 1.0 });
+        assert_eq!(
+            fill(Some("-1")).unwrap_err().to_string(),
+            "m.mtlx:1: expected the texture scale (a number >= 0, or stretch, fit, crop or \
+             tile) >= 0, found `-1`"
+        );
+        assert!(fill(Some("Fit")).is_err());
+        assert!(fill(Some("1e-50")).is_err());
+        assert!(fill(Some("nan")).is_err());
+    }
+
+    #[test]
+    fn errors_name_the_line_and_what_was_expected() {
+        let cases: &[(&str, &str)] = &[
+            (
+                "newmtl a 256 0 0 1 1 1 1 1 0 0 0",
+                "expected the red component from 0 to 255, found `256`",
+            ),
+            (
+                "newmtl a 0 -1 0 1 1 1 1 1 0 0 0",
+                "the green component from 0 to 255",
+            ),
+            (
+                "newmtl a 0 0 x 1 1 1 1 1 0 0 0",
+                "expected a number for the blue component, found `x`",
+            ),
+            (
+                "newmtl a 0 0 0 -1 1 1 1 1 0 0 0",
+                "expected the ambient coefficient ka >= 0, found `-1`",
+            ),
+            (
+                "newmtl a 0 0 0 1 -1 1 1 1 0 0 0",
+                "the diffuse coefficient kd >= 0",
+            ),
+            (
+                "newmtl a 0 0 0 1 1 -1 1 1 0 0 0",
+                "the specular coefficient ks >= 0",
+            ),
+            ("newmtl a 0 0 0 1 1 1 -1 1 0 0 0", "the shininess >= 0"),
+            (
+                "newmtl a 0 0 0 1 1 1 1 -1 0 0 0",
+                "the refractive index >= 0",
+            ),
+            (
+                "newmtl a 0 0 0 1 1 1 1 1 -1 0 0",
+                "the reflection weight >= 0",
+            ),
+            (
+                "newmtl a 0 0 0 1 1 1 1 1 0 -1 0",
+                "the refraction weight >= 0",
+            ),
+            (
+                "newmtl a 0 0 0 1 1 1 1 1 0 0 2",
+                "expected 0 or 1 for the transparent flag, found `2`",
+            ),
+            ("newmtl a 0 0 0 1 1 1 1 1 0 0 1.0", "found `1.0`"),
+            (
+                "newmtl a 0 0 0 1 1 1 1 1 0 0",
+                "12 to 14 values after newmtl, found 11",
+            ),
+            ("newmtl a 0 0 0 1 1 1 1 1 0 0 0 t.png 1 extra", "found 15"),
+            ("newmtl", "found 0"),
+            ("Ka 1 1 1", "unknown keyword `Ka`: expected newmtl"),
+            (
+                "newmtl a 0 0 0 1 1 1 1 1 0 0 0 t.png 1",
+                "cannot load texture /nonexistent-prism/t.png: ",
+            ),
+        ];
+        for &(line, words) in cases {
+            // A good line first, so the bad one is not the first material read.
+            let e = err(&format!(
+                "# header\nnewmtl ok 0 0 0 1 1 1 1 1 0 0 0\n\n{line}\n"
+            ));
+            let expected_start = "/nonexistent-prism/m.mtlx:4: ";
+            assert!(
+                e.starts_with(expected_start) && e.contains(words),
+                "{line:?} gave {e}"
+            );
+        }
+    }
+
+    #[test]
+    fn duplicate_names_are_an_error() {
+        assert_eq!(
+            err("newmtl a 0 0 0 1 1 1 1 1 0 0 0\nnewmtl a 0 0 0 1 1 1 1 1 0 0 0 tex.png\n"),
+            "/nonexistent-prism/m.mtlx:2: material `a` is already defined at \
+             /nonexistent-prism/m.mtlx:1"
+        );
+    }
+
+    /// A material line with random fields, mostly well formed.
+    fn material_line() -> impl Strategy<Value = String> {
+        let field = prop_oneof![
+            4 => "[0-9]{1,3}(\\.[0-9]{0,2})?",
+            1 => "-[0-9]|nan|inf|1e39|1e-50|0|1|fit|crop|stretch|tile|x.png|\\.|/|\\.\\.",
+            1 => "\\PC{0,4}",
+        ];
+        let head = prop_oneof![4 => Just("newmtl".to_string()), 1 => "\\PC{0,6}"];
+        (head, "[a-c]", prop::collection::vec(field, 0..16))
+            .prop_map(|(h, name, fields)| format!("{h} {name} {}", fields.join(" ")))
+    }
+
+    proptest! {
+        #[test]
+        fn arbitrary_text_never_panics(text in "\\PC{0,300}") {
+            let _ = parse_str(&text);
+        }
+
+        #[test]
+        fn arbitrary_material_lines_never_panic(lines in prop::collection::vec(material_line(), 0..12)) {
+            let _ = parse_str(&lines.join("\n"));
+        }
+    }
+}

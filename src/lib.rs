@@ -1,0 +1,16 @@
+//! Prism: a Whitted-style ray tracer for the 2014 scene formats and beyond.
+//!
+//! Data flows one way: [`format`] parses files into a [`scene::Scene`], [`accel`] builds
+//! an intersector over its shapes, [`render`] traces camera rays into samples, and
+//! [`film`] resamples them into the final image and writes it.
+
+pub mod accel;
+pub mod compare;
+pub mod error;
+pub mod film;
+pub mod format;
+pub mod math;
+pub mod render;
+pub mod scene;
+
+pub use error::{Error, Result};

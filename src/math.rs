@@ -1,0 +1,171 @@
+//! Small geometric vocabulary shared by every stage: vectors, rays, boxes.
+
+pub use glam::Vec3A as Vec3;
+
+/// A geometric ray. `dir` is always unit length so hit distances are world distances,
+/// which the classic shading model relies on (intensity cut-offs, shadow tests).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    pub origin: Vec3,
+    pub dir: Vec3,
+}
+
+impl Ray {
+    /// Builds a ray, normalising `dir`.
+    #[inline]
+    pub fn new(origin: Vec3, dir: Vec3) -> Ray {
+        Ray {
+            origin,
+            dir: dir.normalize(),
+        }
+    }
+
+    #[inline]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// Relative size of the offset that lifts a secondary ray's origin off the surface it
+/// leaves. f32 hit points carry an error of a few ulps of their largest coordinate; the
+/// offset is well above that and far below any feature of a real scene.
+pub const SURFACE_EPSILON: f32 = 2e-5;
+
+/// Distance a secondary ray's origin is moved off a surface at `p`.
+#[inline]
+pub fn surface_epsilon(p: Vec3) -> f32 {
+    SURFACE_EPSILON * (1.0 + p.abs().max_element())
+}
+
+/// Moves `p` off the surface with normal `n` (either orientation), to the side that
+/// `toward` points into, so that a ray leaving in direction `toward` cannot hit the
+/// surface it starts on.
+#[inline]
+pub fn offset_origin(p: Vec3, n: Vec3, toward: Vec3) -> Vec3 {
+    let n = if n.dot(toward) >= 0.0 { n } else { -n };
+    p + n * surface_epsilon(p)
+}
+
+/// Mirror direction of `d` about the plane with normal `n` (either orientation).
+#[inline]
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+/// Axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+
+    pub fn from_points(points: &[Vec3]) -> Aabb {
+        points.iter().fold(Aabb::EMPTY, |b, &p| b.grow(p))
+    }
+
+    pub fn grow(self, p: Vec3) -> Aabb {
+        Aabb {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    pub fn union(self, o: Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    pub fn extent(&self) -> Vec3 {
+        self.max - self.min
+    }
+
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+
+    /// Closed-interval overlap: boxes that only touch overlap, and so do flat boxes
+    /// (a rectangle lying in a cell face belongs to that cell).
+    pub fn overlaps(&self, o: &Aabb) -> bool {
+        self.min.cmple(o.max).all() && o.min.cmple(self.max).all()
+    }
+
+    /// Slab test: the parametric interval `[t0, t1]` of `ray` inside the box, clipped
+    /// to `[0, t_max]`, or `None`. `inv_dir` is `1 / ray.dir` component-wise.
+    #[inline]
+    pub fn hit_interval(&self, origin: Vec3, inv_dir: Vec3, t_max: f32) -> Option<(f32, f32)> {
+        let t_a = (self.min - origin) * inv_dir;
+        let t_b = (self.max - origin) * inv_dir;
+        // NaN (0 * inf, a ray lying in a slab plane) must not reject the box: min/max
+        // of glam ignore a NaN operand on x86, and the fallback below keeps it so.
+        let t_near = t_a.min(t_b);
+        let t_far = t_a.max(t_b);
+        let t0 = nan_to(t_near.max_element(), f32::NEG_INFINITY).max(0.0);
+        let t1 = nan_to(t_far.min_element(), f32::INFINITY).min(t_max);
+        // Slack of a few ulps so that flat boxes and grazing rays are kept.
+        (t0 <= t1 * (1.0 + 4.0 * f32::EPSILON)).then_some((t0, t1))
+    }
+}
+
+#[inline]
+fn nan_to(x: f32, fallback: f32) -> f32 {
+    if x.is_nan() { fallback } else { x }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ray_direction_is_normalised() {
+        let r = Ray::new(Vec3::ZERO, Vec3::new(3.0, 0.0, 4.0));
+        assert_eq!(r.dir, Vec3::new(0.6, 0.0, 0.8));
+        assert_eq!(r.at(5.0), Vec3::new(3.0, 0.0, 4.0));
+    }
+
+    #[test]
+    fn reflection_mirrors_about_normal() {
+        let d = Vec3::new(1.0, -1.0, 0.0);
+        assert_eq!(reflect(d, Vec3::Y), Vec3::new(1.0, 1.0, 0.0));
+        assert_eq!(reflect(d, -Vec3::Y), Vec3::new(1.0, 1.0, 0.0));
+    }
+
+    #[test]
+    fn offset_goes_to_the_side_of_the_new_ray() {
+        let p = Vec3::new(0.0, 0.0, 0.0);
+        let up = offset_origin(p, Vec3::Z, Vec3::new(0.3, 0.0, 1.0));
+        let down = offset_origin(p, Vec3::Z, Vec3::new(0.3, 0.0, -1.0));
+        assert!(up.z > 0.0 && down.z < 0.0);
+        assert_eq!(up.z, SURFACE_EPSILON);
+    }
+
+    #[test]
+    fn slab_test_handles_flat_boxes_and_axis_parallel_rays() {
+        let flat = Aabb {
+            min: Vec3::new(-1.0, -1.0, 0.0),
+            max: Vec3::new(1.0, 1.0, 0.0),
+        };
+        let r = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+        let (t0, t1) = flat
+            .hit_interval(r.origin, r.dir.recip(), f32::INFINITY)
+            .unwrap();
+        assert_eq!((t0, t1), (5.0, 5.0));
+        let miss = Ray::new(Vec3::new(2.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+        assert!(
+            flat.hit_interval(miss.origin, miss.dir.recip(), f32::INFINITY)
+                .is_none()
+        );
+        assert!(flat.hit_interval(r.origin, r.dir.recip(), 4.0).is_none());
+    }
+}

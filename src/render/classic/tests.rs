@@ -1,0 +1,235 @@
+//! Hand-computed colours of the classic model.
+
+use super::*;
+use crate::accel::{Accel, AccelKind};
+use crate::scene::{Light, Material, Rectangle, Shape, Sphere};
+
+const C: Vec3 = Vec3::new(0.5, 0.25, 1.0);
+
+fn material(ka: f32, kd: f32, ks: f32, shininess: f32) -> Material {
+    Material {
+        name: "m".into(),
+        color: C,
+        ambient: ka,
+        diffuse: kd,
+        specular: ks,
+        shininess,
+        ..Material::default_white()
+    }
+}
+
+/// A 20 x 20 floor at z = 0 facing +z (wound counter-clockwise seen from above).
+fn floor() -> Shape {
+    Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-10.0, -10.0, 0.0),
+            Vec3::new(10.0, -10.0, 0.0),
+            Vec3::new(10.0, 10.0, 0.0),
+            Vec3::new(-10.0, 10.0, 0.0),
+        ],
+    })
+}
+
+fn scene(materials: Vec<Material>, shapes: Vec<(Shape, u32)>, lights: Vec<Vec3>) -> Scene {
+    let mut s = Scene {
+        materials,
+        ..Scene::default()
+    };
+    for (shape, m) in shapes {
+        s.push_shape(shape, m);
+    }
+    s.lights = lights
+        .into_iter()
+        .map(|position| Light {
+            position,
+            color: Vec3::ONE,
+        })
+        .collect();
+    s
+}
+
+/// Colour seen by a ray from (0, 0, 5) straight down at the floor's centre.
+fn shade(s: &Scene) -> (Vec3, RayCount) {
+    let accel = Accel::build(AccelKind::List, &s.shapes);
+    let classic = Classic::new(s, &accel, 1.0);
+    let mut acc = WeightedColor::default();
+    let mut count = RayCount::default();
+    let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
+    classic.trace_camera_ray(ray, &mut acc, &mut count);
+    (acc.mean(), count)
+}
+
+fn assert_close(a: Vec3, b: Vec3) {
+    assert!((a - b).abs().max_element() < 1e-6, "{a} != {b}");
+}
+
+#[test]
+fn lit_point_is_ambient_colour_mixed_with_diffuse_white() {
+    let s = scene(
+        vec![material(2.0, 1.0, 0.0, 1.0)],
+        vec![(floor(), 0)],
+        vec![Vec3::new(0.0, 0.0, 10.0)],
+    );
+    let (c, count) = shade(&s);
+    assert_close(c, (2.0 * C + Vec3::ONE) / 3.0);
+    // One camera ray, one shadow ray.
+    assert_eq!(count.rays, 2);
+}
+
+#[test]
+fn highlight_adds_white_weighted_by_phong_over_cosine() {
+    // Light at 45 degrees: L = (1, 0, -1)/sqrt2, |N.L| = 1/sqrt2, R = (1, 0, 1)/sqrt2,
+    // V = +z, R.V = 1/sqrt2; weight = ks (R.V)^4 / |N.L| = 0.5 (1/sqrt2)^3.
+    let s = scene(
+        vec![material(2.0, 1.0, 0.5, 4.0)],
+        vec![(floor(), 0)],
+        vec![Vec3::new(-5.0, 0.0, 5.0)],
+    );
+    let (c, _) = shade(&s);
+    let w = 0.5 * std::f32::consts::FRAC_1_SQRT_2.powi(3);
+    assert_close(c, (2.0 * C + Vec3::ONE * (1.0 + w)) / (3.0 + w));
+}
+
+#[test]
+fn shadowed_point_mixes_in_black_with_weight_three() {
+    let blocker = Shape::Sphere(Sphere {
+        center: Vec3::new(0.0, 0.0, 8.0),
+        radius: 1.0,
+    });
+    // The blocker is beside the camera ray's path (camera at z = 5, below it).
+    let s = scene(
+        vec![material(2.0, 1.0, 0.5, 4.0), material(1.0, 1.0, 0.0, 1.0)],
+        vec![(floor(), 0), (blocker, 1)],
+        vec![Vec3::new(0.0, 0.0, 10.0)],
+    );
+    let (c, _) = shade(&s);
+    assert_close(c, (2.0 * C + Vec3::ONE) / 6.0);
+
+    // A transparent blocker casts no shadow.
+    let mut clear = s.clone();
+    clear.materials[1].transparent = true;
+    let (c, _) = shade(&clear);
+    let w = 0.5; // R.V = 1, |N.L| = 1
+    assert_close(c, (2.0 * C + Vec3::ONE * (1.0 + w)) / (3.0 + w));
+}
+
+#[test]
+fn mirror_child_adds_its_own_weighted_terms() {
+    // Floor reflects with ratio 0.5 into a ceiling at z = 10 facing down.
+    let ceiling = Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-10.0, -10.0, 10.0),
+            Vec3::new(-10.0, 10.0, 10.0),
+            Vec3::new(10.0, 10.0, 10.0),
+            Vec3::new(10.0, -10.0, 10.0),
+        ],
+    });
+    let mut mirror = material(1.0, 1.0, 0.0, 1.0);
+    mirror.reflect = 0.5;
+    let mut red = material(1.0, 0.0, 0.0, 1.0);
+    red.color = Vec3::X;
+    let s = scene(vec![mirror, red], vec![(floor(), 0), (ceiling, 1)], vec![]);
+    let (c, count) = shade(&s);
+    // Floor: (C, 1), (W, 1); ceiling seen with intensity 0.5: (red, 0.5).
+    assert_close(c, (C + Vec3::ONE + 0.5 * Vec3::X) / 2.5);
+    assert_eq!(count.rays, 2);
+}
+
+#[test]
+fn weak_and_deep_rays_stop() {
+    let mut m = material(1.0, 1.0, 0.0, 1.0);
+    m.reflect = 0.09; // child intensity below 0.1: not traced
+    let s = scene(vec![m], vec![(floor(), 0)], vec![]);
+    assert_eq!(shade(&s).1.rays, 1);
+
+    // Two facing mirrors: camera ray plus four bounces (depth 1..=4).
+    let ceiling = Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-10.0, -10.0, 10.0),
+            Vec3::new(-10.0, 10.0, 10.0),
+            Vec3::new(10.0, 10.0, 10.0),
+            Vec3::new(10.0, -10.0, 10.0),
+        ],
+    });
+    let mut mirror = material(1.0, 1.0, 0.0, 1.0);
+    mirror.reflect = 1.0;
+    let s = scene(vec![mirror], vec![(floor(), 0), (ceiling, 0)], vec![]);
+    assert_eq!(shade(&s).1.rays, 5);
+}
+
+#[test]
+fn nothing_hit_is_black() {
+    let s = scene(vec![material(1.0, 1.0, 0.0, 1.0)], vec![], vec![Vec3::Z]);
+    assert_eq!(shade(&s).0, Vec3::ZERO);
+}
+
+#[test]
+fn snell_bends_toward_the_normal_entering_water() {
+    // Normal points into the water (down); a ray going down at 45 degrees enters.
+    let n = -Vec3::Z;
+    let d = Vec3::new(1.0, 0.0, -1.0).normalize();
+    let (t, ior) = refract(d, n, 1.0, 1.33).unwrap();
+    assert_eq!(ior, 1.33);
+    let sin_t = std::f32::consts::FRAC_1_SQRT_2 / 1.33;
+    assert!((t.x - sin_t).abs() < 1e-6, "{t}");
+    assert!((t.z + (1.0 - sin_t * sin_t).sqrt()).abs() < 1e-6, "{t}");
+    // Straight through at normal incidence.
+    let (t, _) = refract(-Vec3::Z, n, 1.0, 1.33).unwrap();
+    assert_close(t, -Vec3::Z);
+}
+
+#[test]
+fn leaving_a_denser_medium_past_the_critical_angle_reflects_totally() {
+    let n = -Vec3::Z; // into the water; a ray going up leaves it
+    let steep = Vec3::new(0.5, 0.0, 0.75f32.sqrt()); // 30 degrees from the normal
+    let (t, ior) = refract(steep, n, 1.33, 1.33).unwrap();
+    assert_eq!(ior, 1.0);
+    assert!((t.x - 0.5 * 1.33).abs() < 1e-6);
+    let grazing = Vec3::new(0.75f32.sqrt(), 0.0, 0.5); // 60 degrees: sin * 1.33 > 1
+    assert_eq!(refract(grazing, n, 1.33, 1.33), None);
+}
+
+#[test]
+fn total_internal_reflection_sends_the_refracted_share_to_the_mirror_ray() {
+    // Camera inside water (index 1.33) looking up at 60 degrees at a water surface
+    // whose normal points down into the water: the refracted child reflects back
+    // down and sees the floor.
+    let surface = Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-50.0, -50.0, 5.0),
+            Vec3::new(-50.0, 50.0, 5.0),
+            Vec3::new(50.0, 50.0, 5.0),
+            Vec3::new(50.0, -50.0, 5.0),
+        ],
+    });
+    let mut water = material(0.0, 0.0, 0.0, 1.0);
+    water.refract = 1.0;
+    water.ior = 1.33;
+    water.transparent = true;
+    let mut floor_m = material(1.0, 0.0, 0.0, 1.0);
+    floor_m.color = Vec3::Y;
+    let big_floor = Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-50.0, -50.0, 0.0),
+            Vec3::new(50.0, -50.0, 0.0),
+            Vec3::new(50.0, 50.0, 0.0),
+            Vec3::new(-50.0, 50.0, 0.0),
+        ],
+    });
+    let s = scene(
+        vec![water, floor_m],
+        vec![(surface, 0), (big_floor, 1)],
+        vec![],
+    );
+    let accel = Accel::build(AccelKind::List, &s.shapes);
+    let classic = Classic::new(&s, &accel, 1.33);
+    let mut acc = WeightedColor::default();
+    let mut count = RayCount::default();
+    let ray = Ray::new(
+        Vec3::new(0.0, 0.0, 2.0),
+        Vec3::new(0.75f32.sqrt(), 0.0, 0.5),
+    );
+    classic.trace_camera_ray(ray, &mut acc, &mut count);
+    assert_eq!(count.rays, 2);
+    assert_close(acc.mean(), Vec3::Y);
+}

@@ -1,0 +1,216 @@
+//! From scene to samples: camera rays, the shading model, and the parallel loop that
+//! fills the supersampled frame band by band and hands each band to the film.
+
+pub mod camera;
+pub mod classic;
+pub mod sampler;
+mod settings;
+
+pub use camera::CameraRays;
+pub use classic::Classic;
+pub use sampler::PixelSampler;
+use settings::Plan;
+pub use settings::{Region, RenderSettings};
+
+use crate::Result;
+use crate::accel::Accel;
+use crate::film::Image;
+use crate::film::resample::{AxisWeights, resample_window};
+use crate::math::{Ray, Vec3};
+use crate::scene::{Camera, Scene};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// Sum of weighted colours: the colour of a pixel is `sum / weight`. Both shading models
+/// use it: the classic one with its own weights, an unweighted one with weight 1 per ray.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WeightedColor {
+    pub sum: Vec3,
+    pub weight: f32,
+}
+
+impl WeightedColor {
+    #[inline]
+    pub fn add(&mut self, color: Vec3, weight: f32) {
+        // Guard: a NaN or infinite weight would turn the whole pixel into NaN.
+        if weight > 0.0 && weight.is_finite() {
+            self.sum += color * weight;
+            self.weight += weight;
+        }
+    }
+
+    /// The weighted mean; black where nothing was seen.
+    #[inline]
+    pub fn mean(&self) -> Vec3 {
+        if self.weight > 0.0 {
+            let c = self.sum / self.weight;
+            if c.is_finite() { c } else { Vec3::ZERO }
+        } else {
+            Vec3::ZERO
+        }
+    }
+}
+
+/// Rays traced, counted per thread and summed.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RayCount {
+    pub rays: u64,
+}
+
+/// A shading model: what one camera ray adds to its pixel.
+pub trait Integrator: Sync {
+    fn trace_camera_ray(&self, ray: Ray, acc: &mut WeightedColor, count: &mut RayCount);
+}
+
+/// Figures of one render.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderStats {
+    pub rays: u64,
+    pub elapsed: Duration,
+}
+
+impl RenderStats {
+    pub fn mrays_per_second(&self) -> f64 {
+        self.rays as f64 / self.elapsed.as_secs_f64().max(1e-9) / 1e6
+    }
+}
+
+/// Output rows resampled per band. Large enough that the rows a wide filter needs on
+/// both sides of a band are a small share of it, small enough to bound memory.
+const BAND_ROWS: u32 = 32;
+
+/// Renders a scene seen by a camera with given settings.
+pub struct Renderer<'a> {
+    scene: &'a Scene,
+    plan: Plan,
+}
+
+impl<'a> Renderer<'a> {
+    /// Checks the settings against the camera (resolution overrides, region, caps).
+    pub fn new(
+        scene: &'a Scene,
+        camera: &Camera,
+        settings: RenderSettings,
+    ) -> Result<Renderer<'a>> {
+        let plan = settings.resolve(camera)?;
+        Ok(Renderer { scene, plan })
+    }
+
+    /// The camera after the settings' overrides.
+    pub fn camera(&self) -> &Camera {
+        &self.plan.camera
+    }
+
+    /// The window of the frame being rendered (the whole frame without `--region`).
+    pub fn region(&self) -> Region {
+        self.plan.region
+    }
+
+    /// Supersampled rows that will be traced: the unit of progress.
+    pub fn rows_to_trace(&self) -> u64 {
+        let (_, wy) = self.weights();
+        self.bands(&wy, self.plan.region)
+            .map(|(_, _, lo, hi)| u64::from(hi - lo))
+            .sum()
+    }
+
+    fn weights(&self) -> (AxisWeights, AxisWeights) {
+        let (k, f) = (self.plan.aa, self.plan.filter);
+        (
+            AxisWeights::new(f, k, self.plan.camera.width),
+            AxisWeights::new(f, k, self.plan.camera.height),
+        )
+    }
+
+    /// Bands of output rows with the supersampled rows each needs.
+    fn bands<'w>(
+        &self,
+        wy: &'w AxisWeights,
+        region: Region,
+    ) -> impl Iterator<Item = (u32, u32, u32, u32)> + 'w {
+        let end = region.y + region.height;
+        (region.y..end).step_by(BAND_ROWS as usize).map(move |y0| {
+            let y1 = (y0 + BAND_ROWS).min(end);
+            let (lo, hi) = wy.input_span(y0, y1);
+            (y0, y1, lo, hi)
+        })
+    }
+
+    /// Renders the image (the region, if one is set). `progress` is called with the
+    /// number of supersampled rows finished, from any thread.
+    pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<(Image, RenderStats)> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.plan.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| crate::Error::Settings(format!("cannot start threads: {e}")))?;
+        Ok(pool.install(|| self.render_in_pool(progress)))
+    }
+
+    fn render_in_pool(&self, progress: &(dyn Fn(u64) + Sync)) -> (Image, RenderStats) {
+        let start = Instant::now();
+        let plan = &self.plan;
+        let accel = Accel::build(plan.accel, &self.scene.shapes);
+        let integrator = Classic::new(self.scene, &accel, plan.camera.medium_ior);
+        let rays = CameraRays::new(&plan.camera, plan.aa, plan.dof_rays);
+        let region = plan.region;
+        let (wx, wy) = self.weights();
+        let (x_lo, x_hi) = wx.input_span(region.x, region.x + region.width);
+        let row_len = (x_hi - x_lo) as usize;
+        let total_rays = AtomicU64::new(0);
+        let mut pixels = Vec::with_capacity(region.width as usize * region.height as usize);
+        let mut band = Vec::new();
+        for (y0, y1, lo, hi) in self.bands(&wy, region) {
+            band.clear();
+            band.resize(row_len * (hi - lo) as usize, [0.0f32; 3]);
+            band.par_chunks_mut(row_len)
+                .enumerate()
+                .for_each(|(i, row)| {
+                    let y = lo + i as u32;
+                    let mut count = RayCount::default();
+                    for (j, out) in row.iter_mut().enumerate() {
+                        let x = x_lo + j as u32;
+                        *out = self.pixel(&integrator, &rays, x, y, &mut count).to_array();
+                    }
+                    total_rays.fetch_add(count.rays, Ordering::Relaxed);
+                    progress(1);
+                });
+            pixels.extend(resample_window(
+                &band,
+                x_lo,
+                lo,
+                x_hi - x_lo,
+                hi - lo,
+                &wx,
+                &wy,
+                region.x,
+                y0,
+                region.width,
+                y1 - y0,
+            ));
+        }
+        let stats = RenderStats {
+            rays: total_rays.into_inner(),
+            elapsed: start.elapsed(),
+        };
+        (Image::new(region.width, region.height, pixels), stats)
+    }
+
+    /// Colour of supersampled pixel `(x, y)`: all its camera rays into one weighted mean.
+    #[inline]
+    fn pixel(
+        &self,
+        integrator: &impl Integrator,
+        rays: &CameraRays,
+        x: u32,
+        y: u32,
+        count: &mut RayCount,
+    ) -> Vec3 {
+        let mut sampler = PixelSampler::new(self.plan.seed, x, y);
+        let mut acc = WeightedColor::default();
+        rays.for_each_ray(x, y, &mut sampler, |ray| {
+            integrator.trace_camera_ray(ray, &mut acc, count)
+        });
+        acc.mean()
+    }
+}

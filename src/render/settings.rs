@@ -1,0 +1,233 @@
+//! What a user may override from the camera file, checked before anything is traced.
+
+use crate::accel::AccelKind;
+use crate::film::resample::Filter;
+use crate::scene::Camera;
+use crate::{Error, Result};
+
+/// A window `x, y, width, height` of the final frame, in output pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Region {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl std::str::FromStr for Region {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Region, String> {
+        let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+        let nums: Option<Vec<u32>> = parts.iter().map(|p| p.parse().ok()).collect();
+        match nums.as_deref() {
+            Some(&[x, y, width, height]) => Ok(Region {
+                x,
+                y,
+                width,
+                height,
+            }),
+            _ => Err(format!(
+                "expected X,Y,W,H (four non-negative integers), found `{s}`"
+            )),
+        }
+    }
+}
+
+/// Render options. `None` keeps the camera file's value.
+#[derive(Clone, Debug, Default)]
+pub struct RenderSettings {
+    /// Output width; alone, the height follows the camera's aspect ratio. The
+    /// horizontal field of view is kept: the retina scale follows the width.
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    /// Supersampling factor per axis.
+    pub aa: Option<u32>,
+    pub filter: Filter,
+    /// Camera rays per pixel (1 = pinhole, more = depth of field).
+    pub dof_rays: Option<u32>,
+    /// Render only this window of the frame.
+    pub region: Option<Region>,
+    pub seed: u64,
+    /// Worker threads; `None` uses every core.
+    pub threads: Option<usize>,
+    pub accel: AccelKind,
+}
+
+/// Limits that keep a typo from asking for days of work or all the memory.
+pub const MAX_SIDE: u32 = 1 << 16;
+pub const MAX_AA: u32 = 16;
+pub const MAX_RAYS_PER_PIXEL: u32 = 1 << 16;
+/// Camera rays in one image: the report's heaviest setting (3840 x 2160, AA 4, 128
+/// rays) is 1.7e10; a hundred times that is a typo.
+pub const MAX_CAMERA_RAYS: u64 = 2_000_000_000_000;
+
+/// Settings merged with the camera: everything concrete.
+#[derive(Clone, Debug)]
+pub(crate) struct Plan {
+    pub camera: Camera,
+    pub aa: u32,
+    pub dof_rays: u32,
+    pub region: Region,
+    pub filter: Filter,
+    pub seed: u64,
+    pub threads: Option<usize>,
+    pub accel: AccelKind,
+}
+
+impl RenderSettings {
+    pub(crate) fn resolve(&self, camera: &Camera) -> Result<Plan> {
+        let (width, height) = match (self.width, self.height) {
+            (None, None) => (camera.width, camera.height),
+            (Some(w), Some(h)) => (w, h),
+            (Some(w), None) => (w, scaled(camera.height, w, camera.width)),
+            (None, Some(h)) => (scaled(camera.width, h, camera.height), h),
+        };
+        for (name, v) in [("width", width), ("height", height)] {
+            if v == 0 || v > MAX_SIDE {
+                return Err(Error::Settings(format!(
+                    "image {name} must be between 1 and {MAX_SIDE}, found {v}"
+                )));
+            }
+        }
+        let aa = self.aa.unwrap_or(camera.aa);
+        if aa == 0 || aa > MAX_AA {
+            return Err(Error::Settings(format!(
+                "anti-aliasing factor must be between 1 and {MAX_AA}, found {aa}"
+            )));
+        }
+        let dof_rays = self.dof_rays.unwrap_or(camera.rays_per_pixel);
+        if dof_rays == 0 || dof_rays > MAX_RAYS_PER_PIXEL {
+            return Err(Error::Settings(format!(
+                "rays per pixel must be between 1 and {MAX_RAYS_PER_PIXEL}, found {dof_rays}"
+            )));
+        }
+        let region = self.region.unwrap_or(Region {
+            x: 0,
+            y: 0,
+            width,
+            height,
+        });
+        let inside = region.width > 0
+            && region.height > 0
+            && u64::from(region.x) + u64::from(region.width) <= u64::from(width)
+            && u64::from(region.y) + u64::from(region.height) <= u64::from(height);
+        if !inside {
+            return Err(Error::Settings(format!(
+                "region {},{},{},{} is empty or leaves the {width}x{height} frame",
+                region.x, region.y, region.width, region.height
+            )));
+        }
+        let camera_rays = u64::from(region.width)
+            * u64::from(region.height)
+            * u64::from(aa * aa)
+            * u64::from(dof_rays);
+        if camera_rays > MAX_CAMERA_RAYS {
+            return Err(Error::Settings(format!(
+                "{camera_rays} camera rays ({}x{} pixels, anti-aliasing {aa}, {dof_rays} rays per pixel) exceed the limit of {MAX_CAMERA_RAYS}",
+                region.width, region.height
+            )));
+        }
+        if let Some(0) = self.threads {
+            return Err(Error::Settings("thread count must be at least 1".into()));
+        }
+        let mut camera = camera.with_resolution(width, height);
+        camera.aa = aa;
+        camera.rays_per_pixel = dof_rays;
+        Ok(Plan {
+            camera,
+            aa,
+            dof_rays,
+            region,
+            filter: self.filter,
+            seed: self.seed,
+            threads: self.threads,
+            accel: self.accel,
+        })
+    }
+}
+
+/// `a * num / den`, rounded, at least 1.
+fn scaled(a: u32, num: u32, den: u32) -> u32 {
+    ((u64::from(a) * u64::from(num) + u64::from(den) / 2) / u64::from(den).max(1)).max(1) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    fn camera() -> Camera {
+        Camera {
+            eye: Vec3::ZERO,
+            theta_deg: 90.0,
+            phi_deg: 0.0,
+            medium_ior: 1.0,
+            screen_distance: 15.0,
+            width: 3840,
+            height: 2160,
+            retina_scale: 0.00125,
+            focal_length: 900.0,
+            aperture: 5.0,
+            rays_per_pixel: 128,
+            aa: 4,
+        }
+    }
+
+    #[test]
+    fn width_alone_keeps_aspect_and_field_of_view() {
+        let s = RenderSettings {
+            width: Some(960),
+            ..Default::default()
+        };
+        let plan = s.resolve(&camera()).unwrap();
+        assert_eq!((plan.camera.width, plan.camera.height), (960, 540));
+        assert_eq!(plan.camera.retina_scale, 0.005);
+        assert_eq!((plan.aa, plan.dof_rays), (4, 128));
+    }
+
+    #[test]
+    fn region_is_parsed_and_checked() {
+        assert_eq!(
+            "1,2,3,4".parse::<Region>(),
+            Ok(Region {
+                x: 1,
+                y: 2,
+                width: 3,
+                height: 4
+            })
+        );
+        assert!("1,2,3".parse::<Region>().is_err());
+        let s = RenderSettings {
+            region: Some(Region {
+                x: 3800,
+                y: 0,
+                width: 100,
+                height: 10,
+            }),
+            ..Default::default()
+        };
+        let e = s.resolve(&camera()).unwrap_err().to_string();
+        assert!(e.contains("leaves the 3840x2160 frame"), "{e}");
+    }
+
+    #[test]
+    fn absurd_requests_are_refused_with_the_numbers() {
+        let s = RenderSettings {
+            aa: Some(16),
+            dof_rays: Some(60000),
+            ..Default::default()
+        };
+        let e = s.resolve(&camera()).unwrap_err().to_string();
+        assert!(e.contains("exceed the limit"), "{e}");
+        let zero = RenderSettings {
+            width: Some(0),
+            ..Default::default()
+        };
+        assert!(
+            zero.resolve(&camera())
+                .unwrap_err()
+                .to_string()
+                .contains("width")
+        );
+    }
+}

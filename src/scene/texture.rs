@@ -1,0 +1,163 @@
+//! Image textures and the four ways the 2014 format fits an image onto a surface.
+
+use super::shape::SurfaceCoords;
+use crate::math::Vec3;
+
+/// How an image covers a surface (report section 2.3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FillMode {
+    /// Repeat the image; one texel covers `scale` world units.
+    Tile { scale: f32 },
+    /// Map the image onto the shape's extent, distorting its aspect ratio.
+    Stretch,
+    /// Scale uniformly so the whole image shows, centred; the rest of the surface keeps
+    /// the material colour.
+    Fit,
+    /// Scale uniformly so the image covers the whole extent, centred; the overflow is cut.
+    Crop,
+}
+
+/// An 8-bit RGB image, rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<[u8; 3]>,
+    pub fill: FillMode,
+}
+
+impl Texture {
+    pub fn new(width: u32, height: u32, texels: Vec<[u8; 3]>, fill: FillMode) -> Texture {
+        assert_eq!(texels.len(), width as usize * height as usize);
+        assert!(width > 0 && height > 0);
+        Texture {
+            width,
+            height,
+            texels,
+            fill,
+        }
+    }
+
+    /// Column and row of the texel seen at `c`, or `None` where a `Fit` image leaves the
+    /// surface uncovered. Image x runs along columns and y along rows, origin top-left.
+    pub fn texel_index(&self, c: &SurfaceCoords) -> Option<(u32, u32)> {
+        let (cols, rows) = (self.width as f32, self.height as f32);
+        match self.fill {
+            FillMode::Tile { scale } => Some((
+                wrap((c.x / scale).floor(), self.width),
+                wrap((c.y / scale).floor(), self.height),
+            )),
+            FillMode::Stretch => Some((
+                clamp_index((c.x - c.x0) / c.len_x * cols, self.width),
+                clamp_index((c.y - c.y0) / c.len_y * rows, self.height),
+            )),
+            FillMode::Fit | FillMode::Crop => {
+                let sx = c.len_x / cols;
+                let sy = c.len_y / rows;
+                // World units per texel.
+                let s = if self.fill == FillMode::Fit {
+                    sx.min(sy)
+                } else {
+                    sx.max(sy)
+                };
+                let off_x = (c.len_x - cols * s) * 0.5;
+                let off_y = (c.len_y - rows * s) * 0.5;
+                let col = ((c.x - c.x0 - off_x) / s).floor();
+                let row = ((c.y - c.y0 - off_y) / s).floor();
+                if self.fill == FillMode::Fit
+                    && !((0.0..cols).contains(&col) && (0.0..rows).contains(&row))
+                {
+                    return None;
+                }
+                Some((clamp_index(col, self.width), clamp_index(row, self.height)))
+            }
+        }
+    }
+
+    /// Colour (0..1 per channel) at `c`, or `None` outside a `Fit` image.
+    pub fn lookup(&self, c: &SurfaceCoords) -> Option<Vec3> {
+        let (col, row) = self.texel_index(c)?;
+        let [r, g, b] = self.texels[row as usize * self.width as usize + col as usize];
+        Some(Vec3::new(r as f32, g as f32, b as f32) / 255.0)
+    }
+}
+
+fn wrap(v: f32, n: u32) -> u32 {
+    if !v.is_finite() {
+        return 0;
+    }
+    (v.rem_euclid(n as f32) as u32).min(n - 1)
+}
+
+fn clamp_index(v: f32, n: u32) -> u32 {
+    if v.is_nan() {
+        return 0;
+    }
+    (v.max(0.0) as u32).min(n - 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 4x2 image whose texel (col, row) has red = col and green = row.
+    fn grid(fill: FillMode) -> Texture {
+        let mut t = Vec::new();
+        for row in 0..2u8 {
+            for col in 0..4u8 {
+                t.push([col, row, 0]);
+            }
+        }
+        Texture::new(4, 2, t, fill)
+    }
+
+    fn at(x: f32, y: f32, len_x: f32, len_y: f32) -> SurfaceCoords {
+        SurfaceCoords {
+            x,
+            y,
+            x0: 0.0,
+            y0: 0.0,
+            len_x,
+            len_y,
+        }
+    }
+
+    #[test]
+    fn tile_repeats_every_scale_units_and_wraps_negatives() {
+        let t = grid(FillMode::Tile { scale: 0.5 });
+        assert_eq!(t.texel_index(&at(0.0, 0.0, 1.0, 1.0)), Some((0, 0)));
+        assert_eq!(t.texel_index(&at(1.6, 0.6, 1.0, 1.0)), Some((3, 1)));
+        assert_eq!(t.texel_index(&at(2.1, 1.1, 1.0, 1.0)), Some((0, 0)));
+        assert_eq!(t.texel_index(&at(-0.1, -0.1, 1.0, 1.0)), Some((3, 1)));
+    }
+
+    #[test]
+    fn stretch_maps_extent_onto_image() {
+        let t = grid(FillMode::Stretch);
+        assert_eq!(t.texel_index(&at(0.0, 0.0, 8.0, 8.0)), Some((0, 0)));
+        assert_eq!(t.texel_index(&at(7.99, 7.99, 8.0, 8.0)), Some((3, 1)));
+        assert_eq!(t.texel_index(&at(8.0, 8.0, 8.0, 8.0)), Some((3, 1)));
+        assert_eq!(t.texel_index(&at(4.5, 3.9, 8.0, 8.0)), Some((2, 0)));
+    }
+
+    #[test]
+    fn fit_letterboxes_and_crop_cuts() {
+        // Extent 8 x 8, image 4 x 2: fit gives 2 units per texel, image rows span
+        // y in [2, 6); crop gives 4 units per texel, columns span x in [-4, 12).
+        let fit = grid(FillMode::Fit);
+        assert_eq!(fit.texel_index(&at(1.0, 1.0, 8.0, 8.0)), None);
+        assert_eq!(fit.texel_index(&at(1.0, 2.5, 8.0, 8.0)), Some((0, 0)));
+        assert_eq!(fit.texel_index(&at(7.0, 5.5, 8.0, 8.0)), Some((3, 1)));
+        let crop = grid(FillMode::Crop);
+        assert_eq!(crop.texel_index(&at(0.0, 0.0, 8.0, 8.0)), Some((1, 0)));
+        assert_eq!(crop.texel_index(&at(7.9, 7.9, 8.0, 8.0)), Some((2, 1)));
+        assert_eq!(crop.texel_index(&at(3.9, 3.9, 8.0, 8.0)), Some((1, 0)));
+    }
+
+    #[test]
+    fn lookup_returns_unit_range_colour() {
+        let t = grid(FillMode::Stretch);
+        let c = t.lookup(&at(7.0, 7.0, 8.0, 8.0)).unwrap();
+        assert_eq!(c, Vec3::new(3.0 / 255.0, 1.0 / 255.0, 0.0));
+    }
+}

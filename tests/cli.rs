@@ -1,0 +1,244 @@
+//! The `prism` command end to end: renders, options, determinism and bad input.
+
+mod common;
+use common::*;
+use std::fs;
+
+#[test]
+fn report_command_line_and_render_subcommand_give_the_same_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("a.ppm");
+    let b = dir.path().join("b.ppm");
+    let small = ["--width", "96", "--aa", "1"];
+    let o = run(prism()
+        .args([example("example.objx"), example("example.cmr"), a.clone()])
+        .args(small));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(prism()
+        .arg("render")
+        .args([example("example.objx"), example("example.cmr"), b.clone()])
+        .args(small)
+        .arg("--quiet"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = load_rgb(&a);
+    assert_eq!((img.width(), img.height()), (96, 54));
+    assert_eq!(fs::read(&a).unwrap(), fs::read(&b).unwrap());
+}
+
+#[test]
+fn image_is_identical_for_any_thread_count_and_intersector() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let o = run(prism()
+            .args([example("example.objx"), example("example.cmr"), out.clone()])
+            .args(["--width", "64", "--aa", "2", "--dof-rays", "5"])
+            .args(extra));
+        assert!(o.status.success(), "{}", stderr(&o));
+        fs::read(out).unwrap()
+    };
+    let one = render("t1.ppm", &["--threads", "1"]);
+    assert_eq!(one, render("t2.ppm", &["--threads", "2"]));
+    assert_eq!(
+        one,
+        render("t3.ppm", &["--threads", "3", "--accel", "list"])
+    );
+    assert_ne!(
+        one,
+        render("s.ppm", &["--seed", "10"]),
+        "the seed must matter with DOF"
+    );
+}
+
+#[test]
+fn region_is_the_same_window_of_the_full_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = dir.path().join("full.png");
+    let part = dir.path().join("part.png");
+    for filter in ["area", "lanczos"] {
+        let common = ["--width", "80", "--aa", "3", "--aa-filter", filter];
+        let o = run(prism()
+            .args([
+                example("example.objx"),
+                example("example.cmr"),
+                full.clone(),
+            ])
+            .args(common));
+        assert!(o.status.success(), "{}", stderr(&o));
+        let o = run(prism()
+            .args([
+                example("example.objx"),
+                example("example.cmr"),
+                part.clone(),
+            ])
+            .args(common)
+            .args(["--region", "30,10,25,20"]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        let full = load_rgb(&full);
+        let part = load_rgb(&part);
+        assert_eq!((part.width(), part.height()), (25, 20));
+        for y in 0..20 {
+            for x in 0..25 {
+                assert_eq!(
+                    part.get_pixel(x, y),
+                    full.get_pixel(30 + x, 10 + y),
+                    "{filter} at {x},{y}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn stats_prints_one_line_of_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(prism()
+        .args([
+            example("example.objx"),
+            example("example.cmr"),
+            dir.path().join("s.bmp"),
+        ])
+        .args(["--width", "32", "--stats", "--quiet"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(out.lines().count(), 1, "{out}");
+    assert!(
+        out.contains("rays ") && out.contains("seconds ") && out.contains("Mrays/s "),
+        "{out}"
+    );
+}
+
+#[test]
+fn help_documents_every_option() {
+    let o = run(prism().arg("--help"));
+    assert!(o.status.success());
+    let help = String::from_utf8(o.stdout).unwrap();
+    for opt in [
+        "--width",
+        "--height",
+        "--region",
+        "--aa",
+        "--aa-filter",
+        "--dof-rays",
+        "--threads",
+        "--seed",
+        "--quiet",
+        "--stats",
+        "--accel",
+    ] {
+        assert!(help.contains(opt), "{opt} missing from --help");
+    }
+}
+
+/// Runs prism on a scene written into a temp folder; returns (exit code, stderr) and
+/// checks that no output file was left.
+fn fails(objx: &str, mtlx: &str, cmr: &str, extra: &[&str]) -> (i32, String) {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("s.objx"), objx).unwrap();
+    fs::write(dir.path().join("s.mtlx"), mtlx).unwrap();
+    fs::write(dir.path().join("s.cmr"), cmr).unwrap();
+    let out = dir.path().join("out.png");
+    let o = run(prism()
+        .args([
+            dir.path().join("s.objx"),
+            dir.path().join("s.cmr"),
+            out.clone(),
+        ])
+        .args(extra));
+    assert!(!out.exists(), "a failed run left an output file");
+    let leftovers: Vec<_> = fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(leftovers.len(), 3, "a failed run left files behind");
+    (o.status.code().unwrap_or(-1), stderr(&o))
+}
+
+const MTL: &str = "newmtl m 255 0 0 1 1 0 1 1 0 0 0\n";
+const CMR: &str = "0 0 0\n90 0\n1\n1\n8 8\n0.1\n1 0\n1 1\n";
+
+#[test]
+fn malformed_scene_reports_file_line_and_expectation_with_exit_2() {
+    let cases = [
+        (
+            "mtllib s.mtlx\nusemtl m\nv 0 0 0\nf 0 -2\n",
+            "s.objx:4:",
+            "radius",
+        ),
+        (
+            "mtllib s.mtlx\nv 0 0 0\nv 1 0 0\nf 0 1 7\n",
+            "s.objx:4:",
+            "out of range",
+        ),
+        ("mtllib s.mtlx\nbogus 1 2\n", "s.objx:2:", "unknown keyword"),
+        ("mtllib s.mtlx\nv 0 zero 0\n", "s.objx:2:", "zero"),
+        ("mtllib s.mtlx\nusemtl nope\n", "s.objx:2:", "nope"),
+        ("mtllib missing.mtlx\n", "s.objx:1:", "missing.mtlx"),
+        (
+            "mtllib s.mtlx\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 2 0\nf 0 1 2 3\n",
+            "s.objx:6:",
+            "rectangle",
+        ),
+    ];
+    for (objx, place, word) in cases {
+        let (code, err) = fails(objx, MTL, CMR, &[]);
+        assert_eq!(code, 2, "{objx}: {err}");
+        assert!(err.starts_with("error: "), "{err}");
+        assert!(
+            err.contains(place) && err.contains(word),
+            "{objx}\n=> {err}"
+        );
+    }
+}
+
+#[test]
+fn malformed_materials_and_cameras_are_reported_too() {
+    let scene = "mtllib s.mtlx\n";
+    let (code, err) = fails(
+        scene,
+        "# header\nnewmtl m 255 0 0 1 1 0 1 1 0 0 0 nothere.png\n",
+        CMR,
+        &[],
+    );
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("s.mtlx:2:") && err.contains("nothere.png"),
+        "{err}"
+    );
+    let (code, err) = fails(scene, &format!("{MTL}{MTL}"), CMR, &[]);
+    assert_eq!(code, 2);
+    assert!(err.contains("s.mtlx:2:") && err.contains("m"), "{err}");
+    let (code, err) = fails(scene, MTL, "0 0 0\n90 0\n1\n1\n8 8\n", &[]);
+    assert_eq!(code, 2);
+    assert!(err.contains("s.cmr:5:"), "{err}");
+    let (code, err) = fails(scene, MTL, "0 0 0\n90 0\n1\n1\n8 nan\n0.1\n1 0\n1 1\n", &[]);
+    assert_eq!(code, 2);
+    assert!(err.contains("s.cmr:5:"), "{err}");
+}
+
+#[test]
+fn bad_options_and_outputs_exit_2_without_output() {
+    let scene = "mtllib s.mtlx\n";
+    let (code, err) = fails(scene, MTL, CMR, &["--width", "0"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("width"), "{err}");
+    let (code, err) = fails(
+        scene,
+        MTL,
+        CMR,
+        &["--aa", "16", "--dof-rays", "65536", "--width", "60000"],
+    );
+    assert_eq!(code, 2);
+    assert!(err.contains("limit"), "{err}");
+    let (code, _) = fails(scene, MTL, CMR, &["--aa-filter", "sinc"]);
+    assert_eq!(code, 2);
+    let (code, _) = fails(scene, MTL, CMR, &["--region", "1,2"]);
+    assert_eq!(code, 2);
+
+    let dir = tempfile::tempdir().unwrap();
+    for out in [dir.path().join("x.webp"), dir.path().join("nodir/x.png")] {
+        let o = run(prism().args([example("example.objx"), example("example.cmr"), out.clone()]));
+        assert_eq!(o.status.code(), Some(2));
+        assert!(!out.exists());
+    }
+    let o = run(prism().arg("only-one-arg"));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("Usage"), "{}", stderr(&o));
+}
