@@ -82,9 +82,13 @@ pub fn check_output_path(path: &Path) -> Result<OutputFormat> {
 pub fn write_image(image: &Image, path: &Path) -> Result<()> {
     let format = check_output_path(path)?;
     let dir = target_dir(path)?;
-    let tmp = tempfile::Builder::new()
-        .prefix(".prism-")
-        .suffix(".part")
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".prism-").suffix(".part");
+    // Temporary files are private by default; the image gets the permissions of any
+    // file the user creates (0666 less the umask).
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let tmp = builder
         .tempfile_in(dir)
         .map_err(|e| Error::file(path, format!("cannot create a temporary file: {e}")))?;
     {
