@@ -16,11 +16,12 @@ impl<'s> ListAccel<'s> {
 
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        let mut t_best = t_max;
         for (i, s) in self.shapes.iter().enumerate() {
-            if let Some(t) = s.intersect(ray, t_best) {
-                t_best = t;
-                best = Some(Hit { t, shape: i as u32 });
+            let shape = i as u32;
+            if let Some(t) = s.intersect(ray, Hit::bound(&best, t_max))
+                && Hit::beats(t, shape, &best)
+            {
+                best = Some(Hit { t, shape });
             }
         }
         best

@@ -20,6 +20,25 @@ pub struct Hit {
     pub shape: u32,
 }
 
+impl Hit {
+    /// Whether a hit at `t` on `shape` wins over `best`: nearer, or as near with a lower
+    /// index. Breaking ties by index makes every intersector pick the same shape where
+    /// two coincide (a room's walls share edges), whatever order it tests them in.
+    #[inline]
+    pub fn beats(t: f32, shape: u32, best: &Option<Hit>) -> bool {
+        match best {
+            None => true,
+            Some(b) => t < b.t || (t == b.t && shape < b.shape),
+        }
+    }
+
+    /// The distance bound to test the next shape with, so a tie can still be seen.
+    #[inline]
+    pub fn bound(best: &Option<Hit>, t_max: f32) -> f32 {
+        best.map_or(t_max, |b| b.t.next_up())
+    }
+}
+
 /// Which intersector to build.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum AccelKind {

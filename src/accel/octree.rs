@@ -115,13 +115,14 @@ impl<'s> Octree<'s> {
 
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        let mut t_best = t_max;
-        self.walk(ray, t_max, |shape, t_limit| {
-            if let Some(t) = self.shapes[shape as usize].intersect(ray, t_limit) {
-                t_best = t;
+        self.walk(ray, t_max, |shape, _| {
+            let s = &self.shapes[shape as usize];
+            if let Some(t) = s.intersect(ray, Hit::bound(&best, t_max))
+                && Hit::beats(t, shape, &best)
+            {
                 best = Some(Hit { t, shape });
             }
-            (false, t_best)
+            (false, best.map_or(t_max, |b| b.t))
         });
         best
     }
