@@ -58,3 +58,99 @@ impl Scene {
             .unwrap_or(m.color)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 4 x 2 image whose texel (col, row) has red = col and green = row.
+    fn grid(fill: FillMode) -> Texture {
+        let texels = (0..2u8)
+            .flat_map(|row| (0..4u8).map(move |col| [col, row, 0]))
+            .collect();
+        Texture::new(4, 2, texels, fill)
+    }
+
+    fn texel(col: u8, row: u8) -> Vec3 {
+        Vec3::new(col as f32, row as f32, 0.0) / 255.0
+    }
+
+    const BARE: Vec3 = Vec3::new(0.5, 0.5, 0.5);
+
+    /// A scene of one shape wearing the grid texture with `fill`.
+    fn textured(shape: Shape, fill: FillMode) -> Scene {
+        let mut s = Scene {
+            materials: vec![Material {
+                color: BARE,
+                texture: Some(0),
+                ..Material::default_white()
+            }],
+            textures: vec![grid(fill)],
+            ..Scene::default()
+        };
+        s.push_shape(shape, 0);
+        s
+    }
+
+    fn square(side: f32) -> Shape {
+        Shape::Rectangle(Rectangle {
+            v: [
+                Vec3::ZERO,
+                Vec3::new(8.0, 0.0, 0.0),
+                Vec3::new(8.0, side, 0.0),
+                Vec3::new(0.0, side, 0.0),
+            ],
+        })
+    }
+
+    #[test]
+    fn rectangle_texels_in_every_fill_mode() {
+        let at =
+            |side, fill, x, y| textured(square(side), fill).surface_color(0, Vec3::new(x, y, 0.0));
+        assert_eq!(at(4.0, FillMode::Stretch, 7.0, 3.0), texel(3, 1));
+        assert_eq!(
+            at(4.0, FillMode::Tile { scale: 1.0 }, 5.5, 2.5),
+            texel(1, 0)
+        );
+        // 8 x 8 surface: fit letterboxes the 4 x 2 image into rows y in [2, 6).
+        assert_eq!(at(8.0, FillMode::Fit, 1.0, 1.0), BARE);
+        assert_eq!(at(8.0, FillMode::Fit, 1.0, 5.5), texel(0, 1));
+        // Crop: 4 units per texel, columns from x = -4.
+        assert_eq!(at(8.0, FillMode::Crop, 0.5, 0.5), texel(1, 0));
+    }
+
+    #[test]
+    fn triangle_texels_in_every_fill_mode() {
+        // Frame: x along v0 - v1 = +x, y toward v2 = +y; extent [-8, 0] x [0, 4].
+        let tri = Shape::Triangle(Triangle {
+            v: [
+                Vec3::ZERO,
+                Vec3::new(-8.0, 0.0, 0.0),
+                Vec3::new(0.0, 4.0, 0.0),
+            ],
+        });
+        let p = Vec3::new(-2.0, 2.0, 0.0);
+        let at = |fill| textured(tri, fill).surface_color(0, p);
+        assert_eq!(at(FillMode::Stretch), texel(3, 1));
+        assert_eq!(at(FillMode::Tile { scale: 1.0 }), texel(2, 0));
+        assert_eq!(at(FillMode::Fit), texel(3, 1));
+        assert_eq!(at(FillMode::Crop), texel(3, 1));
+    }
+
+    #[test]
+    fn sphere_texels_in_every_fill_mode() {
+        let ball = Shape::Sphere(Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        });
+        // Equator at azimuth pi/2: (x, y) = (1/2, 1/3); at 3 pi/2: (1/2, 2/3).
+        let at = |fill, p| textured(ball, fill).surface_color(0, p);
+        assert_eq!(at(FillMode::Stretch, Vec3::Y), texel(2, 0));
+        assert_eq!(at(FillMode::Stretch, -Vec3::Y), texel(2, 1));
+        assert_eq!(at(FillMode::Tile { scale: 0.25 }, Vec3::Y), texel(2, 1));
+        // Unit square, 4 x 2 image: fit shows it in rows y in [1/4, 3/4).
+        assert_eq!(at(FillMode::Fit, Vec3::Y), texel(2, 0));
+        assert_eq!(at(FillMode::Fit, Vec3::Z), BARE);
+        assert_eq!(at(FillMode::Crop, Vec3::Y), texel(2, 0));
+    }
+}
