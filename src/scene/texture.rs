@@ -82,11 +82,10 @@ impl Texture {
     }
 }
 
+/// `v mod n` for a whole number `v`; the saturating cast keeps huge and non-finite
+/// coordinates in range (NaN becomes 0).
 fn wrap(v: f32, n: u32) -> u32 {
-    if !v.is_finite() {
-        return 0;
-    }
-    (v.rem_euclid(n as f32) as u32).min(n - 1)
+    (v as i64).rem_euclid(i64::from(n)) as u32
 }
 
 fn clamp_index(v: f32, n: u32) -> u32 {
