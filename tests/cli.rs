@@ -202,6 +202,30 @@ fn malformed_materials_and_cameras_are_reported_too() {
         err.contains("s.mtlx:2:") && err.contains("nothere.png"),
         "{err}"
     );
+    // An image file that is not an image.
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("junk.png"), "not a png").unwrap();
+    fs::write(
+        dir.path().join("s.mtlx"),
+        "newmtl m 255 0 0 1 1 0 1 1 0 0 0 junk.png\n",
+    )
+    .unwrap();
+    fs::write(dir.path().join("s.objx"), scene).unwrap();
+    fs::write(dir.path().join("s.cmr"), CMR).unwrap();
+    let out = dir.path().join("o.png");
+    let o = run(prism().args([
+        dir.path().join("s.objx"),
+        dir.path().join("s.cmr"),
+        out.clone(),
+    ]));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("s.mtlx:1:") && stderr(&o).contains("junk.png"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
+
     let (code, err) = fails(scene, &format!("{MTL}{MTL}"), CMR, &[]);
     assert_eq!(code, 2);
     assert!(err.contains("s.mtlx:2:") && err.contains("m"), "{err}");
