@@ -17,6 +17,8 @@ pub const SPLIT_AT: usize = 5;
 /// entries always suffices.
 pub const MAX_DEPTH: u32 = 10;
 const STACK: usize = 7 * MAX_DEPTH as usize + 1;
+/// Shapes remembered per ray as already tested.
+const MAILBOX: usize = 8;
 
 #[derive(Clone, Copy, Debug)]
 struct Node {
@@ -161,6 +163,11 @@ impl<'s> Octree<'s> {
         };
         stack[0] = (0, t0);
         let mut len = 1;
+        // Shapes spanning many cells (walls, floors) sit in many leaves; a small ring of
+        // the shapes tested last skips most repeated tests. A repeat could not change
+        // the answer: its hit, if any, was already seen.
+        let mut recent = [u32::MAX; MAILBOX];
+        let mut slot = 0;
         while len > 0 {
             len -= 1;
             let (index, t_enter) = stack[len];
@@ -171,6 +178,11 @@ impl<'s> Octree<'s> {
             if node.is_leaf() {
                 let items = &self.items[node.first as usize..(node.first + node.count) as usize];
                 for &shape in items {
+                    if recent.contains(&shape) {
+                        continue;
+                    }
+                    recent[slot] = shape;
+                    slot = (slot + 1) % MAILBOX;
                     let (stop, limit) = visit(shape, t_limit);
                     if stop {
                         return;
