@@ -1,0 +1,127 @@
+//! Regression against the 2014 report's figures. `examples/fidelity.rs` found the frame
+//! widths, crop offsets and the scene1 pose used here; `docs/fidelity.md` explains them.
+//! Each check renders only a window a few pixels larger than the reference crop, at the
+//! frame width where the crop maps 1:1 onto rendered pixels, finds the crop in it, and
+//! checks its position, PSNR and SSIM. Skipped (passing) when the seed scenes are absent.
+
+mod common;
+use prism::compare::{RgbImage, crop, match_template, psnr, ssim};
+use prism::format::{load_camera, load_scene};
+use prism::render::{Region, RenderSettings, Renderer};
+use prism::scene::{Camera, Scene};
+use std::path::Path;
+
+/// Slack around the expected crop position, in pixels.
+const MARGIN: u32 = 4;
+
+struct Expect {
+    /// Frame width; the height follows the camera's 16:9.
+    width: u32,
+    /// Emulate the 2014 program's rays through pixel corners (Prism uses centres).
+    corners: bool,
+    /// Top-left of the crop in that frame.
+    x: u32,
+    y: u32,
+    min_psnr: f64,
+    min_ssim: f64,
+}
+
+/// Renders the window around the expected position, locates the crop and scores it.
+fn check(scene: &Scene, camera: &Camera, reference: &Path, e: &Expect) {
+    let reference_img = common::load_rgb(reference);
+    let (tw, th) = reference_img.dimensions();
+    // Rounded as the renderer rounds a width-only override.
+    let (ch, cw) = (u64::from(camera.height), u64::from(camera.width));
+    let height = ((ch * u64::from(e.width) + cw / 2) / cw) as u32;
+    let mut cam = camera.with_resolution(e.width, height);
+    if e.corners {
+        // One more pixel each way at the same retina scale: these pixel centres are the
+        // corners of the width x height frame's pixels.
+        cam.width += 1;
+        cam.height += 1;
+    }
+    let region = Region {
+        x: e.x - MARGIN,
+        y: e.y - MARGIN,
+        width: tw + 2 * MARGIN,
+        height: th + 2 * MARGIN,
+    };
+    let settings = RenderSettings {
+        aa: Some(1),
+        dof_rays: Some(1),
+        region: Some(region),
+        ..Default::default()
+    };
+    let (img, _) = Renderer::new(scene, &cam, settings)
+        .unwrap()
+        .render(&|_| {})
+        .unwrap();
+    let data = img.to_rgb8();
+    let view = RgbImage::new(img.width, img.height, &data);
+    let t = RgbImage::new(tw, th, reference_img.as_raw());
+    let m = match_template(&view, &t);
+    let (x, y) = (region.x + m.x, region.y + m.y);
+    let window = crop(&view, m.x, m.y, tw, th);
+    let w = RgbImage::new(tw, th, &window);
+    let (p, s) = (psnr(&w, &t), ssim(&w, &t));
+    let name = reference.file_name().unwrap().to_string_lossy();
+    let mode = if e.corners { "corners" } else { "centres" };
+    eprintln!(
+        "{name} ({mode}, width {}): at ({x}, {y}), NCC {:.4}, PSNR {p:.2} dB, SSIM {s:.4}",
+        e.width, m.ncc
+    );
+    assert!(
+        x.abs_diff(e.x) <= 1 && y.abs_diff(e.y) <= 1,
+        "{name} ({mode}): crop found at ({x}, {y}), expected ({}, {})",
+        e.x,
+        e.y
+    );
+    assert!(
+        p > e.min_psnr,
+        "{name} ({mode}): PSNR {p:.2} dB <= {}",
+        e.min_psnr
+    );
+    assert!(
+        s > e.min_ssim,
+        "{name} ({mode}): SSIM {s:.4} <= {}",
+        e.min_ssim
+    );
+}
+
+fn load(dir: &Path) -> (Scene, Camera) {
+    (
+        load_scene(&dir.join("scene.objx")).unwrap(),
+        load_camera(&dir.join("scene.cmr")).unwrap(),
+    )
+}
+
+#[test]
+fn scene0_matches_the_report_figure_without_anti_aliasing() {
+    let Some(dir) = common::seed_scene("scene0") else {
+        return;
+    };
+    let (scene, camera) = load(&dir);
+    let org = dir.join("../report/org.png");
+    // The figure is a 960 x 540 render through pixel corners. Measured: at (440, 290),
+    // PSNR 35.04 dB, SSIM 0.9861 (93 % of channel values within 1 level).
+    let exact = Expect {
+        width: 960,
+        corners: true,
+        x: 440,
+        y: 290,
+        min_psnr: 34.0,
+        min_ssim: 0.98,
+    };
+    check(&scene, &camera, &org, &exact);
+    // Prism's own pixel centres: half a pixel off, best matched by a 961-wide frame.
+    // Measured: at (440, 290), PSNR 25.30 dB, SSIM 0.8536.
+    let centres = Expect {
+        width: 961,
+        corners: false,
+        x: 440,
+        y: 290,
+        min_psnr: 24.5,
+        min_ssim: 0.83,
+    };
+    check(&scene, &camera, &org, &centres);
+}
