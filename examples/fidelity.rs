@@ -14,7 +14,7 @@
 //!   frame of the author's animation; [`scene1_pose`] is the camera and marble placement
 //!   found by the search described in `docs/fidelity.md`. `dof2` uses depth of field,
 //!   rendered only over the window where `org2` was found, at anti-aliasing 1, with 32 lens
-//!   rays (128 with `--full`).
+//!   rays (128 with `--full`, which also adds a corner-ray `dof2` row).
 //!
 //! Rows marked `corners` emulate the 2014 program's camera rays through pixel *corners*
 //! (SPEC 3.1; Prism uses centres): a frame one pixel wider and taller at the same retina
