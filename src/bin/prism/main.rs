@@ -1,0 +1,63 @@
+//! The `prism` command: arguments, progress and messages. The work is in the library.
+
+mod render;
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use render::RenderArgs;
+use std::io::IsTerminal;
+use std::process::ExitCode;
+
+/// Prism renders scenes of the 2014 ray-tracer formats (.objx scene, .mtlx materials,
+/// .cmr camera) into images, Whitted style.
+///
+/// `prism SCENE CAMERA OUTPUT` is the report's command line; `prism render SCENE CAMERA
+/// OUTPUT [OPTIONS]` is the same with a name. Options override the camera file.
+#[derive(Parser)]
+#[command(
+    name = "prism",
+    version,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene and camera to an image file.
+    Render(RenderArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match cli.command {
+        Some(Command::Render(args)) => render::run(&args),
+        None => render::run(&cli.render),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+pub(crate) fn progress_bar(rows: u64, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(rows);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% eta {eta}",
+        )
+        .expect("static template"),
+    );
+    bar
+}
