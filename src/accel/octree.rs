@@ -115,6 +115,11 @@ impl<'s> Octree<'s> {
         self.nodes.len()
     }
 
+    /// Bytes held by the cells and their shape lists.
+    pub fn memory_bytes(&self) -> usize {
+        self.nodes.capacity() * size_of::<Node>() + self.items.capacity() * size_of::<u32>()
+    }
+
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         self.walk(ray, t_max, |shape, _| {

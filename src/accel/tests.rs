@@ -41,32 +41,91 @@ fn ray_strategy() -> impl Strategy<Value = Ray> {
         .prop_map(|(o, d)| Ray::new(v(o), v(d)))
 }
 
+/// Every fast intersector against brute force: the same closest hit (the same shape
+/// tests give the same distance bit for bit, and ties go to the lower index in all) and
+/// the same shadow answer.
+fn agree_with_brute_force(shapes: &[Shape], rays: &[Ray]) -> Result<(), TestCaseError> {
+    let list = Accel::build(AccelKind::List, shapes);
+    for kind in [AccelKind::Octree, AccelKind::Bvh] {
+        let fast = Accel::build(kind, shapes);
+        for ray in rays {
+            for t_max in [5.0, 40.0, f32::INFINITY] {
+                let (a, b) = (list.closest(ray, t_max), fast.closest(ray, t_max));
+                prop_assert_eq!(a, b, "{} closest, t_max {}, ray {:?}", kind, t_max, ray);
+                let even = |s: u32| s.is_multiple_of(2);
+                prop_assert_eq!(
+                    list.occluded(ray, t_max, even),
+                    fast.occluded(ray, t_max, even),
+                    "{} occluded, t_max {}",
+                    kind,
+                    t_max
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A ray from a random point towards a random point of a random shape's box, so most
+/// rays hit something (uniform random rays mostly miss small scenes).
+fn aimed_rays(shapes: &[Shape], picks: &[(usize, [f32; 3], [f32; 3])]) -> Vec<Ray> {
+    picks
+        .iter()
+        .filter(|_| !shapes.is_empty())
+        .map(|&(i, o, f)| {
+            let b = shapes[i % shapes.len()].bounds();
+            let target = b.min + b.extent() * v(f);
+            Ray::new(v(o), target - v(o))
+        })
+        .filter(|r| r.dir.is_finite())
+        .collect()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
     #[test]
-    fn octree_agrees_with_brute_force(
+    fn intersectors_agree_with_brute_force_on_random_rays(
         shapes in prop::collection::vec(shape_strategy(), 0..60),
         rays in prop::collection::vec(ray_strategy(), 32),
     ) {
-        let list = Accel::build(AccelKind::List, &shapes);
-        let octree = Accel::build(AccelKind::Octree, &shapes);
-        for ray in &rays {
-            let a = list.closest(ray, f32::INFINITY);
-            let b = octree.closest(ray, f32::INFINITY);
-            match (a, b) {
-                (None, None) => {}
-                (Some(a), Some(b)) => {
-                    // Same shape tests in the same order give the same answer exactly;
-                    // ties go to the lower index in both.
-                    prop_assert_eq!(a, b);
-                }
-                _ => prop_assert!(false, "list {a:?} octree {b:?}"),
-            }
-            let even = |s: u32| s.is_multiple_of(2);
-            for t_max in [5.0, 40.0, f32::INFINITY] {
-                prop_assert_eq!(list.occluded(ray, t_max, even), octree.occluded(ray, t_max, even));
+        agree_with_brute_force(&shapes, &rays)?;
+    }
+
+    #[test]
+    fn intersectors_agree_with_brute_force_on_aimed_rays(
+        shapes in prop::collection::vec(shape_strategy(), 1..200),
+        picks in prop::collection::vec(
+            (0usize..1000, prop::array::uniform3(-80.0f32..80.0), prop::array::uniform3(0.0f32..1.0)),
+            32,
+        ),
+    ) {
+        agree_with_brute_force(&shapes, &aimed_rays(&shapes, &picks))?;
+    }
+
+    /// A tessellated grid: every triangle shares its edges, and rays through vertices
+    /// and along edges test the ties.
+    #[test]
+    fn intersectors_agree_on_shared_edges(
+        n in 1usize..12,
+        picks in prop::collection::vec((0i32..24, 0i32..24, -3i32..4, -3i32..4), 32),
+    ) {
+        let mut shapes = Vec::new();
+        for y in 0..n {
+            for x in 0..n {
+                let p = |dx: usize, dy: usize| Vec3::new((x + dx) as f32, (y + dy) as f32, 0.0);
+                shapes.push(Shape::Triangle(Triangle { v: [p(0, 0), p(1, 0), p(1, 1)] }));
+                shapes.push(Shape::Triangle(Triangle { v: [p(0, 0), p(1, 1), p(0, 1)] }));
             }
         }
+        let rays: Vec<Ray> = picks
+            .iter()
+            .map(|&(x, y, dx, dy)| {
+                let target = Vec3::new(x as f32 * 0.5, y as f32 * 0.5, 0.0);
+                let origin = target + Vec3::new(dx as f32, dy as f32, 7.0);
+                Ray::new(origin, target - origin)
+            })
+            .collect();
+        agree_with_brute_force(&shapes, &rays)?;
     }
 }
 

@@ -12,12 +12,12 @@
 //! Relative paths inside a file (`mtllib`, textures) are resolved against the folder of
 //! the file that names them, never the working directory.
 //!
-//! Dialects: for now the 2014 dialect is used for every scene file. A standard Wavefront
-//! OBJ dialect will come later, chosen by the extension `.obj` (`.objx` is always 2014);
-//! [`SceneDialect`] is where it slots in.
+//! Dialects: the extension `.obj` is standard Wavefront OBJ (geometry only for now);
+//! every other scene file is the 2014 dialect. [`SceneDialect`] is where more slot in.
 
 pub mod cmr;
 pub mod mtlx;
+pub mod obj;
 pub mod objx;
 mod text;
 
@@ -28,26 +28,32 @@ use crate::scene::{Camera, Scene};
 
 /// The dialects a scene file can be written in.
 ///
-/// Only the 2014 dialect exists for now, so it is used for every scene file. The
-/// standard Wavefront OBJ dialect will be a second variant: [`SceneDialect::for_path`]
-/// will then pick it for the extension `.obj`, while `.objx` always stays 2014, and
-/// [`load_scene_as`] lets a command-line flag override the choice.
+/// [`SceneDialect::for_path`] picks one by extension: `.obj` is standard Wavefront
+/// (geometry only for now), anything else the 2014 dialect. [`load_scene_as`] lets a
+/// caller override the choice.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum SceneDialect {
     /// The course report's `.objx` + `.mtlx` (see [`objx`]).
     Objx2014,
+    /// Standard Wavefront OBJ: its triangles (see [`obj`]).
+    WavefrontObj,
 }
 
 impl SceneDialect {
-    /// The dialect of a scene file, told by its name. Today always [`Self::Objx2014`].
-    pub fn for_path(_path: &Path) -> SceneDialect {
-        SceneDialect::Objx2014
+    /// The dialect of a scene file, told by its extension (case-insensitive).
+    pub fn for_path(path: &Path) -> SceneDialect {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if ext.eq_ignore_ascii_case("obj") {
+            SceneDialect::WavefrontObj
+        } else {
+            SceneDialect::Objx2014
+        }
     }
 }
 
-/// Reads a scene file with the dialect [`SceneDialect::for_path`] picks (for now the
-/// 2014 dialect for every file), with its material files and textures.
+/// Reads a scene file with the dialect [`SceneDialect::for_path`] picks, with its
+/// material files and textures.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     load_scene_as(path, SceneDialect::for_path(path))
 }
@@ -56,6 +62,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 pub fn load_scene_as(path: &Path, dialect: SceneDialect) -> Result<Scene> {
     match dialect {
         SceneDialect::Objx2014 => objx::load(path),
+        SceneDialect::WavefrontObj => obj::load(path),
     }
 }
 

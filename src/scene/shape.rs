@@ -8,7 +8,7 @@ use crate::math::{Aabb, Ray, Vec3};
 /// Barycentric slack of triangle and rectangle tests. Two faces that share an edge must
 /// not let a ray slip between them; the 2014 program grew each triangle by the same
 /// relative amount about its centroid for the same reason.
-const EDGE_SLACK: f32 = 1e-5;
+pub(crate) const EDGE_SLACK: f32 = 1e-5;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
@@ -120,7 +120,7 @@ impl Sphere {
 /// Moller-Trumbore over the parallelogram spanned by `e1`, `e2` from `v0`; `max_sum`
 /// bounds `u + v` (1 for a triangle, 2 for a parallelogram).
 #[inline]
-fn intersect_parallelogram(
+pub(crate) fn intersect_parallelogram(
     ray: &Ray,
     v0: Vec3,
     e1: Vec3,

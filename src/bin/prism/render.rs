@@ -39,7 +39,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub dof_rays: Option<u32>,
     /// Intersector.
-    #[arg(long, default_value = "octree", value_parser = ["list", "octree"])]
+    #[arg(long, default_value = "bvh", value_parser = ["bvh", "octree", "list"])]
     pub accel: String,
     /// Worker threads (default: every core). The image does not depend on it.
     #[arg(long, value_name = "N")]
