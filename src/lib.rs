@@ -5,6 +5,7 @@
 //! [`film`] resamples them into the final image and writes it.
 
 pub mod accel;
+pub mod bench;
 pub mod compare;
 pub mod error;
 pub mod film;

@@ -43,6 +43,8 @@ fn image_is_identical_for_any_thread_count_and_intersector() {
         one,
         render("t3.ppm", &["--threads", "3", "--accel", "list"])
     );
+    assert_eq!(one, render("t4.ppm", &["--accel", "octree"]));
+    assert_eq!(one, render("t5.ppm", &["--accel", "bvh"]));
     assert_ne!(
         one,
         render("s.ppm", &["--seed", "10"]),

@@ -81,10 +81,29 @@ pub fn check_output_path(path: &Path) -> Result<OutputFormat> {
 /// Writes `image` to `path` in the format its extension names.
 pub fn write_image(image: &Image, path: &Path) -> Result<()> {
     let format = check_output_path(path)?;
+    write_atomically(path, |w| {
+        image::write_buffer_with_format(
+            w,
+            &image.to_rgb8(),
+            image.width,
+            image.height,
+            image::ExtendedColorType::Rgb8,
+            format.image_format(),
+        )
+        .map_err(|e| Error::file(path, format!("cannot encode image: {e}")))
+    })
+}
+
+/// Writes a file through a temporary file in the same folder, renamed over `path` only
+/// once `write` has succeeded: a failed or interrupted run leaves no partial file.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<&std::fs::File>) -> Result<()>,
+) -> Result<()> {
     let dir = target_dir(path)?;
     let mut builder = tempfile::Builder::new();
     builder.prefix(".prism-").suffix(".part");
-    // Temporary files are private by default; the image gets the permissions of any
+    // Temporary files are private by default; the output gets the permissions of any
     // file the user creates (0666 less the umask).
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
@@ -93,15 +112,7 @@ pub fn write_image(image: &Image, path: &Path) -> Result<()> {
         .map_err(|e| Error::file(path, format!("cannot create a temporary file: {e}")))?;
     {
         let mut w = BufWriter::new(tmp.as_file());
-        image::write_buffer_with_format(
-            &mut w,
-            &image.to_rgb8(),
-            image.width,
-            image.height,
-            image::ExtendedColorType::Rgb8,
-            format.image_format(),
-        )
-        .map_err(|e| Error::file(path, format!("cannot encode image: {e}")))?;
+        write(&mut w)?;
         w.flush()
             .map_err(|e| Error::file(path, format!("cannot write: {e}")))?;
     }

@@ -14,17 +14,52 @@ use crate::math::Vec3;
 use crate::scene::{Material, Scene, Shape, Triangle};
 use crate::{Error, Result};
 
-/// Reads a Wavefront OBJ file's triangles.
-pub fn load(path: &Path) -> Result<Scene> {
-    parse(&read_text(path)?, path)
+/// An indexed triangle mesh: the file's vertices (0-based) and its triangles in file
+/// order, polygons fanned.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub vertices: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
 }
 
-/// Parses the text of an OBJ file; `path` names it in errors.
+/// Reads a Wavefront OBJ file's triangles as a scene.
+pub fn load(path: &Path) -> Result<Scene> {
+    Ok(scene_of(&load_mesh(path)?))
+}
+
+/// Reads a Wavefront OBJ file's triangles as an indexed mesh.
+pub fn load_mesh(path: &Path) -> Result<Mesh> {
+    parse_mesh(&read_text(path)?, path)
+}
+
+/// Parses the text of an OBJ file into a scene; `path` names it in errors.
 pub fn parse(text: &str, path: &Path) -> Result<Scene> {
+    Ok(scene_of(&parse_mesh(text, path)?))
+}
+
+/// Every triangle of `mesh` as a shape wearing a matte white.
+fn scene_of(mesh: &Mesh) -> Scene {
+    let mut scene = Scene {
+        materials: vec![Material::default_white()],
+        ..Scene::default()
+    };
+    scene.shapes.reserve_exact(mesh.triangles.len());
+    scene.material_of.reserve_exact(mesh.triangles.len());
+    for t in &mesh.triangles {
+        let v = t.map(|i| mesh.vertices[i as usize]);
+        scene.push_shape(Shape::Triangle(Triangle { v }), 0);
+    }
+    scene
+}
+
+/// Parses the text of an OBJ file into an indexed mesh whose indices are all checked.
+pub fn parse_mesh(text: &str, path: &Path) -> Result<Mesh> {
     let mut vertices: Vec<Vec3> = Vec::new();
-    // Resolved triangles, each with the line that made it: positive indices may name
-    // vertices defined further down, so they are checked once the file is read.
-    let mut triangles: Vec<([u32; 3], u32)> = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    // Positive indices may name vertices defined further down, so they are checked
+    // once the file is read; this keeps the line of the first face that names each
+    // index beyond what was defined at the time.
+    let mut forward: Vec<(u32, usize)> = Vec::new();
     let mut polygon: Vec<u32> = Vec::new();
     for (number, line) in text.lines().enumerate() {
         let at = At {
@@ -38,7 +73,11 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene> {
             Some("f") => {
                 polygon.clear();
                 for token in tokens {
-                    polygon.push(index(at, token, vertices.len())?);
+                    let i = index(at, token, vertices.len())?;
+                    if i as usize >= vertices.len() {
+                        forward.push((i, at.line));
+                    }
+                    polygon.push(i);
                 }
                 if polygon.len() < 3 {
                     return Err(at.error(format!(
@@ -46,48 +85,34 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene> {
                         polygon.len()
                     )));
                 }
-                let line = u32::try_from(at.line).unwrap_or(u32::MAX);
                 for k in 1..polygon.len() - 1 {
-                    triangles.push(([polygon[0], polygon[k], polygon[k + 1]], line));
+                    triangles.push([polygon[0], polygon[k], polygon[k + 1]]);
+                }
+                if triangles.len() > crate::accel::MAX_SHAPES {
+                    return Err(at.error(format!(
+                        "more than {} triangles are not supported",
+                        crate::accel::MAX_SHAPES
+                    )));
                 }
             }
             _ => {}
         }
     }
-    if triangles.len() > crate::accel::MAX_SHAPES {
-        return Err(Error::file(
+    if let Some(&(i, line)) = forward.iter().find(|(i, _)| *i as usize >= vertices.len()) {
+        return Err(Error::parse(
             path,
+            line,
             format!(
-                "{} triangles: at most {} are supported",
-                triangles.len(),
-                crate::accel::MAX_SHAPES
+                "vertex {} does not exist: the file defines {}",
+                i + 1,
+                vertices.len()
             ),
         ));
     }
-    let mut scene = Scene {
-        materials: vec![Material::default_white()],
-        ..Scene::default()
-    };
-    scene.shapes.reserve_exact(triangles.len());
-    scene.material_of.reserve_exact(triangles.len());
-    for (corners, line) in triangles {
-        let mut v = [Vec3::ZERO; 3];
-        for (slot, &i) in v.iter_mut().zip(&corners) {
-            *slot = *vertices.get(i as usize).ok_or_else(|| {
-                Error::parse(
-                    path,
-                    line as usize,
-                    format!(
-                        "vertex {} does not exist: the file defines {}",
-                        i + 1,
-                        vertices.len()
-                    ),
-                )
-            })?;
-        }
-        scene.push_shape(Shape::Triangle(Triangle { v }), 0);
-    }
-    Ok(scene)
+    Ok(Mesh {
+        vertices,
+        triangles,
+    })
 }
 
 fn vertex<'a>(at: At, mut tokens: impl Iterator<Item = &'a str>) -> Result<Vec3> {

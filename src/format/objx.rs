@@ -13,11 +13,13 @@
 //! A face refers only to vertices defined above it. Faces before any `usemtl` wear
 //! [`Material::default_white`]. Comment lines start with `#`; any other keyword is an error.
 
+use std::io::Write;
 use std::path::Path;
 
 use glam::DVec3;
 
 use super::mtlx::{self, MaterialLibrary};
+use super::obj::Mesh;
 use super::text::{At, data_lines, read_text, shown};
 use crate::math::Vec3;
 use crate::scene::{Light, Material, Rectangle, Scene, Shape, Sphere, Triangle};
@@ -205,6 +207,26 @@ impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
         })?;
         mtlx::parse(&text, &resolved, &mut self.library)
     }
+}
+
+/// Writes an indexed triangle mesh in the 2014 form: vertices numbered from 0, one
+/// `f i j k` per triangle, no materials (every shape gets the matte white default).
+/// Coordinates are written in the shortest form that reads back to the same `f32`.
+pub fn write_mesh(mesh: &Mesh, source: &str, w: &mut impl Write) -> std::io::Result<()> {
+    writeln!(
+        w,
+        "# {source}: {} vertices, {} triangles",
+        mesh.vertices.len(),
+        mesh.triangles.len()
+    )?;
+    writeln!(w, "# 2014 scene format; vertices are numbered from 0.")?;
+    for v in &mesh.vertices {
+        writeln!(w, "v {} {} {}", v.x, v.y, v.z)?;
+    }
+    for [a, b, c] in &mesh.triangles {
+        writeln!(w, "f {a} {b} {c}")?;
+    }
+    Ok(())
 }
 
 fn one_argument<'t>(at: At, keyword: &str, what: &str, args: &[&'t str]) -> Result<&'t str> {
@@ -514,5 +536,20 @@ mod tests {
             let text = format!("{SQUARE}{}", lines.join("\n"));
             let _ = parse_str(&text);
         }
+    }
+
+    #[test]
+    fn a_written_mesh_reads_back_as_the_same_triangles() {
+        let text = "v 0.1 0.2 0.3\nv 1e-7 123456.79 -7\nv 1 0 0\nv 0 1 0.333333343\nf 1 2 3 4\n";
+        let obj_path = Path::new("m.obj");
+        let mesh = crate::format::obj::parse_mesh(text, obj_path).unwrap();
+        let mut out = Vec::new();
+        write_mesh(&mesh, "m.obj", &mut out).unwrap();
+        let written = std::str::from_utf8(&out).unwrap();
+        assert!(written.contains("\nf 0 1 2\nf 0 2 3\n"), "{written}");
+        let back = parse(written, Path::new("m.objx"), |_| unreachable!()).unwrap();
+        let direct = crate::format::obj::parse(text, obj_path).unwrap();
+        assert_eq!(back.shapes, direct.shapes);
+        assert_eq!(back.shapes.len(), 2);
     }
 }

@@ -1,8 +1,12 @@
 //! The `prism` command: arguments, progress and messages. The work is in the library.
 
+mod bench;
+mod convert;
 mod render;
 
+use bench::BenchArgs;
 use clap::{Parser, Subcommand};
+use convert::ConvertArgs;
 use indicatif::{ProgressBar, ProgressStyle};
 use render::RenderArgs;
 use std::io::IsTerminal;
@@ -31,12 +35,18 @@ struct Cli {
 enum Command {
     /// Render a scene and camera to an image file.
     Render(RenderArgs),
+    /// Measure intersector build time, memory and rays per second on a scene.
+    Bench(BenchArgs),
+    /// Rewrite a standard Wavefront OBJ mesh as a 2014 scene file.
+    Convert(ConvertArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
+        Some(Command::Convert(args)) => convert::run(&args),
         None => render::run(&cli.render),
     };
     match outcome {

@@ -1,0 +1,62 @@
+//! `prism bench`: intersector throughput on a scene and camera.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use prism::accel::AccelKind;
+use prism::bench::{self, BenchOptions};
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scene file: a 2014 `.objx`, or a standard `.obj` (its triangles).
+    pub scene: PathBuf,
+    /// Camera file (`.cmr`): one primary ray per pixel of its resolution.
+    pub camera: PathBuf,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Worker threads (default: every core).
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Intersector.
+    #[arg(long, default_value = "bvh", value_parser = ["bvh", "octree", "list"])]
+    pub accel: String,
+    /// Repeat each ray pass until it has run this many seconds.
+    #[arg(long, value_name = "S", default_value_t = 1.0)]
+    pub seconds: f64,
+    /// Skip the full classic frame.
+    #[arg(long)]
+    pub no_frame: bool,
+}
+
+pub fn run(args: &BenchArgs) -> prism::Result<()> {
+    if !(args.seconds.is_finite() && args.seconds >= 0.0) {
+        return Err(prism::Error::Settings(format!(
+            "expected --seconds >= 0, found {}",
+            args.seconds
+        )));
+    }
+    if args.threads == Some(0) {
+        return Err(prism::Error::Settings(
+            "expected --threads >= 1, found 0".into(),
+        ));
+    }
+    let scene = prism::format::load_scene(&args.scene)?;
+    let camera = prism::format::load_camera(&args.camera)?;
+    let options = BenchOptions {
+        accel: args
+            .accel
+            .parse::<AccelKind>()
+            .map_err(prism::Error::Settings)?,
+        threads: args.threads,
+        min_seconds: args.seconds,
+        frame: !args.no_frame,
+    };
+    let report = bench::run(&scene, &camera, &options)?;
+    if args.json {
+        println!("{}", report.to_json());
+    } else {
+        println!("{report}");
+    }
+    Ok(())
+}

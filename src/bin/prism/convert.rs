@@ -1,0 +1,27 @@
+//! `prism convert`: a standard Wavefront OBJ mesh rewritten in the 2014 scene form.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use prism::film::output::write_atomically;
+use prism::format::{obj, objx};
+
+#[derive(Args)]
+pub struct ConvertArgs {
+    /// Standard Wavefront OBJ file to read (its triangles).
+    pub input: PathBuf,
+    /// 2014 scene file to write (`.objx`).
+    pub output: PathBuf,
+}
+
+pub fn run(args: &ConvertArgs) -> prism::Result<()> {
+    let mesh = obj::load_mesh(&args.input)?;
+    let source = args.input.file_name().map_or_else(
+        || args.input.display().to_string(),
+        |n| n.to_string_lossy().into(),
+    );
+    write_atomically(&args.output, |w| {
+        objx::write_mesh(&mesh, &source, w)
+            .map_err(|e| prism::Error::file(&args.output, format!("cannot write: {e}")))
+    })
+}

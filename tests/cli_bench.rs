@@ -1,0 +1,104 @@
+//! `prism bench` and `prism convert` end to end.
+
+mod common;
+use common::*;
+use std::fs;
+
+#[test]
+fn bench_json_has_every_figure() {
+    for accel in ["bvh", "octree", "list"] {
+        let o = run(prism()
+            .args(["bench", "--json", "--seconds", "0", "--threads", "2"])
+            .args([example("example.objx"), example("example.cmr")])
+            .args(["--accel", accel]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        let json = String::from_utf8(o.stdout).unwrap();
+        assert_eq!(json.lines().count(), 1, "{json}");
+        for key in [
+            "build_s",
+            "primitives",
+            "bytes",
+            "primary_mrays",
+            "shadow_mrays",
+            "frame_s",
+            "hit_fraction",
+        ] {
+            assert!(json.contains(&format!("\"{key}\":")), "{key} in {json}");
+        }
+        assert!(json.contains(&format!("\"accel\":\"{accel}\"")), "{json}");
+        // The example has 3 rectangles, 2 spheres and a triangle.
+        assert!(json.contains("\"primitives\":6,"), "{json}");
+        assert!(json.contains("\"threads\":2,"), "{json}");
+    }
+}
+
+#[test]
+fn bench_table_and_bad_arguments() {
+    let o = run(prism()
+        .args(["bench", "--seconds", "0", "--no-frame"])
+        .args([example("example.objx"), example("example.cmr")]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8(o.stdout).unwrap();
+    assert!(table.contains("Mrays/s") && table.contains("bytes per primitive"));
+    assert!(!table.contains("classic frame"));
+
+    let o = run(prism()
+        .args(["bench", "--accel", "kd"])
+        .args([example("example.objx"), example("example.cmr")]));
+    assert_eq!(o.status.code(), Some(2));
+    let o = run(prism()
+        .args(["bench", "--seconds=-1"])
+        .args([example("example.objx"), example("example.cmr")]));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--seconds"), "{}", stderr(&o));
+}
+
+#[test]
+fn convert_writes_a_2014_scene_that_renders_like_the_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("quad.obj");
+    fs::write(
+        &obj,
+        "# a quad facing the example camera\n\
+         v 0 -60 20\nv 0 60 20\nv 0 60 140\nv 0 -60 140\n\
+         vn 1 0 0\nf 1//1 2//1 3//1 4//1\n",
+    )
+    .unwrap();
+    let objx = dir.path().join("quad.objx");
+    let o = run(prism().arg("convert").args([&obj, &objx]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = fs::read_to_string(&objx).unwrap();
+    assert!(text.contains("\nf 0 1 2\nf 0 2 3\n"), "{text}");
+
+    let render = |scene: &std::path::Path, name: &str| {
+        let out = dir.path().join(name);
+        let o = run(prism()
+            .args([scene.to_path_buf(), example("example.cmr"), out.clone()])
+            .args(["--width", "48", "--aa", "1"]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        load_rgb(&out)
+    };
+    let (a, b) = (render(&obj, "a.ppm"), render(&objx, "b.ppm"));
+    assert_eq!(a, b);
+    assert!(
+        a.pixels().any(|p| p.0 != [0, 0, 0]),
+        "the quad must be seen"
+    );
+}
+
+#[test]
+fn convert_refuses_a_bad_mesh_without_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("bad.obj");
+    fs::write(&obj, "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
+    let objx = dir.path().join("bad.objx");
+    let o = run(prism().arg("convert").args([&obj, &objx]));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("bad.obj:3: vertex 7 does not exist"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!objx.exists());
+    assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+}
