@@ -6,16 +6,17 @@
 //! the best hit so far; shadow rays stop at the first blocker.
 
 mod build;
-mod prim;
+mod packet;
 
-pub use prim::MAX_SHAPES;
+pub use packet::MAX_SHAPES;
 
 use super::Hit;
 use crate::math::{Aabb, Ray};
 use crate::scene::Shape;
 use build::{BinaryBvh, MAX_DEPTH};
 use glam::Vec4;
-use prim::{Prim, padded_bounds};
+use packet::{Packet, PacketRay, padded_bounds};
+use std::mem::MaybeUninit;
 
 /// Entries the traversal stack needs: each level pushes at most four and pops one.
 const STACK: usize = 3 * MAX_DEPTH as usize + 4;
@@ -29,9 +30,9 @@ const BOX_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 struct Node4 {
     min: [Vec4; 3],
     max: [Vec4; 3],
-    /// Inner child: node index. Leaf child: first prim.
+    /// Inner child: node index. Leaf child: first packet.
     child: [u32; 4],
-    /// 0 for an inner child, else the leaf's number of prims.
+    /// 0 for an inner child, else the leaf's number of packets.
     count: [u32; 4],
 }
 
@@ -50,11 +51,55 @@ struct Entry {
     t: f32,
 }
 
-const NO_ENTRY: Entry = Entry {
-    child: 0,
-    count: 0,
-    t: 0.0,
-};
+/// The traversal stack. Its slots are left uninitialised: clearing a few kilobytes
+/// per ray cost more than a tenth of the traversal time.
+struct Stack {
+    items: [MaybeUninit<Entry>; STACK],
+    len: usize,
+}
+
+impl Stack {
+    #[inline]
+    fn new(root: Entry) -> Stack {
+        let mut stack = Stack {
+            items: [const { MaybeUninit::uninit() }; STACK],
+            len: 0,
+        };
+        stack.push(root);
+        stack
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Entry> {
+        self.len = self.len.checked_sub(1)?;
+        // SAFETY: slots below `len` were written by `push` or `push_sorted`.
+        Some(unsafe { self.items[self.len].assume_init() })
+    }
+
+    #[inline]
+    fn push(&mut self, e: Entry) {
+        self.items[self.len] = MaybeUninit::new(e);
+        self.len += 1;
+    }
+
+    /// Pushes `e` among the entries above `base`, kept farthest first, so the nearest
+    /// is popped next.
+    #[inline]
+    fn push_sorted(&mut self, e: Entry, base: usize) {
+        let mut i = self.len;
+        while i > base {
+            // SAFETY: base <= i - 1 < len, a written slot.
+            let below = unsafe { self.items[i - 1].assume_init() };
+            if below.t >= e.t {
+                break;
+            }
+            self.items[i] = MaybeUninit::new(below);
+            i -= 1;
+        }
+        self.items[i] = MaybeUninit::new(e);
+        self.len += 1;
+    }
+}
 
 /// Per-ray constants of the slab test. Each axis reads its near plane from `min` or
 /// `max` by the sign of the direction, so an empty (inverted) box is missed.
@@ -106,7 +151,7 @@ impl RayBoxes {
 
 pub struct Bvh {
     nodes: Vec<Node4>,
-    prims: Vec<Prim>,
+    packets: Vec<Packet>,
 }
 
 impl Bvh {
@@ -116,20 +161,20 @@ impl Bvh {
         if shapes.is_empty() {
             return Bvh {
                 nodes: Vec::new(),
-                prims: Vec::new(),
+                packets: Vec::new(),
             };
         }
         let boxes: Vec<Aabb> = shapes.iter().map(padded_bounds).collect();
         let binary = build::build(&boxes);
-        let prims = binary
-            .order
-            .iter()
-            .map(|&i| Prim::new(&shapes[i as usize], i))
-            .collect();
-        let mut nodes = Vec::with_capacity(binary.nodes.len() / 2 + 1);
-        nodes.push(EMPTY_NODE);
-        collapse(&binary, 0, 0, &mut nodes);
-        Bvh { nodes, prims }
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(binary.nodes.len() / 2 + 1),
+            packets: Vec::with_capacity(shapes.len() / 2 + 1),
+        };
+        bvh.nodes.push(EMPTY_NODE);
+        bvh.collapse(&binary, shapes, 0, 0);
+        bvh.nodes.shrink_to_fit();
+        bvh.packets.shrink_to_fit();
+        bvh
     }
 
     pub fn node_count(&self) -> usize {
@@ -138,7 +183,7 @@ impl Bvh {
 
     /// Bytes held by the nodes and the leaf-ordered shape copies.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.capacity() * size_of::<Node4>() + self.prims.capacity() * size_of::<Prim>()
+        self.nodes.capacity() * size_of::<Node4>() + self.packets.capacity() * size_of::<Packet>()
     }
 
     #[inline]
@@ -147,29 +192,41 @@ impl Bvh {
             return None;
         }
         let boxes = RayBoxes::new(ray);
+        let lanes = PacketRay::new(ray);
         let mut best: Option<Hit> = None;
-        let mut stack = [NO_ENTRY; STACK];
-        stack[0] = Entry {
+        let mut stack = Stack::new(Entry {
             child: 0,
             count: 0,
             t: 0.0,
-        };
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let entry = stack[top];
+        });
+        while let Some(entry) = stack.pop() {
             let bound = Hit::bound(&best, t_max);
             if entry.t > bound * BOX_SLACK {
                 continue;
             }
             if entry.count > 0 {
                 let first = entry.child as usize;
-                for prim in &self.prims[first..first + entry.count as usize] {
-                    let shape = prim.shape();
-                    if let Some(t) = prim.intersect(ray, Hit::bound(&best, t_max))
-                        && Hit::beats(t, shape, &best)
-                    {
-                        best = Some(Hit { t, shape });
+                for packet in &self.packets[first..first + entry.count as usize] {
+                    let (mut mask, t) = packet.intersect_flat(&lanes, Hit::bound(&best, t_max));
+                    while mask != 0 {
+                        let lane = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let shape = packet.shape(lane);
+                        if Hit::beats(t[lane], shape, &best) {
+                            best = Some(Hit { t: t[lane], shape });
+                        }
+                    }
+                    let mut spheres = packet.sphere_lanes();
+                    while spheres != 0 {
+                        let lane = spheres.trailing_zeros() as usize;
+                        spheres &= spheres - 1;
+                        let shape = packet.shape(lane);
+                        if let Some(t) =
+                            packet.sphere(lane).intersect(ray, Hit::bound(&best, t_max))
+                            && Hit::beats(t, shape, &best)
+                        {
+                            best = Some(Hit { t, shape });
+                        }
                     }
                 }
                 continue;
@@ -177,8 +234,7 @@ impl Bvh {
             let node = &self.nodes[entry.child as usize];
             let (mut mask, t_near) = boxes.hit(node, bound);
             let t_near = t_near.to_array();
-            // Push the hit lanes farthest first, so the nearest is popped next.
-            let base = top;
+            let base = stack.len;
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
@@ -187,13 +243,7 @@ impl Bvh {
                     count: node.count[lane],
                     t: t_near[lane],
                 };
-                let mut i = top;
-                while i > base && stack[i - 1].t < e.t {
-                    stack[i] = stack[i - 1];
-                    i -= 1;
-                }
-                stack[i] = e;
-                top += 1;
+                stack.push_sorted(e, base);
             }
         }
         best
@@ -205,19 +255,34 @@ impl Bvh {
             return false;
         }
         let boxes = RayBoxes::new(ray);
-        let mut stack = [NO_ENTRY; STACK];
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let entry = stack[top];
+        let lanes = PacketRay::new(ray);
+        let mut stack = Stack::new(Entry {
+            child: 0,
+            count: 0,
+            t: 0.0,
+        });
+        while let Some(entry) = stack.pop() {
             if entry.count > 0 {
                 let first = entry.child as usize;
-                let leaf = &self.prims[first..first + entry.count as usize];
-                if leaf
-                    .iter()
-                    .any(|p| blocks(p.shape()) && p.intersect(ray, t_max).is_some())
-                {
-                    return true;
+                for packet in &self.packets[first..first + entry.count as usize] {
+                    let mut mask = packet.intersect_flat(&lanes, t_max).0;
+                    let mut spheres = packet.sphere_lanes();
+                    while mask != 0 {
+                        let lane = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        if blocks(packet.shape(lane)) {
+                            return true;
+                        }
+                    }
+                    while spheres != 0 {
+                        let lane = spheres.trailing_zeros() as usize;
+                        spheres &= spheres - 1;
+                        if blocks(packet.shape(lane))
+                            && packet.sphere(lane).intersect(ray, t_max).is_some()
+                        {
+                            return true;
+                        }
+                    }
                 }
                 continue;
             }
@@ -226,59 +291,65 @@ impl Bvh {
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                stack[top] = Entry {
+                stack.push(Entry {
                     child: node.child[lane],
                     count: node.count[lane],
                     t: 0.0,
-                };
-                top += 1;
+                });
             }
         }
         false
     }
 }
 
-/// Fills `nodes[slot]` with up to four descendants of binary node `at`: its children,
-/// then repeatedly the children of the largest inner one among them.
-fn collapse(binary: &BinaryBvh, at: usize, slot: usize, nodes: &mut Vec<Node4>) {
-    let src = &binary.nodes;
-    let mut members: Vec<usize> = if src[at].is_leaf() {
-        vec![at]
-    } else {
-        let first = src[at].first as usize;
-        vec![first, first + 1]
-    };
-    while members.len() < 4 {
-        let widest = members
-            .iter()
-            .enumerate()
-            .filter(|&(_, &m)| !src[m].is_leaf())
-            .max_by(|a, b| area(&src[*a.1].bounds).total_cmp(&area(&src[*b.1].bounds)));
-        let Some((i, &m)) = widest else { break };
-        let first = src[m].first as usize;
-        members[i] = first;
-        members.insert(i + 1, first + 1);
-    }
-    let mut node = EMPTY_NODE;
-    let mut inner = Vec::new();
-    for (lane, &m) in members.iter().enumerate() {
-        let b = src[m].bounds;
-        for axis in 0..3 {
-            node.min[axis][lane] = b.min[axis];
-            node.max[axis][lane] = b.max[axis];
-        }
-        if src[m].is_leaf() {
-            node.child[lane] = src[m].first;
-            node.count[lane] = src[m].count;
+impl Bvh {
+    /// Fills `nodes[slot]` with up to four descendants of binary node `at`: its
+    /// children, then repeatedly the children of the largest inner one among them.
+    /// Leaves become runs of packets.
+    fn collapse(&mut self, binary: &BinaryBvh, shapes: &[Shape], at: usize, slot: usize) {
+        let src = &binary.nodes;
+        let mut members: Vec<usize> = if src[at].is_leaf() {
+            vec![at]
         } else {
-            node.child[lane] = nodes.len() as u32;
-            nodes.push(EMPTY_NODE);
-            inner.push((lane, m, node.child[lane] as usize));
+            let first = src[at].first as usize;
+            vec![first, first + 1]
+        };
+        while members.len() < 4 {
+            let widest = members
+                .iter()
+                .enumerate()
+                .filter(|&(_, &m)| !src[m].is_leaf())
+                .max_by(|a, b| area(&src[*a.1].bounds).total_cmp(&area(&src[*b.1].bounds)));
+            let Some((i, &m)) = widest else { break };
+            let first = src[m].first as usize;
+            members[i] = first;
+            members.insert(i + 1, first + 1);
         }
-    }
-    nodes[slot] = node;
-    for (_, m, child_slot) in inner {
-        collapse(binary, m, child_slot, nodes);
+        let mut node = EMPTY_NODE;
+        let mut inner = Vec::new();
+        for (lane, &m) in members.iter().enumerate() {
+            let b = src[m].bounds;
+            for axis in 0..3 {
+                node.min[axis][lane] = b.min[axis];
+                node.max[axis][lane] = b.max[axis];
+            }
+            if src[m].is_leaf() {
+                let (first, count) = (src[m].first as usize, src[m].count as usize);
+                let leaf = &binary.order[first..first + count];
+                node.child[lane] = self.packets.len() as u32;
+                node.count[lane] = leaf.len().div_ceil(4) as u32;
+                self.packets
+                    .extend(leaf.chunks(4).map(|four| Packet::new(shapes, four)));
+            } else {
+                node.child[lane] = self.nodes.len() as u32;
+                self.nodes.push(EMPTY_NODE);
+                inner.push((m, node.child[lane] as usize));
+            }
+        }
+        self.nodes[slot] = node;
+        for (m, child_slot) in inner {
+            self.collapse(binary, shapes, m, child_slot);
+        }
     }
 }
 

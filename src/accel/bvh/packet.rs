@@ -1,0 +1,226 @@
+//! Leaf shapes four at a time: a leaf's triangles and rectangles are stored side by side
+//! in lanes (structure of arrays) and one ray meets all four with 4-lane SIMD
+//! Moller-Trumbore. Spheres ride in lanes of their own and are tested one by one.
+//!
+//! Each lane repeats, operation for operation, what [`intersect_parallelogram`] does in
+//! scalar code (the same products, summed in the same order, and no fused multiply-add),
+//! so a lane's distance equals the scalar one bit for bit and every intersector renders
+//! the same image.
+//!
+//! [`intersect_parallelogram`]: crate::scene::shape::intersect_parallelogram
+
+use glam::{BVec4A, Vec4};
+
+use crate::math::{Aabb, Ray, Vec3};
+use crate::scene::shape::EDGE_SLACK;
+use crate::scene::{Shape, Sphere};
+
+/// Shape indices must fit in a lane's `u32` with one value left for an empty lane.
+pub const MAX_SHAPES: usize = 1 << 30;
+const EMPTY_LANE: u32 = u32::MAX;
+
+/// Up to four shapes. A triangle or rectangle lane holds its corner `p` and edges `e1`,
+/// `e2`, and `max_sum` bounds `u + v` (1 for a triangle, 2 for a rectangle). A sphere
+/// lane holds its centre in `p`, its radius in `radius` and zero edges; an empty lane
+/// holds zero edges. Zero edges make the determinant 0, which the test rejects.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
+pub struct Packet {
+    p: [Vec4; 3],
+    e1: [Vec4; 3],
+    e2: [Vec4; 3],
+    max_sum: Vec4,
+    radius: Vec4,
+    shape: [u32; 4],
+}
+
+/// Per-ray constants of the packet test.
+pub struct PacketRay {
+    origin: [Vec4; 3],
+    dir: [Vec4; 3],
+}
+
+impl PacketRay {
+    #[inline]
+    pub fn new(ray: &Ray) -> PacketRay {
+        PacketRay {
+            origin: ray.origin.to_array().map(Vec4::splat),
+            dir: ray.dir.to_array().map(Vec4::splat),
+        }
+    }
+}
+
+impl Packet {
+    /// Packs `shapes[i]` for each `i` of `indices` (at most four).
+    pub fn new(shapes: &[Shape], indices: &[u32]) -> Packet {
+        debug_assert!(indices.len() <= 4);
+        let mut packet = Packet {
+            p: [Vec4::ZERO; 3],
+            e1: [Vec4::ZERO; 3],
+            e2: [Vec4::ZERO; 3],
+            max_sum: Vec4::ZERO,
+            radius: Vec4::ZERO,
+            shape: [EMPTY_LANE; 4],
+        };
+        for (lane, &index) in indices.iter().enumerate() {
+            debug_assert!((index as usize) < MAX_SHAPES);
+            let (p, e1, e2, max_sum, radius) = match shapes[index as usize] {
+                Shape::Triangle(t) => {
+                    let [a, b, c] = t.v;
+                    (a, b - a, c - a, 1.0, 0.0)
+                }
+                Shape::Rectangle(r) => {
+                    let [a, b, _, d] = r.v;
+                    (a, b - a, d - a, 2.0, 0.0)
+                }
+                Shape::Sphere(s) => (s.center, Vec3::ZERO, Vec3::ZERO, 0.0, s.radius),
+            };
+            for axis in 0..3 {
+                packet.p[axis][lane] = p[axis];
+                packet.e1[axis][lane] = e1[axis];
+                packet.e2[axis][lane] = e2[axis];
+            }
+            packet.max_sum[lane] = max_sum;
+            packet.radius[lane] = radius;
+            packet.shape[lane] = index;
+        }
+        packet
+    }
+
+    /// Shape index of `lane`.
+    #[inline]
+    pub fn shape(&self, lane: usize) -> u32 {
+        self.shape[lane]
+    }
+
+    /// Lanes (bit `i` for lane `i`) whose triangle or rectangle the ray meets in
+    /// `(0, t_max)`, with the distances.
+    #[inline]
+    pub fn intersect_flat(&self, ray: &PacketRay, t_max: f32) -> (u32, Vec4) {
+        let [dx, dy, dz] = ray.dir;
+        let [e1x, e1y, e1z] = self.e1;
+        let [e2x, e2y, e2z] = self.e2;
+        // pvec = dir x e2
+        let px = dy * e2z - dz * e2y;
+        let py = dz * e2x - dx * e2z;
+        let pz = dx * e2y - dy * e2x;
+        let det = e1x * px + e1y * py + e1z * pz;
+        let inv_det = Vec4::ONE / det;
+        // tvec = origin - p
+        let tx = ray.origin[0] - self.p[0];
+        let ty = ray.origin[1] - self.p[1];
+        let tz = ray.origin[2] - self.p[2];
+        let u = (tx * px + ty * py + tz * pz) * inv_det;
+        // qvec = tvec x e1
+        let qx = ty * e1z - tz * e1y;
+        let qy = tz * e1x - tx * e1z;
+        let qz = tx * e1y - ty * e1x;
+        let v = (dx * qx + dy * qy + dz * qz) * inv_det;
+        let t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
+
+        let lo = Vec4::splat(-EDGE_SLACK);
+        let hi = Vec4::splat(1.0 + EDGE_SLACK);
+        let finite = det.is_finite_mask() & det.cmpne(Vec4::ZERO);
+        let inside: BVec4A = u.cmpge(lo)
+            & u.cmple(hi)
+            & v.cmpge(lo)
+            & v.cmple(hi)
+            & (u + v).cmple(self.max_sum + Vec4::splat(EDGE_SLACK));
+        let in_range = t.cmpgt(Vec4::ZERO) & t.cmplt(Vec4::splat(t_max));
+        ((finite & inside & in_range).bitmask(), t)
+    }
+
+    /// Lanes holding a sphere.
+    #[inline]
+    pub fn sphere_lanes(&self) -> u32 {
+        self.radius.cmpgt(Vec4::ZERO).bitmask()
+    }
+
+    /// The sphere of `lane` (which must hold one).
+    #[inline]
+    pub fn sphere(&self, lane: usize) -> Sphere {
+        Sphere {
+            center: Vec3::new(self.p[0][lane], self.p[1][lane], self.p[2][lane]),
+            radius: self.radius[lane],
+        }
+    }
+}
+
+/// Bounds the BVH files a shape under: the shape's box grown by the barycentric slack a
+/// triangle or rectangle test accepts beyond its edges, and by a few units in the last
+/// place of its coordinates, so no hit the shape's own test reports falls outside it.
+pub fn padded_bounds(shape: &Shape) -> Aabb {
+    let b = shape.bounds();
+    let slack = match shape {
+        Shape::Sphere(_) => 0.0,
+        _ => 4.0 * EDGE_SLACK * b.extent().max_element(),
+    };
+    let magnitude = b.min.abs().max(b.max.abs()).max_element();
+    let pad = Vec3::splat(slack + 16.0 * f32::EPSILON * magnitude);
+    Aabb {
+        min: b.min - pad,
+        max: b.max + pad,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Rectangle, Triangle};
+
+    #[test]
+    fn each_lane_gives_the_scalar_distance_bit_for_bit() {
+        let shapes = [
+            Shape::Triangle(Triangle {
+                v: [
+                    Vec3::new(-1.3, -0.7, 5.1),
+                    Vec3::new(1.7, -1.1, 4.9),
+                    Vec3::new(0.1, 1.9, 5.3),
+                ],
+            }),
+            Shape::Sphere(Sphere {
+                center: Vec3::new(0.0, 0.0, 9.0),
+                radius: 2.0,
+            }),
+            Shape::Rectangle(Rectangle {
+                v: [
+                    Vec3::new(-3.0, -3.0, 7.0),
+                    Vec3::new(3.0, -3.0, 7.0),
+                    Vec3::new(3.0, 3.0, 7.0),
+                    Vec3::new(-3.0, 3.0, 7.0),
+                ],
+            }),
+        ];
+        let packet = Packet::new(&shapes, &[0, 1, 2]);
+        assert_eq!(packet.sphere_lanes(), 0b010);
+        assert_eq!(
+            packet.sphere(1),
+            Sphere {
+                center: Vec3::new(0.0, 0.0, 9.0),
+                radius: 2.0
+            }
+        );
+        for k in 0..50 {
+            let a = k as f32 * 0.37;
+            let ray = Ray::new(
+                Vec3::new(0.3 * a.sin(), 0.2 * a.cos(), 0.1),
+                Vec3::new(0.2 * a.cos(), 0.15 * a.sin(), 1.0),
+            );
+            let (mask, t) = packet.intersect_flat(&PacketRay::new(&ray), f32::INFINITY);
+            assert_eq!(
+                mask & 0b1010,
+                0,
+                "sphere and empty lanes are never flat hits"
+            );
+            for lane in [0, 2] {
+                let scalar = shapes[lane].intersect(&ray, f32::INFINITY);
+                let simd = (mask >> lane & 1 == 1).then(|| t[lane]);
+                assert_eq!(
+                    scalar.map(f32::to_bits),
+                    simd.map(f32::to_bits),
+                    "ray {k} lane {lane}"
+                );
+            }
+        }
+    }
+}
