@@ -27,6 +27,8 @@ pub struct BenchOptions {
     pub min_seconds: f64,
     /// Also render and time a full classic frame with the camera's own settings.
     pub frame: bool,
+    /// Image width instead of the camera's (the height follows its aspect ratio).
+    pub width: Option<u32>,
 }
 
 impl Default for BenchOptions {
@@ -36,6 +38,7 @@ impl Default for BenchOptions {
             threads: None,
             min_seconds: 1.0,
             frame: true,
+            width: None,
         }
     }
 }
@@ -207,14 +210,15 @@ pub fn run(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Result<Ben
         .num_threads(options.threads.unwrap_or(0))
         .build()
         .map_err(|e| Error::Settings(format!("cannot start threads: {e}")))?;
-    let mut report = pool.install(|| measure_rays(scene, camera, options));
+    let settings = RenderSettings {
+        width: options.width,
+        threads: options.threads,
+        accel: options.accel,
+        ..RenderSettings::default()
+    };
+    let renderer = Renderer::new(scene, camera, settings)?;
+    let mut report = pool.install(|| measure_rays(scene, renderer.camera(), options));
     if options.frame {
-        let settings = RenderSettings {
-            threads: options.threads,
-            accel: options.accel,
-            ..RenderSettings::default()
-        };
-        let renderer = Renderer::new(scene, camera, settings)?;
         let start = Instant::now();
         renderer.render(&|_| {})?;
         report.frame_s = Some(start.elapsed().as_secs_f64());

@@ -158,37 +158,42 @@ impl<'a> Renderer<'a> {
         let (x_lo, x_hi) = wx.input_span(region.x, region.x + region.width);
         let row_len = (x_hi - x_lo) as usize;
         let total_rays = AtomicU64::new(0);
-        let mut pixels = Vec::with_capacity(region.width as usize * region.height as usize);
-        let mut band = Vec::new();
-        for (y0, y1, lo, hi) in self.bands(&wy, region) {
-            band.clear();
-            band.resize(row_len * (hi - lo) as usize, [0.0f32; 3]);
-            band.par_chunks_mut(row_len)
-                .enumerate()
-                .for_each(|(i, row)| {
-                    let y = lo + i as u32;
-                    let mut count = RayCount::default();
-                    for (j, out) in row.iter_mut().enumerate() {
-                        let x = x_lo + j as u32;
-                        *out = self.pixel(&integrator, &rays, x, y, &mut count).to_array();
-                    }
-                    total_rays.fetch_add(count.rays, Ordering::Relaxed);
-                    progress(1);
-                });
-            pixels.extend(resample_window(
-                &band,
-                x_lo,
-                lo,
-                x_hi - x_lo,
-                hi - lo,
-                &wx,
-                &wy,
-                region.x,
-                y0,
-                region.width,
-                y1 - y0,
-            ));
-        }
+        // Bands run in parallel as well as the rows inside them, so no core waits for
+        // a band's last row or for its resampling; each band's pixels stay its own, so
+        // the image does not depend on which thread did what.
+        let bands: Vec<_> = self.bands(&wy, region).collect();
+        let done: Vec<Vec<[f32; 3]>> = bands
+            .par_iter()
+            .map(|&(y0, y1, lo, hi)| {
+                let mut band = vec![[0.0f32; 3]; row_len * (hi - lo) as usize];
+                band.par_chunks_mut(row_len)
+                    .enumerate()
+                    .for_each(|(i, row)| {
+                        let y = lo + i as u32;
+                        let mut count = RayCount::default();
+                        for (j, out) in row.iter_mut().enumerate() {
+                            let x = x_lo + j as u32;
+                            *out = self.pixel(&integrator, &rays, x, y, &mut count).to_array();
+                        }
+                        total_rays.fetch_add(count.rays, Ordering::Relaxed);
+                        progress(1);
+                    });
+                resample_window(
+                    &band,
+                    x_lo,
+                    lo,
+                    x_hi - x_lo,
+                    hi - lo,
+                    &wx,
+                    &wy,
+                    region.x,
+                    y0,
+                    region.width,
+                    y1 - y0,
+                )
+            })
+            .collect();
+        let pixels = done.concat();
         let stats = RenderStats {
             rays: total_rays.into_inner(),
             elapsed: start.elapsed(),

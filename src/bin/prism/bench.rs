@@ -24,6 +24,9 @@ pub struct BenchArgs {
     /// Repeat each ray pass until it has run this many seconds.
     #[arg(long, value_name = "S", default_value_t = 1.0)]
     pub seconds: f64,
+    /// Image width instead of the camera's; the height keeps its aspect ratio.
+    #[arg(long, value_name = "W")]
+    pub width: Option<u32>,
     /// Skip the full classic frame.
     #[arg(long)]
     pub no_frame: bool,
@@ -51,6 +54,7 @@ pub fn run(args: &BenchArgs) -> prism::Result<()> {
         threads: args.threads,
         min_seconds: args.seconds,
         frame: !args.no_frame,
+        width: args.width,
     };
     let report = bench::run(&scene, &camera, &options)?;
     if args.json {
