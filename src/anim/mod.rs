@@ -6,6 +6,7 @@
 //! - [`motion`]: targets, motions and the rigid transforms they amount to;
 //! - [`pose`]: the scene and camera at one instant;
 //! - [`output`]: where frames go (numbered images or a video file) and `--frames`;
+//! - [`job`]: rendering a range of frames to files, resuming, and joining them into a video;
 //! - [`video`]: the MP4 (H.264), GIF and APNG encoders.
 //!
 //! Frame `k` is the instant `k / fps` seconds. Same inputs and seed: same frames, bit for
@@ -13,6 +14,7 @@
 
 pub mod curve;
 pub mod file;
+pub mod job;
 pub mod motion;
 pub mod output;
 pub mod pose;

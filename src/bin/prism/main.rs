@@ -1,5 +1,6 @@
 //! The `prism` command: arguments, progress and messages. The work is in the library.
 
+mod animate;
 mod render;
 
 use clap::{Parser, Subcommand};
@@ -31,12 +32,15 @@ struct Cli {
 enum Command {
     /// Render a scene and camera to an image file.
     Render(RenderArgs),
+    /// Render every frame of an animation file to numbered images or a video.
+    Animate(animate::AnimateArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Animate(args)) => animate::run(&args),
         None => render::run(&cli.render),
     };
     match outcome {
