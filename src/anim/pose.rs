@@ -63,6 +63,13 @@ struct State<'s> {
     focal_length: Option<f64>,
 }
 
+/// A number for a message: at most three decimals, no trailing zeros.
+fn short(x: f64) -> String {
+    let s = format!("{x:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
 fn dvec(v: Vec3) -> DVec3 {
     DVec3::new(v.x as f64, v.y as f64, v.z as f64)
 }
@@ -145,9 +152,12 @@ impl<'s> State<'s> {
                 let scale = self.base.bounds().extent().length() as f64;
                 if to.length() <= DEGENERATE * scale.max(1.0) || !to.is_finite() {
                     return Err(error(format!(
-                        "at {t} s the camera's eye ({}, {}, {}) is on the point it looks at: \
+                        "at {} s the camera's eye ({}, {}, {}) is on the point it looks at: \
                          it has no view direction",
-                        self.eye.x, self.eye.y, self.eye.z
+                        short(t),
+                        short(self.eye.x),
+                        short(self.eye.y),
+                        short(self.eye.z)
                     )));
                 }
                 self.forward = Some(to.normalize());
