@@ -319,10 +319,21 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
     })
 }
 
+/// Largest coordinate, offset or angle accepted: beyond it, f32 scene coordinates
+/// would overflow.
+const MAX_VALUE: f64 = 1e30;
+
+fn in_range(x: f64) -> bool {
+    x.is_finite() && x.abs() <= MAX_VALUE
+}
+
 fn vector(lines: &Lines, v: &Spanned<[f64; 3]>, what: &str) -> Result<DVec3> {
     let d = DVec3::from_array(*v.get_ref());
-    if !d.is_finite() {
-        return Err(lines.error(v, format!("expected finite numbers for {what}")));
+    if !d.to_array().into_iter().all(in_range) {
+        return Err(lines.error(
+            v,
+            format!("expected finite numbers of magnitude at most {MAX_VALUE:e} for {what}"),
+        ));
     }
     Ok(d)
 }
@@ -347,7 +358,7 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
     let axis = || -> Result<DVec3> {
         let a = raw.axis.as_ref().ok_or_else(|| missing("axis"))?;
         let v = vector(lines, a, "the axis")?;
-        if v.length() == 0.0 {
+        if v.length() == 0.0 || !v.normalize().is_finite() {
             return Err(lines.error(a, "the axis must not be zero"));
         }
         Ok(v.normalize())
@@ -393,11 +404,8 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
             let at = raw.at.as_ref().ok_or_else(|| missing("at"))?;
             let aim = match at.get_ref() {
                 RawAim::Point(p) => {
-                    let p = DVec3::from_array(*p);
-                    if !p.is_finite() {
-                        return Err(lines.error(at, "expected finite numbers for `at`"));
-                    }
-                    Aim::Point(p)
+                    let p = Spanned::new(at.span(), *p);
+                    Aim::Point(vector(lines, &p, "`at`")?)
                 }
                 RawAim::Target(name) => {
                     let named = Spanned::new(at.span(), name.clone());
@@ -438,11 +446,14 @@ fn curve<T: super::curve::Blend>(
     for key in keys.get_ref() {
         let (time, raw) = *key.get_ref();
         let finite = match raw {
-            RawValue::Number(n) => n.is_finite(),
-            RawValue::Vector(v) => v.iter().all(|c| c.is_finite()),
+            RawValue::Number(n) => in_range(n),
+            RawValue::Vector(v) => v.into_iter().all(in_range),
         };
-        if !time.is_finite() || !finite {
-            return Err(lines.error(key, "expected finite numbers in the key"));
+        if !in_range(time) || !finite {
+            return Err(lines.error(
+                key,
+                format!("expected finite numbers of magnitude at most {MAX_VALUE:e} in the key"),
+            ));
         }
         let v = value(raw).ok_or_else(|| {
             lines.error(

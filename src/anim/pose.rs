@@ -23,8 +23,8 @@ pub struct PoseError {
     pub message: String,
 }
 
-/// Closer than this (relative to the scene's size, at least 1e-9) the eye is on its
-/// look-at point and has no view direction.
+/// Closer than this (relative to the coordinates' size, and at least 1e-9) the eye is
+/// on its look-at point and has no view direction.
 const DEGENERATE: f64 = 1e-9;
 
 /// The camera alone at time `t`: cheap, for checking every frame before rendering.
@@ -55,6 +55,8 @@ pub fn pose(
 struct State<'s> {
     base: &'s Scene,
     base_camera: &'s Camera,
+    /// Transform of each shape and light a track has moved; empty until one has, so
+    /// posing only the camera of a big scene allocates nothing per shape.
     shapes: Vec<Option<DAffine3>>,
     lights: Vec<Option<DAffine3>>,
     eye: DVec3,
@@ -83,8 +85,8 @@ impl<'s> State<'s> {
         State {
             base,
             base_camera,
-            shapes: vec![None; base.shapes.len()],
-            lights: vec![None; base.lights.len()],
+            shapes: Vec::new(),
+            lights: Vec::new(),
             eye: dvec(base_camera.eye),
             forward: None,
             focal_length: None,
@@ -149,7 +151,7 @@ impl<'s> State<'s> {
                     Aim::Objects(s) => self.center_of(s),
                 };
                 let to = point - self.eye;
-                let scale = self.base.bounds().extent().length() as f64;
+                let scale = self.eye.abs().max_element().max(point.abs().max_element());
                 if to.length() <= DEGENERATE * scale.max(1.0) || !to.is_finite() {
                     return Err(error(format!(
                         "at {} s the camera's eye ({}, {}, {}) is on the point it looks at: \
@@ -206,6 +208,8 @@ impl<'s> State<'s> {
     }
 
     fn transform(&mut self, s: &Selection, by: DAffine3) {
+        self.shapes.resize(self.base.shapes.len(), None);
+        self.lights.resize(self.base.lights.len(), None);
         for &i in &s.shapes {
             let x = &mut self.shapes[i as usize];
             *x = Some(by * x.unwrap_or(DAffine3::IDENTITY));
@@ -214,6 +218,11 @@ impl<'s> State<'s> {
             let x = &mut self.lights[i as usize];
             *x = Some(by * x.unwrap_or(DAffine3::IDENTITY));
         }
+    }
+
+    fn shape_transform(&self, i: u32) -> DAffine3 {
+        let x = self.shapes.get(i as usize).copied().flatten();
+        x.unwrap_or(DAffine3::IDENTITY)
     }
 
     /// Centre of the bounding box of the selection where it is now.
@@ -225,7 +234,7 @@ impl<'s> State<'s> {
             max = max.max(p + r);
         };
         for &i in &s.shapes {
-            let x = self.shapes[i as usize].unwrap_or(DAffine3::IDENTITY);
+            let x = self.shape_transform(i);
             match &self.base.shapes[i as usize] {
                 Shape::Sphere(sp) => grow(x.transform_point3(dvec(sp.center)), sp.radius as f64),
                 Shape::Triangle(tr) => {
@@ -239,7 +248,8 @@ impl<'s> State<'s> {
             }
         }
         for &i in &s.lights {
-            let x = self.lights[i as usize].unwrap_or(DAffine3::IDENTITY);
+            let x = self.lights.get(i as usize).copied().flatten();
+            let x = x.unwrap_or(DAffine3::IDENTITY);
             grow(
                 x.transform_point3(dvec(self.base.lights[i as usize].position)),
                 0.0,

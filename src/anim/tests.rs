@@ -243,6 +243,21 @@ fn bad_input_is_an_error_with_file_and_line() {
             "only the camera can look_at",
         ),
         ("frames = [2\n", 3, ""),
+        (
+            "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"rotate\"\naxis = [nan, 0, 1]\nkeys = [[0, 0]]\n",
+            7,
+            "expected finite numbers of magnitude at most 1e30 for the axis",
+        ),
+        (
+            "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"rotate\"\naxis = [0, 0, 1]\nkeys = [[0, inf]]\n",
+            8,
+            "expected finite numbers",
+        ),
+        (
+            "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"translate\"\nkeys = [[0, [0, 0, 1e31]]]\n",
+            7,
+            "at most 1e30",
+        ),
     ];
     for &(body, line, words) in cases {
         let e = err(body);
@@ -294,4 +309,68 @@ fn frame_k_is_the_still_render_of_the_posed_scene_for_any_thread_count() {
     let (frame0, _) = a.render_frame(0, &|_| {}, &|_| {}).unwrap();
     assert_ne!(frame0, still, "the ball moved");
     assert_eq!(a.frame_size().unwrap(), (32, 18));
+}
+
+mod never_panics {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A `[[track]]` with fields drawn from the file's vocabulary and odd values.
+    fn track() -> impl Strategy<Value = String> {
+        let target = "camera|shape:[0-9]|material:(gold|red|glass|x)|group:g|lamp";
+        let motion = "translate|rotate|orbit|look_at|spin";
+        let number = prop_oneof![
+            "-?[0-9]{1,3}(\\.[0-9])?",
+            Just("nan".to_string()),
+            Just("inf".to_string()),
+            Just("1e300".to_string()),
+        ];
+        let vector = (number.clone(), number.clone(), number.clone())
+            .prop_map(|(a, b, c)| format!("[{a}, {b}, {c}]"));
+        let value = prop_oneof![number.clone(), vector.clone()];
+        let key = (number.clone(), value).prop_map(|(t, v)| format!("[{t}, {v}]"));
+        (
+            target,
+            motion,
+            prop::option::of(vector.clone()),
+            prop::option::of(vector),
+            prop::collection::vec(key, 0..4),
+            prop::option::of("\"material:glass\"|[0, 0, 40]|\"camera\""),
+        )
+            .prop_map(|(t, m, axis, center, keys, at)| {
+                let mut s = format!("[[track]]\ntarget = \"{t}\"\nmotion = \"{m}\"\n");
+                if let Some(a) = axis {
+                    s += &format!("axis = {a}\n");
+                }
+                if let Some(c) = center {
+                    s += &format!("center = {c}\n");
+                }
+                if !keys.is_empty() {
+                    s += &format!("keys = [{}]\n", keys.join(", "));
+                }
+                if let Some(a) = at {
+                    s += &format!("at = {a}\nfocus = true\n");
+                }
+                s
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        #[test]
+        fn arbitrary_tracks_parse_or_fail_cleanly_and_pose_every_frame(
+            tracks in prop::collection::vec(track(), 0..4),
+            frames in 1u32..4,
+        ) {
+            let body = format!("frames = {frames}\nfps = 2\n{}", tracks.join(""));
+            if let Ok(a) = parse_str(&body) {
+                for k in 0..frames {
+                    if let Ok((scene, camera)) = a.pose(k) {
+                        prop_assert!(camera.eye.is_finite());
+                        prop_assert_eq!(scene.shapes.len(), a.scene.shapes.len());
+                    }
+                }
+            }
+        }
+    }
 }
