@@ -315,3 +315,38 @@ fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
     assert!(stderr(&o).contains("--frames 1..5"), "{}", stderr(&o));
     assert_eq!(names(dir.path()), ["anim.toml"]);
 }
+
+#[test]
+fn a_video_resumes_from_its_frames_and_a_range_makes_a_shorter_film() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 5);
+    let gif_path = dir.path().join("t.gif");
+    // Two frames rendered and kept, as an interrupted run leaves them.
+    let o = animate(&anim, &gif_path, &["--frames", "0..2", "--keep-frames"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        names(&dir.path().join("t.gif.frames")),
+        ["frame_0000.png", "frame_0001.png"]
+    );
+    let o = animate(&anim, &gif_path, &["--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("frames 3 rendered, 2 skipped"), "{stdout}");
+    assert!(stdout.contains("encoded 5 frames"), "{stdout}");
+    assert!(stdout.contains("fps 25"), "{stdout}");
+    assert_eq!(names(dir.path()), ["anim.toml", "t.gif"]);
+    let count = |path: &Path| {
+        let file = fs::File::open(path).unwrap();
+        let mut decoder = gif::DecodeOptions::new().read_info(file).unwrap();
+        let mut n = 0;
+        while decoder.read_next_frame().unwrap().is_some() {
+            n += 1;
+        }
+        n
+    };
+    assert_eq!(count(&gif_path), 5);
+    let part = dir.path().join("part.gif");
+    let o = animate(&anim, &part, &["--frames", "1..=3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(count(&part), 3);
+}
