@@ -4,6 +4,7 @@
 //! complete.
 
 mod apng;
+mod colr;
 mod gif;
 mod mp4;
 
@@ -107,6 +108,9 @@ pub fn encode(
         }
         encoder.finish()?
     };
+    if format == VideoFormat::Mp4 {
+        colr::tag_bt601(tmp.as_file()).map_err(|e| write_error(path, e))?;
+    }
     let bytes = tmp.as_file().metadata().map(|m| m.len()).unwrap_or(0);
     tmp.persist(path)
         .map_err(|e| Error::file(path, format!("cannot write: {}", e.error)))?;

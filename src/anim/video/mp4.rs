@@ -4,7 +4,7 @@
 //! frame is coded, at a constant quantiser (26, OpenH264's base; adaptive quantisation
 //! keeps it within 18..40); the colour description BT.601 limited range is written into
 //! the stream's parameter set (OpenH264's RGB to YUV conversion uses those
-//! coefficients); the width and height must be even (checked before rendering, in
+//! coefficients), and in the container's `colr` box ([`super::colr`]); the width and height must be even (checked before rendering, in
 //! [`super::check_size`]). In debug builds the C++ is still optimised: the dev profile
 //! builds every dependency, and so `cc`, at opt-level 3 (see `Cargo.toml`).
 

@@ -58,6 +58,11 @@ fn mp4_has_every_frame_at_the_right_size_and_rate() {
     // The SPS carries the colour description: BT.601 (SMPTE 170M) in its VUI.
     let sps = track.sequence_parameter_set().unwrap().to_vec();
     assert_eq!(sps[0] & 0x1f, 7);
+    // So does the container: a colr box of type nclx, codes 6 6 6, limited range.
+    let bytes = std::fs::read(&path).unwrap();
+    let at = bytes.windows(8).position(|w| w == b"colrnclx").unwrap();
+    assert_eq!(&bytes[at - 4..at], &19u32.to_be_bytes());
+    assert_eq!(&bytes[at + 8..at + 15], &[0, 6, 0, 6, 0, 6, 0]);
     let first = mp4.read_sample(1, 1).unwrap().unwrap();
     assert!(first.is_sync, "the first frame is a key frame");
     for i in 1..=10 {
