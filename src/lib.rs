@@ -2,9 +2,11 @@
 //!
 //! Data flows one way: [`format`] parses files into a [`scene::Scene`], [`accel`] builds
 //! an intersector over its shapes, [`render`] traces camera rays into samples, and
-//! [`film`] resamples them into the final image and writes it.
+//! [`film`] resamples them into the final image and writes it. [`anim`] poses a scene
+//! and camera per frame of an animation and joins the frames into a video.
 
 pub mod accel;
+pub mod anim;
 pub mod bench;
 pub mod compare;
 pub mod error;

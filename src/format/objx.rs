@@ -9,8 +9,11 @@
 //! | `f i j k l` | a rectangle; opposite sides equal and adjacent sides perpendicular, within 1e-5 of the longest side |
 //! | `mtllib FILE` | reads a material file (see [`super::mtlx`]), relative to this file's folder |
 //! | `usemtl NAME` | the material of the faces that follow |
+//! | `g NAME...` | Prism's extension: the faces and lights that follow belong to these groups (`g` alone: to none) |
+//! | `o NAME` | Prism's extension: the faces and lights that follow belong to object `NAME` |
 //!
-//! A face refers only to vertices defined above it. Faces before any `usemtl` wear
+//! Groups and objects share one namespace ([`crate::scene::Group`]); rendering ignores
+//! them, animation moves them. A face refers only to vertices defined above it. Faces before any `usemtl` wear
 //! [`Material::default_white`]. Comment lines start with `#`; any other keyword is an error.
 
 use std::io::Write;
@@ -22,7 +25,7 @@ use super::mtlx::{self, MaterialLibrary};
 use super::obj::Mesh;
 use super::text::{At, data_lines, read_text, shown};
 use crate::math::Vec3;
-use crate::scene::{Light, Material, Rectangle, Scene, Shape, Sphere, Triangle};
+use crate::scene::{Group, Light, Material, Rectangle, Scene, Shape, Sphere, Triangle};
 use crate::{Error, Result};
 
 /// Reads a scene file and the material files and textures it names.
@@ -46,6 +49,8 @@ pub fn parse(
         library: MaterialLibrary::new(),
         current: None,
         default_white: None,
+        groups: Vec::new(),
+        object: None,
         scene: Scene::default(),
     };
     for line in data_lines(text) {
@@ -71,6 +76,10 @@ struct Builder<'p, R> {
     current: Option<u32>,
     /// Index of the default white once a face has needed it.
     default_white: Option<u32>,
+    /// Groups in force (`g`), as indices into `scene.groups`.
+    groups: Vec<u32>,
+    /// Object in force (`o`), as an index into `scene.groups`.
+    object: Option<u32>,
     scene: Scene,
 }
 
@@ -95,8 +104,17 @@ impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
                 self.current = Some(index);
                 Ok(())
             }
+            "g" => {
+                self.groups = args.iter().map(|name| self.group_index(name)).collect();
+                Ok(())
+            }
+            "o" => {
+                let name = one_argument(at, keyword, "object name", args)?;
+                self.object = Some(self.group_index(name));
+                Ok(())
+            }
             _ => Err(at.error(format!(
-                "unknown keyword {}: expected v, f, mtllib or usemtl",
+                "unknown keyword {}: expected v, f, mtllib, usemtl, g or o",
                 shown(keyword)
             ))),
         }
@@ -130,7 +148,11 @@ impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
                 Some(m) => self.library.materials()[m as usize].color,
                 None => Vec3::ONE,
             };
+            let light = self.scene.lights.len() as u32;
             self.scene.lights.push(Light { position, color });
+            for g in self.named_groups() {
+                self.scene.groups[g].lights.push(light);
+            }
             return Ok(());
         }
         let shape = if args.len() == 2 {
@@ -160,8 +182,36 @@ impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
             }
         };
         let material = self.material_in_force(at)?;
+        let index = self.scene.shapes.len() as u32;
         self.scene.push_shape(shape, material);
+        for g in self.named_groups() {
+            self.scene.groups[g].shapes.push(index);
+        }
         Ok(())
+    }
+
+    /// Index of the group called `name`, created on first use.
+    fn group_index(&mut self, name: &str) -> u32 {
+        let groups = &mut self.scene.groups;
+        match groups.iter().position(|g| g.name == name) {
+            Some(i) => i as u32,
+            None => {
+                groups.push(Group {
+                    name: name.to_string(),
+                    ..Group::default()
+                });
+                (groups.len() - 1) as u32
+            }
+        }
+    }
+
+    /// The groups the next face or light joins: those of `g` and the `o` object, once each.
+    fn named_groups(&self) -> Vec<usize> {
+        let mut all: Vec<usize> = self.groups.iter().map(|&g| g as usize).collect();
+        all.extend(self.object.map(|o| o as usize));
+        all.sort_unstable();
+        all.dedup();
+        all
     }
 
     /// The vertex a face token names, with its index.
@@ -382,7 +432,7 @@ mod tests {
     fn exact_messages() {
         assert_eq!(
             err("v 0 0 0\nvt 0 0\n"),
-            "dir/s.objx:2: unknown keyword `vt`: expected v, f, mtllib or usemtl"
+            "dir/s.objx:2: unknown keyword `vt`: expected v, f, mtllib, usemtl, g or o"
         );
         let ten = "v 0 0 0\n".repeat(10);
         assert_eq!(
@@ -458,7 +508,12 @@ mod tests {
                 2,
                 "cannot read material file dir/gone.mtlx: not found",
             ),
-            ("o thing\n", 1, "unknown keyword `o`"),
+            ("o\n", 1, "expected 1 object name after o, found 0 values"),
+            (
+                "o a b\n",
+                1,
+                "expected 1 object name after o, found 2 values",
+            ),
             ("v 0 0 0 # trailing comment\n", 1, "found 6"),
         ];
         for &(text, line, words) in cases {
@@ -469,6 +524,26 @@ mod tests {
                 "{text:?} gave {e}"
             );
         }
+    }
+
+    #[test]
+    fn groups_and_objects_record_their_shapes_and_lights() {
+        let text = format!(
+            "{SQUARE}f 0 1 2\ng wall left\nf 0 1 2 3\nf 3\no ball\nf 0 1\ng\nf 1 2\n\
+             g left\nf 2 3\n"
+        );
+        let scene = parse_str(&text).unwrap();
+        let group = |name: &str| {
+            let g = scene.group(name).unwrap();
+            (g.shapes.clone(), g.lights.clone())
+        };
+        assert_eq!(group("wall"), (vec![1, 2], vec![0]));
+        assert_eq!(group("left"), (vec![1, 2, 4], vec![0]));
+        // An object stays in force across `g` lines.
+        assert_eq!(group("ball"), (vec![2, 3, 4], vec![]));
+        let names: Vec<_> = scene.groups.iter().map(|g| g.name.as_str()).collect();
+        assert_eq!(names, ["wall", "left", "ball"]);
+        assert!(scene.group("nothing").is_none());
     }
 
     #[test]
@@ -512,7 +587,7 @@ mod tests {
 
     /// A line from the scene vocabulary with random arguments.
     fn keyword_line() -> impl Strategy<Value = String> {
-        let keyword = prop_oneof![4 => "v|f|mtllib|usemtl|#", 1 => "\\PC{0,3}"];
+        let keyword = prop_oneof![4 => "v|f|mtllib|usemtl|g|o|#", 1 => "\\PC{0,3}"];
         let token = prop_oneof![
             "[0-9]{1,2}",
             "-?[0-9]{1,4}(\\.[0-9]{0,3})?",

@@ -19,6 +19,17 @@ pub struct Light {
     pub color: Vec3,
 }
 
+/// A named set of shapes and lights (`g NAME` / `o NAME` in a scene file): what an
+/// animation track can move as one.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Group {
+    pub name: String,
+    /// Indices into [`Scene::shapes`], ascending.
+    pub shapes: Vec<u32>,
+    /// Indices into [`Scene::lights`], ascending.
+    pub lights: Vec<u32>,
+}
+
 /// Everything that can be seen. `shapes[i]` wears `materials[material_of[i]]`; the two
 /// arrays are parallel so the intersection loop touches geometry only.
 #[derive(Clone, Debug, Default)]
@@ -28,6 +39,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub textures: Vec<Texture>,
     pub lights: Vec<Light>,
+    /// Named groups, in order of first appearance; rendering ignores them.
+    pub groups: Vec<Group>,
 }
 
 impl Scene {
@@ -38,6 +51,11 @@ impl Scene {
 
     pub fn material(&self, shape: u32) -> &Material {
         &self.materials[self.material_of[shape as usize] as usize]
+    }
+
+    /// The group called `name`, if the scene file named one.
+    pub fn group(&self, name: &str) -> Option<&Group> {
+        self.groups.iter().find(|g| g.name == name)
     }
 
     pub fn bounds(&self) -> Aabb {

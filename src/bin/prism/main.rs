@@ -1,5 +1,6 @@
 //! The `prism` command: arguments, progress and messages. The work is in the library.
 
+mod animate;
 mod bench;
 mod convert;
 mod render;
@@ -39,6 +40,8 @@ enum Command {
     Bench(BenchArgs),
     /// Rewrite a standard Wavefront OBJ mesh as a 2014 scene file.
     Convert(ConvertArgs),
+    /// Render every frame of an animation file to numbered images or a video.
+    Animate(animate::AnimateArgs),
 }
 
 fn main() -> ExitCode {
@@ -47,6 +50,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Convert(args)) => convert::run(&args),
+        Some(Command::Animate(args)) => animate::run(&args),
         None => render::run(&cli.render),
     };
     match outcome {

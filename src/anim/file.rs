@@ -1,0 +1,479 @@
+//! The animation file (TOML; `docs/animation.md`): parsed and checked, every error with
+//! the file and line it comes from.
+
+use super::curve::{Curve, Interpolation};
+use super::motion::{Aim, Motion, Selection, Target, Track};
+use super::{Animation, MAX_FPS, MAX_FRAMES};
+use crate::film::resample::Filter;
+use crate::render::{RenderSettings, Renderer};
+use crate::scene::{Camera, Scene};
+use crate::{Error, Result};
+use glam::DVec3;
+use serde::Deserialize;
+use std::path::Path;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    scene: Spanned<String>,
+    camera: Spanned<String>,
+    frames: Option<Spanned<i64>>,
+    duration: Option<Spanned<f64>>,
+    fps: Option<Spanned<f64>>,
+    start: Option<Spanned<RawStart>>,
+    render: Option<Spanned<RawRender>>,
+    #[serde(default)]
+    track: Vec<Spanned<RawTrack>>,
+}
+
+/// Where the camera starts, overriding the camera file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStart {
+    eye: Option<[f64; 3]>,
+    theta: Option<f64>,
+    phi: Option<f64>,
+    focal_length: Option<f64>,
+    aperture: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRender {
+    width: Option<u32>,
+    height: Option<u32>,
+    aa: Option<u32>,
+    dof_rays: Option<u32>,
+    filter: Option<Spanned<String>>,
+    seed: Option<u64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTrack {
+    target: Spanned<String>,
+    motion: Spanned<String>,
+    interpolation: Option<Spanned<String>>,
+    axis: Option<Spanned<[f64; 3]>>,
+    center: Option<Spanned<[f64; 3]>>,
+    keep_orientation: Option<bool>,
+    at: Option<Spanned<RawAim>>,
+    focus: Option<bool>,
+    keys: Option<RawKeys>,
+}
+
+/// `keys = [[time, value], ...]`, each key with its place in the file.
+type RawKeys = Spanned<Vec<Spanned<(f64, RawValue)>>>;
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawAim {
+    Point([f64; 3]),
+    Target(String),
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(untagged)]
+enum RawValue {
+    Number(f64),
+    Vector([f64; 3]),
+}
+
+/// Byte offsets to 1-based line numbers.
+struct Lines<'a> {
+    text: &'a str,
+    path: &'a Path,
+}
+
+impl Lines<'_> {
+    fn line(&self, offset: usize) -> usize {
+        let end = offset.min(self.text.len());
+        1 + self.text.as_bytes()[..end]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+    }
+
+    /// Line of the `[[...]]` header of the table whose body starts at `offset`.
+    fn header_line(&self, offset: usize) -> usize {
+        let end = offset.min(self.text.len());
+        self.line(self.text[..end].rfind("[[").unwrap_or(end))
+    }
+
+    fn error<T>(&self, at: &Spanned<T>, message: impl Into<String>) -> Error {
+        Error::parse(self.path, self.line(at.span().start), message)
+    }
+}
+
+/// Reads an animation file and the scene and camera files it names.
+pub fn load(path: &Path) -> Result<Animation> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::file(path, format!("cannot read: {e}")))?;
+    parse(&text, path)
+}
+
+/// Parses the text of the animation file at `path`; the scene and camera it names are
+/// read from disk, relative to `path`'s folder.
+pub fn parse(text: &str, path: &Path) -> Result<Animation> {
+    let lines = Lines { text, path };
+    let raw: RawFile = toml::from_str(text).map_err(|e| {
+        let line = e.span().map_or(1, |s| lines.line(s.start));
+        Error::parse(path, line, e.message().trim_end().replace('\n', "; "))
+    })?;
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let scene = crate::format::load_scene(&folder.join(raw.scene.get_ref()))?;
+    let mut camera = crate::format::load_camera(&folder.join(raw.camera.get_ref()))?;
+    if let Some(start) = &raw.start {
+        apply_start(&lines, start, &mut camera)?;
+    }
+    let fps = match &raw.fps {
+        None => 24.0,
+        Some(f) => {
+            let v = *f.get_ref();
+            if !(v > 0.0 && v <= MAX_FPS) {
+                return Err(lines.error(f, format!("expected fps > 0 and <= {MAX_FPS}, found {v}")));
+            }
+            v
+        }
+    };
+    let frames = frame_count(&lines, &raw, fps)?;
+    let settings = render_settings(&lines, raw.render.as_ref())?;
+    // Check the settings against the camera now, not after the first frame.
+    Renderer::new(&scene, &camera, settings.clone()).map_err(|e| match (&raw.render, e) {
+        (Some(r), Error::Settings(m)) => lines.error(r, m),
+        (_, e) => e,
+    })?;
+    let tracks = raw
+        .track
+        .iter()
+        .map(|t| track(&lines, t, &scene))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Animation {
+        path: path.to_path_buf(),
+        scene,
+        camera,
+        frames,
+        fps,
+        settings,
+        tracks,
+    })
+}
+
+fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) -> Result<()> {
+    let s = start.get_ref();
+    let finite = |v: f64, what: &str| {
+        if v.is_finite() && v.abs() <= f32::MAX as f64 {
+            Ok(v as f32)
+        } else {
+            Err(lines.error(
+                start,
+                format!("expected a finite number for {what}, found {v}"),
+            ))
+        }
+    };
+    if let Some([x, y, z]) = s.eye {
+        camera.eye = crate::math::Vec3::new(
+            finite(x, "start.eye")?,
+            finite(y, "start.eye")?,
+            finite(z, "start.eye")?,
+        );
+    }
+    if let Some(v) = s.theta {
+        camera.theta_deg = finite(v, "start.theta")?;
+    }
+    if let Some(v) = s.phi {
+        camera.phi_deg = finite(v, "start.phi")?;
+    }
+    if let Some(v) = s.focal_length {
+        camera.focal_length = finite(v, "start.focal_length")?;
+    }
+    if let Some(v) = s.aperture {
+        if v < 0.0 {
+            return Err(lines.error(start, format!("expected start.aperture >= 0, found {v}")));
+        }
+        camera.aperture = finite(v, "start.aperture")?;
+    }
+    Ok(())
+}
+
+fn frame_count(lines: &Lines, raw: &RawFile, fps: f64) -> Result<u32> {
+    let frames = match (&raw.frames, &raw.duration) {
+        (Some(f), Some(_)) => {
+            return Err(lines.error(f, "give frames or duration, not both"));
+        }
+        (None, None) => {
+            return Err(Error::parse(
+                lines.path,
+                1,
+                "expected `frames = N` or `duration = SECONDS` (with `fps`, default 24)",
+            ));
+        }
+        (Some(f), None) => (*f.get_ref(), f.span()),
+        (None, Some(d)) => {
+            let secs = *d.get_ref();
+            if !(secs.is_finite() && secs > 0.0) {
+                return Err(lines.error(d, format!("expected a duration > 0, found {secs}")));
+            }
+            let n = (secs * fps).round();
+            (
+                if n > MAX_FRAMES as f64 {
+                    i64::MAX
+                } else {
+                    n as i64
+                },
+                d.span(),
+            )
+        }
+    };
+    let (n, span) = frames;
+    if n < 1 || n > MAX_FRAMES as i64 {
+        let line = lines.line(span.start);
+        return Err(Error::parse(
+            lines.path,
+            line,
+            format!(
+                "expected between 1 and {MAX_FRAMES} frames, found {}",
+                if n == i64::MAX {
+                    "more".to_string()
+                } else {
+                    n.to_string()
+                }
+            ),
+        ));
+    }
+    Ok(n as u32)
+}
+
+fn render_settings(lines: &Lines, render: Option<&Spanned<RawRender>>) -> Result<RenderSettings> {
+    let Some(r) = render else {
+        return Ok(RenderSettings::default());
+    };
+    let raw = r.get_ref();
+    let filter = match &raw.filter {
+        None => Filter::default(),
+        Some(f) => f
+            .get_ref()
+            .parse::<Filter>()
+            .map_err(|m| lines.error(f, m))?,
+    };
+    Ok(RenderSettings {
+        width: raw.width,
+        height: raw.height,
+        aa: raw.aa,
+        filter,
+        dof_rays: raw.dof_rays,
+        seed: raw.seed.unwrap_or(0),
+        ..RenderSettings::default()
+    })
+}
+
+/// The shapes and lights a target names: `shape:N`, `material:NAME`, `group:NAME`.
+fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selection> {
+    let name = at.get_ref();
+    let unknown = |why: String| lines.error(at, format!("unknown target `{name}`: {why}"));
+    let (kind, what) = name
+        .split_once(':')
+        .ok_or_else(|| unknown("expected camera, shape:N, material:NAME or group:NAME".into()))?;
+    let (shapes, lights) = match kind {
+        "shape" => {
+            let i: u32 = what
+                .parse()
+                .map_err(|_| unknown(format!("expected a shape index, found `{what}`")))?;
+            if i as usize >= scene.shapes.len() {
+                return Err(unknown(format!(
+                    "the scene has {} shapes (numbered from 0)",
+                    scene.shapes.len()
+                )));
+            }
+            (vec![i], vec![])
+        }
+        "material" => {
+            let shapes: Vec<u32> = (0..scene.shapes.len() as u32)
+                .filter(|&i| scene.material(i).name == what)
+                .collect();
+            if shapes.is_empty() {
+                return Err(unknown(format!("no shape wears material `{what}`")));
+            }
+            (shapes, vec![])
+        }
+        "group" => {
+            let g = scene
+                .group(what)
+                .ok_or_else(|| unknown(format!("the scene has no `g {what}` or `o {what}`")))?;
+            if g.shapes.is_empty() && g.lights.is_empty() {
+                return Err(unknown(format!("group `{what}` is empty")));
+            }
+            (g.shapes.clone(), g.lights.clone())
+        }
+        _ => {
+            return Err(unknown(
+                "expected camera, shape:N, material:NAME or group:NAME".into(),
+            ));
+        }
+    };
+    Ok(Selection {
+        name: name.clone(),
+        shapes,
+        lights,
+    })
+}
+
+/// Largest coordinate, offset or angle accepted: beyond it, f32 scene coordinates
+/// would overflow.
+const MAX_VALUE: f64 = 1e30;
+
+fn in_range(x: f64) -> bool {
+    x.is_finite() && x.abs() <= MAX_VALUE
+}
+
+fn vector(lines: &Lines, v: &Spanned<[f64; 3]>, what: &str) -> Result<DVec3> {
+    let d = DVec3::from_array(*v.get_ref());
+    if !d.to_array().into_iter().all(in_range) {
+        return Err(lines.error(
+            v,
+            format!("expected finite numbers of magnitude at most {MAX_VALUE:e} for {what}"),
+        ));
+    }
+    Ok(d)
+}
+
+fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
+    let raw = t.get_ref();
+    let line = lines.header_line(t.span().start);
+    let target = match raw.target.get_ref().as_str() {
+        "camera" => Target::Camera,
+        _ => Target::Objects(selection(lines, &raw.target, scene)?),
+    };
+    let interpolation = match &raw.interpolation {
+        None => Interpolation::Linear,
+        Some(i) => i.get_ref().parse().map_err(|m: String| lines.error(i, m))?,
+    };
+    let missing = |what: &str| {
+        lines.error(
+            &raw.motion,
+            format!("motion `{}` needs `{what}`", raw.motion.get_ref()),
+        )
+    };
+    let axis = || -> Result<DVec3> {
+        let a = raw.axis.as_ref().ok_or_else(|| missing("axis"))?;
+        let v = vector(lines, a, "the axis")?;
+        if v.length() == 0.0 || !v.normalize().is_finite() {
+            return Err(lines.error(a, "the axis must not be zero"));
+        }
+        Ok(v.normalize())
+    };
+    let center = || -> Result<DVec3> {
+        raw.center
+            .as_ref()
+            .map_or(Ok(DVec3::ZERO), |c| vector(lines, c, "the center"))
+    };
+    let keys = || raw.keys.as_ref().ok_or_else(|| missing("keys"));
+    let motion = match raw.motion.get_ref().as_str() {
+        "translate" => {
+            Motion::Translate(curve(lines, keys()?, interpolation, true, |v| match v {
+                RawValue::Vector(v) => Some(DVec3::from_array(v)),
+                RawValue::Number(_) => None,
+            })?)
+        }
+        m @ ("rotate" | "orbit") => {
+            let angle = curve(lines, keys()?, interpolation, false, |v| match v {
+                RawValue::Number(n) => Some(n),
+                RawValue::Vector(_) => None,
+            })?;
+            let (axis, center) = (axis()?, center()?);
+            if m == "rotate" {
+                Motion::Rotate {
+                    axis,
+                    center,
+                    angle,
+                }
+            } else {
+                Motion::Orbit {
+                    axis,
+                    center,
+                    angle,
+                    keep_orientation: raw.keep_orientation.unwrap_or(true),
+                }
+            }
+        }
+        "look_at" => {
+            if target != Target::Camera {
+                return Err(lines.error(&raw.motion, "only the camera can look_at"));
+            }
+            let at = raw.at.as_ref().ok_or_else(|| missing("at"))?;
+            let aim = match at.get_ref() {
+                RawAim::Point(p) => {
+                    let p = Spanned::new(at.span(), *p);
+                    Aim::Point(vector(lines, &p, "`at`")?)
+                }
+                RawAim::Target(name) => {
+                    let named = Spanned::new(at.span(), name.clone());
+                    Aim::Objects(selection(lines, &named, scene)?)
+                }
+            };
+            Motion::LookAt {
+                aim,
+                focus: raw.focus.unwrap_or(false),
+            }
+        }
+        other => {
+            return Err(lines.error(
+                &raw.motion,
+                format!("unknown motion `{other}`: expected translate, rotate, orbit or look_at"),
+            ));
+        }
+    };
+    Ok(Track {
+        target,
+        motion,
+        line,
+    })
+}
+
+/// Keys `[time, value]` in increasing time order, each value of the motion's kind.
+fn curve<T: super::curve::Blend>(
+    lines: &Lines,
+    keys: &RawKeys,
+    interpolation: Interpolation,
+    vector_values: bool,
+    value: impl Fn(RawValue) -> Option<T>,
+) -> Result<Curve<T>> {
+    if keys.get_ref().is_empty() {
+        return Err(lines.error(keys, "expected at least one key [time, value]"));
+    }
+    let mut out: Vec<(f64, T)> = Vec::with_capacity(keys.get_ref().len());
+    for key in keys.get_ref() {
+        let (time, raw) = *key.get_ref();
+        let finite = match raw {
+            RawValue::Number(n) => in_range(n),
+            RawValue::Vector(v) => v.into_iter().all(in_range),
+        };
+        if !in_range(time) || !finite {
+            return Err(lines.error(
+                key,
+                format!("expected finite numbers of magnitude at most {MAX_VALUE:e} in the key"),
+            ));
+        }
+        let v = value(raw).ok_or_else(|| {
+            lines.error(
+                key,
+                if vector_values {
+                    "expected [time, [x, y, z]]: this motion's keys hold offsets"
+                } else {
+                    "expected [time, degrees]: this motion's keys hold angles"
+                },
+            )
+        })?;
+        if let Some(&(previous, _)) = out.last()
+            && time <= previous
+        {
+            return Err(lines.error(
+                key,
+                format!("key times must increase: {time} s comes after {previous} s"),
+            ));
+        }
+        out.push((time, v));
+    }
+    Ok(Curve::new(out, interpolation))
+}

@@ -1,0 +1,152 @@
+//! Rendering a range of frames to files and joining them into a video: what
+//! `prism animate` does, with progress reported through callbacks.
+
+use super::Animation;
+use super::output::{FramePattern, Output};
+use super::video::{self, VideoInfo};
+use crate::film::write_image;
+use crate::{Error, Result};
+use std::ops::Range;
+use std::path::Path;
+use std::time::Instant;
+
+/// Progress callbacks: a frame starts (with its number of progress units), units
+/// finish (from any thread), a frame is done (rendered, or skipped because its file
+/// exists).
+pub struct Observer<'a> {
+    pub frame_start: &'a dyn Fn(u32, u64),
+    pub rows: &'a (dyn Fn(u64) + Sync),
+    pub frame_done: &'a dyn Fn(u32, bool),
+}
+
+impl Observer<'_> {
+    /// Reports nothing.
+    pub fn none() -> Observer<'static> {
+        Observer {
+            frame_start: &|_, _| {},
+            rows: &|_| {},
+            frame_done: &|_, _| {},
+        }
+    }
+}
+
+/// What rendering the frames did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FramesReport {
+    pub rendered: u32,
+    /// Frames whose file was already there (an earlier, interrupted run).
+    pub skipped: u32,
+    pub rays: u64,
+    pub seconds: f64,
+}
+
+/// Checks everything that can be checked before the first frame: every frame's camera,
+/// the frame size for the video format, the folders. Nothing is written.
+pub fn check(anim: &Animation, frames: Range<u32>, output: &Output) -> Result<()> {
+    anim.check(frames)?;
+    let size = anim.frame_size()?;
+    if let Output::Video { path, format, .. } = output {
+        video::check_size(*format, size.0, size.1, path)?;
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+            && !dir.is_dir()
+        {
+            return Err(Error::file(
+                path,
+                format!("output folder `{}` does not exist", dir.display()),
+            ));
+        }
+    }
+    let frames_dir = &output.frames().dir;
+    if frames_dir.exists() && !frames_dir.is_dir() {
+        return Err(Error::file(frames_dir, "exists and is not a folder"));
+    }
+    Ok(())
+}
+
+/// Renders each frame of `frames` whose file does not exist yet into `pattern`, each
+/// written atomically: a file that exists is a complete frame.
+pub fn render_frames(
+    anim: &Animation,
+    frames: Range<u32>,
+    pattern: &FramePattern,
+    observer: &Observer,
+) -> Result<FramesReport> {
+    std::fs::create_dir_all(&pattern.dir)
+        .map_err(|e| Error::file(&pattern.dir, format!("cannot create the folder: {e}")))?;
+    let start = Instant::now();
+    let mut report = FramesReport::default();
+    for k in frames {
+        let path = pattern.path_of(k);
+        if path.is_file() {
+            report.skipped += 1;
+            (observer.frame_done)(k, true);
+            continue;
+        }
+        let (image, stats) =
+            anim.render_frame(k, &|rows| (observer.frame_start)(k, rows), observer.rows)?;
+        write_image(&image, &path)?;
+        report.rendered += 1;
+        report.rays += stats.rays;
+        (observer.frame_done)(k, false);
+    }
+    report.seconds = start.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// Joins the frame files of `frames` into the video `output` names; `progress` is
+/// called after each frame. Returns what was written and the seconds it took.
+pub fn encode_frames(
+    anim: &Animation,
+    frames: Range<u32>,
+    output: &Output,
+    progress: &dyn Fn(),
+) -> Result<(VideoInfo, f64)> {
+    let Output::Video {
+        path,
+        format,
+        frames: pattern,
+    } = output
+    else {
+        return Err(Error::Settings("not a video output".into()));
+    };
+    let start = Instant::now();
+    let size = anim.frame_size()?;
+    let first = frames.start;
+    let info = video::encode(
+        *format,
+        path,
+        size,
+        anim.fps,
+        frames.len() as u32,
+        &mut |i| read_frame(&pattern.path_of(first + i), size),
+        progress,
+    )?;
+    Ok((info, start.elapsed().as_secs_f64()))
+}
+
+/// A frame file as 8-bit RGB, checked to be the animation's size.
+fn read_frame(path: &Path, (width, height): (u32, u32)) -> Result<Vec<u8>> {
+    let image = image::open(path)
+        .map_err(|e| Error::file(path, format!("cannot read frame: {e}")))?
+        .to_rgb8();
+    if image.dimensions() != (width, height) {
+        return Err(Error::file(
+            path,
+            format!(
+                "frame is {}x{}, the animation's frames are {width}x{height}: delete the \
+                 frames of an earlier run with other settings",
+                image.width(),
+                image.height()
+            ),
+        ));
+    }
+    Ok(image.into_raw())
+}
+
+/// Deletes the frame files of `frames` and then their folder if that left it empty.
+pub fn remove_frames(pattern: &FramePattern, frames: Range<u32>) {
+    for k in frames {
+        let _ = std::fs::remove_file(pattern.path_of(k));
+    }
+    let _ = std::fs::remove_dir(&pattern.dir);
+}

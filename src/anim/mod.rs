@@ -1,0 +1,101 @@
+//! Scene motion: an animation file poses a [`Scene`] and [`Camera`] per frame; the
+//! renderer is unchanged, and [`video`] joins the frames into a film.
+//!
+//! - [`file`]: the TOML animation file (`docs/animation.md`), parsed and checked;
+//! - [`curve`]: keyframes and interpolation;
+//! - [`motion`]: targets, motions and the rigid transforms they amount to;
+//! - [`pose`]: the scene and camera at one instant;
+//! - [`output`]: where frames go (numbered images or a video file) and `--frames`;
+//! - [`job`]: rendering a range of frames to files, resuming, and joining them into a video;
+//! - [`video`]: the MP4 (H.264), GIF and APNG encoders.
+//!
+//! Frame `k` is the instant `k / fps` seconds. Same inputs and seed: same frames, bit for
+//! bit, for any thread count (each frame is a still render of its posed scene).
+
+pub mod curve;
+pub mod file;
+pub mod job;
+pub mod motion;
+pub mod output;
+pub mod pose;
+pub mod video;
+
+use crate::film::Image;
+use crate::render::{RenderSettings, RenderStats, Renderer};
+use crate::scene::{Camera, Scene};
+use crate::{Error, Result};
+use motion::Track;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// Most frames an animation may have (a typo guard: about 11 hours at 24 fps).
+pub const MAX_FRAMES: u32 = 1_000_000;
+/// Highest frame rate accepted.
+pub const MAX_FPS: f64 = 1000.0;
+
+/// A loaded animation: the starting scene and camera, timing, render settings, tracks.
+#[derive(Clone, Debug)]
+pub struct Animation {
+    /// The animation file, for messages.
+    pub path: PathBuf,
+    pub scene: Scene,
+    /// The camera file's camera with the file's `[start]` overrides.
+    pub camera: Camera,
+    pub frames: u32,
+    pub fps: f64,
+    /// The file's `[render]` overrides; a caller may set threads and intersector.
+    pub settings: RenderSettings,
+    pub tracks: Vec<Track>,
+}
+
+impl Animation {
+    /// Reads an animation file and the scene and camera files it names (relative to it).
+    pub fn load(path: &Path) -> Result<Animation> {
+        file::load(path)
+    }
+
+    /// The instant of frame `k`, in seconds.
+    pub fn time_of(&self, frame: u32) -> f64 {
+        frame as f64 / self.fps
+    }
+
+    /// The scene and camera of frame `k`.
+    pub fn pose(&self, frame: u32) -> Result<(Scene, Camera)> {
+        pose::pose(&self.scene, &self.camera, &self.tracks, self.time_of(frame))
+            .map_err(|e| Error::parse(&self.path, e.line, e.message))
+    }
+
+    /// Checks that every frame in `frames` can be posed (no camera on its look-at
+    /// point), before anything is rendered.
+    pub fn check(&self, frames: Range<u32>) -> Result<()> {
+        for k in frames {
+            pose::pose_camera(&self.scene, &self.camera, &self.tracks, self.time_of(k)).map_err(
+                |e| Error::parse(&self.path, e.line, format!("frame {k}: {}", e.message)),
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Output size of every frame.
+    pub fn frame_size(&self) -> Result<(u32, u32)> {
+        let r = Renderer::new(&self.scene, &self.camera, self.settings.clone())?;
+        Ok((r.camera().width, r.camera().height))
+    }
+
+    /// Renders frame `k`. `start` is told the number of progress units (supersampled
+    /// rows) once; `progress` is called as they finish, from any thread.
+    pub fn render_frame(
+        &self,
+        frame: u32,
+        start: &dyn Fn(u64),
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<(Image, RenderStats)> {
+        let (scene, camera) = self.pose(frame)?;
+        let renderer = Renderer::new(&scene, &camera, self.settings.clone())?;
+        start(renderer.rows_to_trace());
+        renderer.render(progress)
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,89 @@
+//! What a track moves (its target) and how (its motion), and the rigid transform a motion
+//! amounts to at a given time.
+
+use super::curve::Curve;
+use glam::{DAffine3, DVec3};
+
+/// Shapes and lights that move as one: what a target named in the animation file picked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Selection {
+    /// As the file wrote it: `shape:3`, `material:glass`, `group:ball`.
+    pub name: String,
+    /// Indices into the scene's shapes, ascending.
+    pub shapes: Vec<u32>,
+    /// Indices into the scene's lights, ascending.
+    pub lights: Vec<u32>,
+}
+
+/// What a track moves.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Target {
+    Camera,
+    Objects(Selection),
+}
+
+/// Where a camera looks.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Aim {
+    Point(DVec3),
+    /// The centre of the selection's bounding box, wherever earlier tracks have put it.
+    Objects(Selection),
+}
+
+/// How a track moves its target. Angles are in degrees, right-hand rule about the axis;
+/// axes are unit vectors.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Motion {
+    /// Move by an offset.
+    Translate(Curve<DVec3>),
+    /// Turn rigidly about the axis through `center` (a camera's view turns with it).
+    Rotate {
+        axis: DVec3,
+        center: DVec3,
+        angle: Curve<f64>,
+    },
+    /// Carry the target round the axis through `center`. With `keep_orientation` it
+    /// only moves (every point by the offset of the target's centre; a camera keeps its
+    /// view direction); without, it is the same as `Rotate`.
+    Orbit {
+        axis: DVec3,
+        center: DVec3,
+        angle: Curve<f64>,
+        keep_orientation: bool,
+    },
+    /// The camera turns to look at a point or at objects; with `focus`, the focal
+    /// length becomes the distance from the eye to that point (the convention of the
+    /// 2014 `scene.cmr`, whose focal length is its eye's distance to the glass sphere).
+    LookAt { aim: Aim, focus: bool },
+}
+
+/// One track of the animation file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Track {
+    pub target: Target,
+    pub motion: Motion,
+    /// Line of the track's `[[track]]` header, for errors.
+    pub line: usize,
+}
+
+/// Turn by `degrees` about the axis through `center`.
+pub fn rotation_about(axis: DVec3, center: DVec3, degrees: f64) -> DAffine3 {
+    DAffine3::from_translation(center)
+        * DAffine3::from_axis_angle(axis, degrees.to_radians())
+        * DAffine3::from_translation(-center)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_about_an_axis_through_a_point() {
+        let r = rotation_about(DVec3::Z, DVec3::new(1.0, 0.0, 0.0), 90.0);
+        let p = r.transform_point3(DVec3::new(2.0, 0.0, 5.0));
+        assert!((p - DVec3::new(1.0, 1.0, 5.0)).length() < 1e-12, "{p}");
+        // The centre stays put.
+        let c = r.transform_point3(DVec3::new(1.0, 0.0, -3.0));
+        assert!((c - DVec3::new(1.0, 0.0, -3.0)).length() < 1e-12);
+    }
+}

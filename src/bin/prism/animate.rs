@@ -1,0 +1,142 @@
+//! `prism animate`: every frame of an animation file, as numbered images or a video.
+
+use clap::Args;
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use prism::accel::AccelKind;
+use prism::anim::Animation;
+use prism::anim::job::{self, Observer};
+use prism::anim::output::{Output, VideoFormat, parse_frame_range};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct AnimateArgs {
+    /// Animation file (.toml); its scene and camera paths resolve against its folder.
+    pub animation: PathBuf,
+    /// A folder (numbered PNG frames), a file name with %04d (numbered images), or a
+    /// video: .mp4 (H.264), .gif, .apng or .png (animated PNG).
+    pub output: PathBuf,
+    /// Render only these frames: A..B (B excluded), A..=B, A.., ..B or N; from 0.
+    #[arg(long, value_name = "A..B")]
+    pub frames: Option<String>,
+    /// Intersector.
+    #[arg(long, default_value = "bvh", value_parser = ["bvh", "octree", "list"])]
+    pub accel: String,
+    /// Worker threads (default: every core). The frames do not depend on it.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Keep the numbered frames a video was made from (in OUTPUT.frames/).
+    #[arg(long)]
+    pub keep_frames: bool,
+    /// No progress bars and no notes.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Print figures: frames rendered and skipped, render and encode seconds, file size.
+    #[arg(long)]
+    pub stats: bool,
+}
+
+pub fn run(args: &AnimateArgs) -> prism::Result<()> {
+    // Refuse a bad output path before loading anything.
+    let output = Output::from_path(&args.output)?;
+    let mut anim = Animation::load(&args.animation)?;
+    anim.settings.threads = args.threads;
+    anim.settings.accel = args
+        .accel
+        .parse::<AccelKind>()
+        .map_err(prism::Error::Settings)?;
+    let frames = match &args.frames {
+        Some(text) => parse_frame_range(text, anim.frames)?,
+        None => 0..anim.frames,
+    };
+    job::check(&anim, frames.clone(), &output)?;
+
+    let bars = Bars::new(frames.len() as u64, args.quiet);
+    let observer = Observer {
+        frame_start: &|k, rows| bars.frame_start(k, rows),
+        rows: &|n| bars.frame.inc(n),
+        frame_done: &|_, _| bars.all.inc(1),
+    };
+    let report = job::render_frames(&anim, frames.clone(), output.frames(), &observer)?;
+    if args.stats {
+        println!(
+            "frames {} rendered, {} skipped  render seconds {:.3}  rays {}",
+            report.rendered, report.skipped, report.seconds, report.rays
+        );
+    }
+    if let Output::Video { path, format, .. } = &output {
+        bars.encoding(frames.len() as u64);
+        let (info, seconds) =
+            job::encode_frames(&anim, frames.clone(), &output, &|| bars.all.inc(1))?;
+        bars.finish();
+        if !args.keep_frames {
+            job::remove_frames(output.frames(), frames);
+        }
+        if args.stats {
+            println!(
+                "encoded {} frames  encode seconds {seconds:.3}  bytes {}  fps {}",
+                info.frames, info.bytes, info.fps
+            );
+        }
+        if *format == VideoFormat::Gif && info.fps != anim.fps && !args.quiet {
+            eprintln!(
+                "note: {} plays at {:.2} fps, not {}: GIF delays are whole hundredths of a second",
+                path.display(),
+                info.fps,
+                anim.fps
+            );
+        }
+    } else {
+        bars.finish();
+    }
+    Ok(())
+}
+
+/// A bar over frames with ETA, and beneath it the bar of the frame being rendered.
+struct Bars {
+    all: ProgressBar,
+    frame: ProgressBar,
+    multi: MultiProgress,
+}
+
+impl Bars {
+    fn new(frames: u64, quiet: bool) -> Bars {
+        let multi = MultiProgress::new();
+        if quiet || !std::io::stderr().is_terminal() {
+            multi.set_draw_target(ProgressDrawTarget::hidden());
+        }
+        let all = multi.add(ProgressBar::new(frames));
+        all.set_style(
+            ProgressStyle::with_template(
+                "{msg:9} [{elapsed_precise}] {wide_bar} {pos}/{len} frames, eta {eta}",
+            )
+            .expect("static template"),
+        );
+        all.set_message("rendering");
+        let frame = multi.add(ProgressBar::new(1));
+        frame.set_style(
+            ProgressStyle::with_template("{prefix:>11} {wide_bar} {percent:>3}%")
+                .expect("static template"),
+        );
+        Bars { all, frame, multi }
+    }
+
+    fn frame_start(&self, k: u32, rows: u64) {
+        self.frame.reset();
+        self.frame.set_length(rows);
+        self.frame.set_prefix(format!("frame {k}"));
+    }
+
+    fn encoding(&self, frames: u64) {
+        self.frame.finish_and_clear();
+        self.all.reset();
+        self.all.set_length(frames);
+        self.all.set_message("encoding");
+    }
+
+    fn finish(&self) {
+        self.frame.finish_and_clear();
+        self.all.finish_and_clear();
+        let _ = self.multi.clear();
+    }
+}

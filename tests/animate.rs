@@ -1,0 +1,352 @@
+//! `prism animate` end to end: outputs, resuming, determinism and bad input.
+
+mod common;
+use common::*;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+fn turntable(file: &str) -> String {
+    repo()
+        .join("scenes/turntable")
+        .join(file)
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// Writes `anim.toml` into `dir`: the turntable scene at 32x18 with `body` after it.
+fn write_anim(dir: &Path, body: &str) -> PathBuf {
+    let path = dir.join("anim.toml");
+    let text = format!(
+        "scene = {:?}\ncamera = {:?}\n{body}",
+        turntable("turntable.objx"),
+        turntable("turntable.cmr")
+    );
+    fs::write(&path, text).unwrap();
+    path
+}
+
+const SMALL: &str = "fps = 24\n[render]\nwidth = 32\nheight = 18\n";
+
+/// The turntable's own tracks at 32x18, `frames` frames.
+fn small_turntable(dir: &Path, frames: u32) -> PathBuf {
+    let own = fs::read_to_string(turntable("turntable.toml")).unwrap();
+    let tracks = &own[own.find("[[track]]").unwrap()..];
+    write_anim(dir, &format!("frames = {frames}\n{SMALL}{tracks}"))
+}
+
+fn animate(anim: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    run(prism()
+        .arg("animate")
+        .arg(anim)
+        .arg(out)
+        .arg("--quiet")
+        .args(extra))
+}
+
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn shipped_animation_renders_and_the_seed_scene1_orbit_loads() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("frames");
+    let o = animate(
+        &repo().join("scenes/turntable/turntable.toml"),
+        &out,
+        &["--frames", "10..=11"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(names(&out), ["frame_0010.png", "frame_0011.png"]);
+    assert_eq!(
+        load_rgb(&out.join("frame_0010.png")).dimensions(),
+        (320, 180)
+    );
+
+    if seed_scene("scene1").is_none() {
+        return;
+    }
+    let anim = prism::anim::Animation::load(&repo().join("scenes/scene1-orbit/scene1-orbit.toml"))
+        .unwrap();
+    assert_eq!((anim.frames, anim.fps), (120, 24.0));
+    anim.check(0..120).unwrap();
+    // Frame 0 is the pose of the report's scene1 figures (docs/fidelity.md).
+    let (scene, camera) = anim.pose(0).unwrap();
+    let v = |x, y, z| prism::math::Vec3::new(x, y, z);
+    assert!((camera.eye - v(-315.1314, -130.5317, 447.4487)).length() < 1e-3);
+    assert!(
+        (camera.theta_deg - 109.0).abs() < 1e-3,
+        "{}",
+        camera.theta_deg
+    );
+    assert!((camera.phi_deg - 22.5).abs() < 1e-3, "{}", camera.phi_deg);
+    assert!((camera.focal_length - 360.75).abs() < 1e-3);
+    let marbles = [
+        v(-21.6480, -73.9106, 351.6476),
+        v(-80.9512, 49.7053, 361.2462),
+        v(110.8656, 0.0, 375.9221),
+        v(0.0, 129.3432, 383.5757),
+        v(-88.8913, 133.0352, 330.0),
+    ];
+    for (i, want) in marbles.iter().enumerate() {
+        let name = format!("marble{i}");
+        let k = (0..scene.shapes.len() as u32)
+            .find(|&k| scene.material(k).name == name)
+            .unwrap();
+        let prism::scene::Shape::Sphere(s) = scene.shapes[k as usize] else {
+            panic!("{name} is a sphere")
+        };
+        assert!((s.center - *want).length() < 2e-3, "{name}: {:?}", s.center);
+    }
+    // Half way round, the eye is on the other side of the z axis, at the same height.
+    let (_, half) = anim.pose(60).unwrap();
+    assert!((half.eye - v(315.1314, 130.5317, 447.4487)).length() < 1e-2);
+}
+
+#[test]
+fn frames_resume_and_do_not_depend_on_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 5);
+    let a = dir.path().join("a");
+    let o = animate(&anim, &a, &["--frames", "1..3", "--threads", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(names(&a), ["frame_0001.png", "frame_0002.png"]);
+    // Rerun: the two frames present are skipped, the other three rendered.
+    let o = animate(&anim, &a, &["--threads", "2", "--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("frames 3 rendered, 2 skipped"), "{stdout}");
+    assert_eq!(names(&a).len(), 5);
+    // A fresh run with another thread count and a %04d pattern gives the same files.
+    let b = dir.path().join("b");
+    fs::create_dir(&b).unwrap();
+    let o = animate(&anim, &b.join("shot%04d.png"), &["--threads", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for k in 0..5 {
+        assert_eq!(
+            fs::read(a.join(format!("frame_{k:04}.png"))).unwrap(),
+            fs::read(b.join(format!("shot{k:04}.png"))).unwrap(),
+            "frame {k}"
+        );
+    }
+    assert_ne!(
+        fs::read(a.join("frame_0000.png")).unwrap(),
+        fs::read(a.join("frame_0002.png")).unwrap(),
+        "the scene moves"
+    );
+}
+
+#[test]
+fn a_frame_where_the_tracks_come_back_is_the_still_render_of_the_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = write_anim(
+        dir.path(),
+        &format!(
+            "frames = 3\n{SMALL}aa = 2\ndof_rays = 3\n\
+             [[track]]\ntarget = \"group:pyramid\"\nmotion = \"translate\"\n\
+             keys = [[0, [0, 0, 0]], [0.0416666, [0, -40, 10]], [0.0833333, [0, 0, 0]]]\n"
+        ),
+    );
+    let frames = dir.path().join("f");
+    let o = animate(&anim, &frames, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let still = dir.path().join("still.png");
+    let o = run(prism()
+        .args([
+            "render",
+            &turntable("turntable.objx"),
+            &turntable("turntable.cmr"),
+        ])
+        .arg(&still)
+        .args([
+            "--width",
+            "32",
+            "--height",
+            "18",
+            "--aa",
+            "2",
+            "--dof-rays",
+            "3",
+        ]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let still = load_rgb(&still);
+    assert_eq!(load_rgb(&frames.join("frame_0000.png")), still);
+    // Frame 2 is at 2/24 s, past the last key (0.0833333 s): the pyramid is back.
+    assert_eq!(load_rgb(&frames.join("frame_0002.png")), still);
+    assert_ne!(load_rgb(&frames.join("frame_0001.png")), still);
+}
+
+#[test]
+fn mp4_has_the_frames_size_and_rate_and_plays() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 7);
+    let mp4 = dir.path().join("t.mp4");
+    let o = animate(&anim, &mp4, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The frames it was made from are gone; only the video is left.
+    assert_eq!(names(dir.path()), ["anim.toml", "t.mp4"]);
+    let size = fs::metadata(&mp4).unwrap().len();
+    let file = std::io::BufReader::new(fs::File::open(&mp4).unwrap());
+    let reader = mp4::Mp4Reader::read_header(file, size).unwrap();
+    let track = reader.tracks().get(&1).unwrap();
+    assert_eq!((track.width(), track.height()), (32, 18));
+    assert_eq!(track.sample_count(), 7);
+    assert!((track.frame_rate() - 24.0).abs() < 1e-9);
+
+    let probe = std::process::Command::new("ffprobe")
+        .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+        .args(["-show_entries", "stream=codec_name,width,height,r_frame_rate,nb_read_frames,color_space,color_primaries,color_transfer,pix_fmt"])
+        .args(["-of", "default=noprint_wrappers=1"])
+        .arg(&mp4)
+        .output();
+    match probe {
+        Err(e) => println!("skipped the ffprobe check: ffprobe cannot run here ({e})"),
+        Ok(p) => {
+            let text = String::from_utf8_lossy(&p.stdout);
+            assert!(p.status.success(), "{}", String::from_utf8_lossy(&p.stderr));
+            for line in [
+                "codec_name=h264",
+                "width=32",
+                "height=18",
+                "r_frame_rate=24/1",
+                "nb_read_frames=7",
+                "color_space=smpte170m",
+                "pix_fmt=yuv420p",
+            ] {
+                assert!(text.lines().any(|l| l == line), "{line} not in\n{text}");
+            }
+        }
+    }
+}
+
+#[test]
+fn gif_decodes_to_every_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 4);
+    let gif_path = dir.path().join("t.gif");
+    let o = run(prism().arg("animate").arg(&anim).arg(&gif_path));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("plays at 25.00 fps, not 24: GIF delays are whole hundredths"),
+        "{}",
+        stderr(&o)
+    );
+    let file = fs::File::open(&gif_path).unwrap();
+    let mut decoder = gif::DecodeOptions::new().read_info(file).unwrap();
+    assert_eq!((decoder.width(), decoder.height()), (32, 18));
+    let mut n = 0;
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        assert_eq!((frame.width, frame.height, frame.delay), (32, 18, 4));
+        n += 1;
+    }
+    assert_eq!(n, 4);
+}
+
+#[test]
+fn odd_sizes_are_refused_for_mp4_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = write_anim(
+        dir.path(),
+        "frames = 2\n[render]\nwidth = 33\nheight = 18\n",
+    );
+    let o = animate(&anim, &dir.path().join("t.mp4"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("even width and height, found 33x18"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(names(dir.path()), ["anim.toml"]);
+}
+
+#[test]
+fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
+    let cases: &[(&str, &str, &str)] = &[
+        (
+            "frames = 2\n[[track]]\ntarget = \"group:nothing\"\nmotion = \"translate\"\nkeys = [[0, [0, 0, 1]]]\n",
+            "t.mp4",
+            "anim.toml:5: unknown target `group:nothing`",
+        ),
+        (
+            "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"translate\"\n\
+             keys = [[1, [0, 0, 1]], [0.5, [0, 0, 2]]]\n",
+            "frames",
+            "anim.toml:7: key times must increase: 0.5 s comes after 1 s",
+        ),
+        (
+            "frames = 0\n",
+            "t.gif",
+            "anim.toml:3: expected between 1 and",
+        ),
+        (
+            "frames = 2\n",
+            "t.avi",
+            "t.avi: unknown output extension `avi`",
+        ),
+        (
+            "frames = 3\nfps = 1\n[[track]]\ntarget = \"camera\"\nmotion = \"translate\"\n\
+             keys = [[0, [0, 0, 0]], [2, [330, 0, -100]]]\n\
+             [[track]]\ntarget = \"camera\"\nmotion = \"look_at\"\nat = [0, 0, 50]\n",
+            "t.mp4",
+            "anim.toml:8: frame 2: at 2 s the camera's eye (0, 0, 50) is on the point it looks at",
+        ),
+    ];
+    for (body, out, message) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let anim = write_anim(dir.path(), body);
+        let o = animate(&anim, &dir.path().join(out), &[]);
+        assert_eq!(o.status.code(), Some(2), "{body}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.starts_with("error: ") && e.contains(message),
+            "{body}: {e}"
+        );
+        assert_eq!(names(dir.path()), ["anim.toml"], "{body}: nothing written");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let anim = write_anim(dir.path(), "frames = 2\n");
+    let o = animate(&anim, &dir.path().join("f"), &["--frames", "1..5"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--frames 1..5"), "{}", stderr(&o));
+    assert_eq!(names(dir.path()), ["anim.toml"]);
+}
+
+#[test]
+fn a_video_resumes_from_its_frames_and_a_range_makes_a_shorter_film() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 5);
+    let gif_path = dir.path().join("t.gif");
+    // Two frames rendered and kept, as an interrupted run leaves them.
+    let o = animate(&anim, &gif_path, &["--frames", "0..2", "--keep-frames"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        names(&dir.path().join("t.gif.frames")),
+        ["frame_0000.png", "frame_0001.png"]
+    );
+    let o = animate(&anim, &gif_path, &["--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("frames 3 rendered, 2 skipped"), "{stdout}");
+    assert!(stdout.contains("encoded 5 frames"), "{stdout}");
+    assert!(stdout.contains("fps 25"), "{stdout}");
+    assert_eq!(names(dir.path()), ["anim.toml", "t.gif"]);
+    let count = |path: &Path| {
+        let file = fs::File::open(path).unwrap();
+        let mut decoder = gif::DecodeOptions::new().read_info(file).unwrap();
+        let mut n = 0;
+        while decoder.read_next_frame().unwrap().is_some() {
+            n += 1;
+        }
+        n
+    };
+    assert_eq!(count(&gif_path), 5);
+    let part = dir.path().join("part.gif");
+    let o = animate(&anim, &part, &["--frames", "1..=3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(count(&part), 3);
+}
