@@ -3,6 +3,8 @@
 //! [`BINS`] bins per axis and the plane between two bins with the least surface-area
 //! cost wins, or the node becomes a leaf when that is cheaper.
 
+use rayon::prelude::*;
+
 use crate::math::{Aabb, Vec3};
 
 const BINS: usize = 32;
@@ -38,12 +40,26 @@ pub struct BinaryBvh {
     pub order: Vec<u32>,
 }
 
-struct Task {
-    node: usize,
-    depth: u32,
-    start: usize,
-    end: usize,
-    centroids: Aabb,
+/// Ranges larger than this split their two halves across threads.
+const PARALLEL_MIN: usize = 4096;
+
+/// The tree as the parallel build makes it; flattened into [`Node2`]s afterwards.
+enum Tree {
+    Leaf {
+        bounds: Aabb,
+        start: u32,
+        count: u32,
+    },
+    Inner {
+        bounds: Aabb,
+        children: Box<[Tree; 2]>,
+    },
+}
+
+/// What every subtree build reads.
+struct Inputs<'a> {
+    boxes: &'a [Aabb],
+    centers: &'a [Vec3],
 }
 
 #[derive(Clone, Copy)]
@@ -57,76 +73,112 @@ const EMPTY_BIN: Bin = Bin {
     count: 0,
 };
 
-/// Builds the tree; `boxes` must be non-empty.
+/// Builds the tree; `boxes` must be non-empty. Subtrees of large ranges build in
+/// parallel; the result does not depend on the thread count.
 pub fn build(boxes: &[Aabb]) -> BinaryBvh {
-    let centers: Vec<Vec3> = boxes.iter().map(Aabb::center).collect();
+    let centers: Vec<Vec3> = boxes.par_iter().map(Aabb::center).collect();
     let mut order: Vec<u32> = (0..boxes.len() as u32).collect();
-    let bounds = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
+    let inputs = Inputs {
+        boxes,
+        centers: &centers,
+    };
+    let bounds = bounds_of(&inputs, &order);
     let centroids = Aabb::from_points(&centers);
+    let tree = subtree(&inputs, &mut order, 0, bounds, centroids, 0);
     let mut nodes = Vec::with_capacity(2 * boxes.len() / 3 + 1);
     nodes.push(Node2 {
         bounds,
         first: 0,
         count: 0,
     });
-    let mut tasks = vec![Task {
-        node: 0,
-        depth: 0,
-        start: 0,
-        end: boxes.len(),
-        centroids,
-    }];
-    while let Some(task) = tasks.pop() {
-        let Task {
-            node,
-            depth,
+    flatten(&tree, 0, &mut nodes);
+    BinaryBvh { nodes, order }
+}
+
+/// Builds the subtree over `items`, which sit at `start` in the whole order.
+fn subtree(
+    inputs: &Inputs,
+    items: &mut [u32],
+    start: usize,
+    bounds: Aabb,
+    centroids: Aabb,
+    depth: u32,
+) -> Tree {
+    let count = items.len();
+    let split = if count > 1 && depth < MAX_DEPTH {
+        best_split(items, inputs.boxes, inputs.centers, bounds, centroids)
+    } else {
+        None
+    };
+    let mid = match split {
+        Some(split) => Some(partition(items, inputs.centers, &split)),
+        // Coincident centroids: halve the range if it is too big for one leaf.
+        None if count > MAX_LEAF && depth < MAX_DEPTH => Some(count / 2),
+        None => None,
+    };
+    let Some(mid) = mid.filter(|&m| m > 0 && m < count) else {
+        return Tree::Leaf {
+            bounds,
+            start: start as u32,
+            count: count as u32,
+        };
+    };
+    let (left, right) = items.split_at_mut(mid);
+    let child = |items: &mut [u32], start: usize| {
+        let bounds = bounds_of(inputs, items);
+        let centroids = items
+            .iter()
+            .fold(Aabb::EMPTY, |acc, &i| acc.grow(inputs.centers[i as usize]));
+        subtree(inputs, items, start, bounds, centroids, depth + 1)
+    };
+    let (l, r) = if count > PARALLEL_MIN {
+        rayon::join(|| child(left, start), || child(right, start + mid))
+    } else {
+        (child(left, start), child(right, start + mid))
+    };
+    Tree::Inner {
+        bounds,
+        children: Box::new([l, r]),
+    }
+}
+
+fn bounds_of(inputs: &Inputs, items: &[u32]) -> Aabb {
+    items
+        .iter()
+        .fold(Aabb::EMPTY, |acc, &i| acc.union(inputs.boxes[i as usize]))
+}
+
+/// Writes `tree` into `nodes[at]`, its children side by side after the nodes so far.
+fn flatten(tree: &Tree, at: usize, nodes: &mut Vec<Node2>) {
+    match tree {
+        &Tree::Leaf {
+            bounds,
             start,
-            end,
-            centroids,
-        } = task;
-        let count = end - start;
-        let items = &mut order[start..end];
-        let split = if count > 1 && depth < MAX_DEPTH {
-            best_split(items, boxes, &centers, nodes[node].bounds, centroids)
-        } else {
-            None
-        };
-        let mid = match split {
-            Some(split) => Some(partition(items, &centers, &split)),
-            // Coincident centroids: halve the range if it is too big for one leaf.
-            None if count > MAX_LEAF && depth < MAX_DEPTH => Some(count / 2),
-            None => None,
-        };
-        let Some(mid) = mid.filter(|&m| m > 0 && m < count) else {
-            nodes[node].first = start as u32;
-            nodes[node].count = count as u32;
-            continue;
-        };
-        let left = nodes.len();
-        nodes[node].first = left as u32;
-        for (a, b) in [(start, start + mid), (start + mid, end)] {
-            let ids = &order[a..b];
-            let child_bounds = ids
-                .iter()
-                .fold(Aabb::EMPTY, |acc, &i| acc.union(boxes[i as usize]));
-            let child_centroids = ids
-                .iter()
-                .fold(Aabb::EMPTY, |acc, &i| acc.grow(centers[i as usize]));
-            tasks.push(Task {
-                node: nodes.len(),
-                depth: depth + 1,
-                start: a,
-                end: b,
-                centroids: child_centroids,
-            });
-            nodes.push(Node2 {
-                bounds: child_bounds,
+            count,
+        } => {
+            nodes[at] = Node2 {
+                bounds,
+                first: start,
+                count,
+            }
+        }
+        Tree::Inner { bounds, children } => {
+            let first = nodes.len();
+            nodes[at] = Node2 {
+                bounds: *bounds,
+                first: first as u32,
+                count: 0,
+            };
+            let placeholder = Node2 {
+                bounds: Aabb::EMPTY,
                 first: 0,
                 count: 0,
-            });
+            };
+            nodes.extend([placeholder, placeholder]);
+            flatten(&children[0], first, nodes);
+            flatten(&children[1], first + 1, nodes);
         }
     }
-    BinaryBvh { nodes, order }
 }
 
 /// A plane between bins `bin - 1` and `bin` on `axis`.
@@ -176,7 +228,7 @@ fn best_split(
         for k in (1..BINS).rev() {
             acc.bounds = acc.bounds.union(bins[k].bounds);
             acc.count += bins[k].count;
-            right_cost[k] = half_area(&acc.bounds) * acc.count as f32;
+            right_cost[k] = half_area(&acc.bounds) * packets(acc.count as usize);
         }
         let mut acc = EMPTY_BIN;
         for k in 1..BINS {
@@ -185,7 +237,7 @@ fn best_split(
             if acc.count == 0 || acc.count as usize == items.len() {
                 continue;
             }
-            let cost = half_area(&acc.bounds) * acc.count as f32 + right_cost[k];
+            let cost = half_area(&acc.bounds) * packets(acc.count as usize) + right_cost[k];
             if best.as_ref().is_none_or(|(c, _)| cost < *c) {
                 best = Some((cost, Split { bin: k, ..split }));
             }
@@ -194,7 +246,7 @@ fn best_split(
     let (cost, split) = best?;
     let area = half_area(&bounds);
     let split_cost = TRAVERSAL_COST + cost / area;
-    let leaf_cost = items.len() as f32;
+    let leaf_cost = packets(items.len());
     // A degenerate (flat or zero-area, or NaN) node compares costs by counts alone.
     let degenerate = area.is_nan() || area <= 0.0;
     let splits_pay = degenerate || split_cost < leaf_cost || items.len() > MAX_LEAF;
@@ -215,6 +267,11 @@ fn partition(items: &mut [u32], centers: &[Vec3], split: &Split) -> usize {
     i
 }
 
+/// Cost of testing `n` shapes: leaves test them four at a time.
+fn packets(n: usize) -> f32 {
+    n.div_ceil(4) as f32
+}
+
 /// Half the surface area: the SAH only compares areas, so the factor 2 is dropped.
 fn half_area(b: &Aabb) -> f32 {
     if b.is_empty() {
@@ -222,4 +279,66 @@ fn half_area(b: &Aabb) -> f32 {
     }
     let e = b.extent();
     e.x * e.y + e.y * e.z + e.z * e.x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Boxes scattered by a fixed hash, enough to build in parallel.
+    fn boxes(n: usize) -> Vec<Aabb> {
+        (0..n as u32)
+            .map(|i| {
+                let h = |k: u32| (i.wrapping_mul(2_654_435_761).rotate_left(k) % 1000) as f32;
+                let p = Vec3::new(h(0), h(11), h(22));
+                Aabb {
+                    min: p,
+                    max: p + Vec3::splat(1.0 + h(7) % 5.0),
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_tree_does_not_depend_on_the_thread_count() {
+        let boxes = boxes(5 * PARALLEL_MIN);
+        let on = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| build(&boxes))
+        };
+        let (a, b) = (on(1), on(3));
+        assert_eq!(a.order, b.order);
+        assert_eq!(a.nodes.len(), b.nodes.len());
+        for (x, y) in a.nodes.iter().zip(&b.nodes) {
+            assert_eq!((x.bounds, x.first, x.count), (y.bounds, y.first, y.count));
+        }
+    }
+
+    #[test]
+    fn every_box_is_in_one_leaf_inside_its_ancestors() {
+        let boxes = boxes(3000);
+        let tree = build(&boxes);
+        let mut seen = vec![0u32; boxes.len()];
+        let mut stack = vec![0usize];
+        while let Some(at) = stack.pop() {
+            let node = tree.nodes[at];
+            if node.is_leaf() {
+                assert!(node.count as usize <= MAX_LEAF);
+                for &i in &tree.order[node.first as usize..(node.first + node.count) as usize] {
+                    seen[i as usize] += 1;
+                    assert_eq!(node.bounds.union(boxes[i as usize]), node.bounds);
+                }
+            } else {
+                for child in [node.first as usize, node.first as usize + 1] {
+                    let inner = tree.nodes[child].bounds;
+                    assert_eq!(node.bounds.union(inner), node.bounds);
+                    stack.push(child);
+                }
+            }
+        }
+        assert!(seen.iter().all(|&n| n == 1));
+    }
 }
