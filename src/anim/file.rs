@@ -3,7 +3,7 @@
 
 use super::curve::{Curve, Interpolation};
 use super::motion::{Aim, Motion, Selection, Target, Track};
-use super::{Animation, MAX_FPS, MAX_FRAMES};
+use super::{Animation, MAX_FPS, MAX_FRAMES, MIN_FPS};
 use crate::film::resample::Filter;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
@@ -95,12 +95,6 @@ impl Lines<'_> {
             .count()
     }
 
-    /// Line of the `[[...]]` header of the table whose body starts at `offset`.
-    fn header_line(&self, offset: usize) -> usize {
-        let end = offset.min(self.text.len());
-        self.line(self.text[..end].rfind("[[").unwrap_or(end))
-    }
-
     fn error<T>(&self, at: &Spanned<T>, message: impl Into<String>) -> Error {
         Error::parse(self.path, self.line(at.span().start), message)
     }
@@ -131,8 +125,11 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         None => 24.0,
         Some(f) => {
             let v = *f.get_ref();
-            if !(v > 0.0 && v <= MAX_FPS) {
-                return Err(lines.error(f, format!("expected fps > 0 and <= {MAX_FPS}, found {v}")));
+            if !(MIN_FPS..=MAX_FPS).contains(&v) {
+                return Err(lines.error(
+                    f,
+                    format!("expected fps between {MIN_FPS} and {MAX_FPS}, found {v}"),
+                ));
             }
             v
         }
@@ -340,7 +337,8 @@ fn vector(lines: &Lines, v: &Spanned<[f64; 3]>, what: &str) -> Result<DVec3> {
 
 fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
     let raw = t.get_ref();
-    let line = lines.header_line(t.span().start);
+    // The span of an array-of-tables entry starts at its own `[[track]]` header.
+    let line = lines.line(t.span().start);
     let target = match raw.target.get_ref().as_str() {
         "camera" => Target::Camera,
         _ => Target::Objects(selection(lines, &raw.target, scene)?),

@@ -30,6 +30,8 @@ use std::path::{Path, PathBuf};
 
 /// Most frames an animation may have (a typo guard: about 11 hours at 24 fps).
 pub const MAX_FRAMES: u32 = 1_000_000;
+/// Lowest frame rate accepted (one frame per 100 s): every encoder keeps it exactly.
+pub const MIN_FPS: f64 = 0.01;
 /// Highest frame rate accepted.
 pub const MAX_FPS: f64 = 1000.0;
 

@@ -182,7 +182,21 @@ fn bad_input_is_an_error_with_file_and_line() {
             "expected `frames = N` or `duration = SECONDS`",
         ),
         ("frames = 2\nduration = 1\n", 3, "not both"),
-        ("frames = 2\nfps = -1\n", 4, "expected fps > 0"),
+        (
+            "frames = 2\nfps = -1\n",
+            4,
+            "expected fps between 0.01 and 1000",
+        ),
+        (
+            "frames = 2\nfps = 0.0004\n",
+            4,
+            "expected fps between 0.01 and 1000",
+        ),
+        (
+            "frames = 2\nfps = 1001\n",
+            4,
+            "expected fps between 0.01 and 1000",
+        ),
         ("frames = 2\nspeed = 3\n", 4, "unknown field `speed`"),
         (
             "frames = 2\n[render]\nwidth = 0\n",

@@ -6,6 +6,7 @@ use prism::accel::AccelKind;
 use prism::anim::Animation;
 use prism::anim::job::{self, Observer};
 use prism::anim::output::{Output, VideoFormat, parse_frame_range};
+use prism::anim::video;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -78,13 +79,11 @@ pub fn run(args: &AnimateArgs) -> prism::Result<()> {
                 info.frames, info.bytes, info.fps
             );
         }
-        if *format == VideoFormat::Gif && info.fps != anim.fps && !args.quiet {
-            eprintln!(
-                "note: {} plays at {:.2} fps, not {}: GIF delays are whole hundredths of a second",
-                path.display(),
-                info.fps,
-                anim.fps
-            );
+        if *format == VideoFormat::Gif
+            && !args.quiet
+            && let Some(note) = video::gif_timing_note(anim.fps)
+        {
+            eprintln!("note: {}: {note}", path.display());
         }
     } else {
         bars.finish();
