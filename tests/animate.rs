@@ -43,10 +43,12 @@ fn animate(anim: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
         .args(extra))
 }
 
+/// The files in `dir`, but for a frame folder's manifest.
 fn names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != ".prism-animation")
         .collect();
     v.sort();
     v
@@ -322,7 +324,7 @@ fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
 }
 
 #[test]
-fn a_video_resumes_from_its_frames_and_a_range_makes_a_shorter_film() {
+fn a_video_resumes_from_its_frames() {
     let dir = tempfile::tempdir().unwrap();
     let anim = small_turntable(dir.path(), 5);
     let gif_path = dir.path().join("t.gif");
@@ -351,8 +353,65 @@ fn a_video_resumes_from_its_frames_and_a_range_makes_a_shorter_film() {
         n
     };
     assert_eq!(count(&gif_path), 5);
-    let part = dir.path().join("part.gif");
-    let o = animate(&anim, &part, &["--frames", "1..=3"]);
+}
+
+#[test]
+fn a_video_split_across_runs_is_encoded_by_the_run_that_completes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 5);
+    let gif_path = dir.path().join("split.gif");
+    let frames = dir.path().join("split.gif.frames");
+    // One machine's share: its frames stay, and no film is made yet.
+    let o = run(prism()
+        .arg("animate")
+        .arg(&anim)
+        .arg(&gif_path)
+        .args(["--frames", "1..=3"]));
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(count(&part), 3);
+    assert!(
+        stderr(&o).contains("2 of the animation's 5 frames are not in"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!gif_path.exists());
+    assert_eq!(
+        names(&frames),
+        ["frame_0001.png", "frame_0002.png", "frame_0003.png"]
+    );
+    let o = animate(&anim, &gif_path, &["--frames", "0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!gif_path.exists());
+    // The last share completes the frames: the whole film is encoded, the frames go.
+    let o = animate(&anim, &gif_path, &["--frames", "4..", "--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("encoded 5 frames"), "{stdout}");
+    assert_eq!(names(dir.path()), ["anim.toml", "split.gif"]);
+}
+
+#[test]
+fn a_frame_folder_of_another_animation_is_not_resumed() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 3);
+    let out = dir.path().join("f");
+    let o = animate(&anim, &out, &["--frames", "0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.join(".prism-animation").is_file());
+    // A temporary file left by a crash is removed at the next start.
+    fs::write(out.join(".prism-x1y2.part"), b"half a frame").unwrap();
+    let o = animate(&anim, &out, &["--frames", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(names(&out), ["frame_0000.png", "frame_0001.png"]);
+    // The animation changes (a longer film moves differently): its frames are refused.
+    let text = fs::read_to_string(&anim).unwrap();
+    fs::write(&anim, text.replace("frames = 3", "frames = 4")).unwrap();
+    let o = animate(&anim, &out, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("holds frames of another version of the animation")
+            && e.contains("delete the folder"),
+        "{e}"
+    );
+    assert_eq!(names(&out), ["frame_0000.png", "frame_0001.png"]);
 }

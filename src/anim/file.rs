@@ -3,7 +3,7 @@
 
 use super::curve::{Curve, Interpolation};
 use super::motion::{Aim, Motion, Selection, Target, Track};
-use super::{Animation, MAX_FPS, MAX_FRAMES, MIN_FPS};
+use super::{Animation, FNV_OFFSET, MAX_FPS, MAX_FRAMES, MIN_FPS, fnv1a};
 use crate::film::resample::Filter;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
@@ -116,8 +116,20 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         Error::parse(path, line, e.message().trim_end().replace('\n', "; "))
     })?;
     let folder = path.parent().unwrap_or(Path::new(""));
-    let scene = crate::format::load_scene(&folder.join(raw.scene.get_ref()))?;
-    let mut camera = crate::format::load_camera(&folder.join(raw.camera.get_ref()))?;
+    let (scene_path, camera_path) = (
+        folder.join(raw.scene.get_ref()),
+        folder.join(raw.camera.get_ref()),
+    );
+    let scene = crate::format::load_scene(&scene_path)?;
+    let mut camera = crate::format::load_camera(&camera_path)?;
+    let mut fingerprint = fnv1a(FNV_OFFSET, text.as_bytes());
+    for file in [&scene_path, &camera_path] {
+        let bytes =
+            std::fs::read(file).map_err(|e| Error::file(file, format!("cannot read: {e}")))?;
+        // The length first, so moving bytes from one file to the next changes the hash.
+        fingerprint = fnv1a(fingerprint, &(bytes.len() as u64).to_le_bytes());
+        fingerprint = fnv1a(fingerprint, &bytes);
+    }
     if let Some(start) = &raw.start {
         apply_start(&lines, start, &mut camera)?;
     }
@@ -154,6 +166,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         fps,
         settings,
         tracks,
+        fingerprint,
     })
 }
 

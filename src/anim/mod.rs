@@ -48,7 +48,23 @@ pub struct Animation {
     /// The file's `[render]` overrides; a caller may set threads and intersector.
     pub settings: RenderSettings,
     pub tracks: Vec<Track>,
+    /// FNV-1a 64 of the animation file's text and the scene and camera files' bytes:
+    /// what the frames' pixels depend on (with the file's `[render]` settings). A frame
+    /// folder records it, so frames of another animation are never resumed.
+    pub fingerprint: u64,
 }
+
+/// FNV-1a, 64 bits: a hash that stays the same across Rust versions and machines.
+pub fn fnv1a(mut hash: u64, bytes: &[u8]) -> u64 {
+    for &b in bytes {
+        hash ^= b as u64;
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    hash
+}
+
+/// FNV-1a's starting value.
+pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
 impl Animation {
     /// Reads an animation file and the scene and camera files it names (relative to it).

@@ -294,7 +294,7 @@ fn a_camera_on_its_look_at_point_is_refused_before_rendering() {
     assert!(a.check(0..2).is_ok());
     let e = a.check(0..5).unwrap_err().to_string();
     assert!(
-        e.starts_with("dir/anim.toml:8: frame 2: at 2 s the camera's eye (0, 0, 120) is on the point it looks at"),
+        e.starts_with("dir/anim.toml:9: frame 2: at 2 s the camera's eye (0, 0, 120) is on the point it looks at"),
         "{e}"
     );
     assert!(a.pose(2).is_err());
