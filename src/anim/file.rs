@@ -57,10 +57,53 @@ struct RawTrack {
     interpolation: Option<Spanned<String>>,
     axis: Option<Spanned<[f64; 3]>>,
     center: Option<Spanned<[f64; 3]>>,
-    keep_orientation: Option<bool>,
+    keep_orientation: Option<Spanned<bool>>,
     at: Option<Spanned<RawAim>>,
-    focus: Option<bool>,
+    focus: Option<Spanned<bool>>,
     keys: Option<RawKeys>,
+}
+
+impl RawTrack {
+    /// The optional fields given, each with where it starts in the file.
+    fn given(&self) -> Vec<(&'static str, usize)> {
+        let mut out = Vec::new();
+        let mut add = |name, span: Option<std::ops::Range<usize>>| {
+            if let Some(s) = span {
+                out.push((name, s.start));
+            }
+        };
+        add(
+            "interpolation",
+            self.interpolation.as_ref().map(|x| x.span()),
+        );
+        add("axis", self.axis.as_ref().map(|x| x.span()));
+        add("center", self.center.as_ref().map(|x| x.span()));
+        add(
+            "keep_orientation",
+            self.keep_orientation.as_ref().map(|x| x.span()),
+        );
+        add("at", self.at.as_ref().map(|x| x.span()));
+        add("focus", self.focus.as_ref().map(|x| x.span()));
+        add("keys", self.keys.as_ref().map(|x| x.span()));
+        out
+    }
+}
+
+/// The optional fields each motion takes.
+fn fields_of(motion: &str) -> &'static [&'static str] {
+    match motion {
+        "translate" => &["keys", "interpolation"],
+        "rotate" => &["keys", "interpolation", "axis", "center"],
+        "orbit" => &[
+            "keys",
+            "interpolation",
+            "axis",
+            "center",
+            "keep_orientation",
+        ],
+        "look_at" => &["at", "focus"],
+        _ => &[],
+    }
 }
 
 /// `keys = [[time, value], ...]`, each key with its place in the file.
@@ -173,12 +216,15 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
 fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) -> Result<()> {
     let s = start.get_ref();
     let finite = |v: f64, what: &str| {
-        if v.is_finite() && v.abs() <= f32::MAX as f64 {
+        if in_range(v) {
             Ok(v as f32)
         } else {
             Err(lines.error(
                 start,
-                format!("expected a finite number for {what}, found {v}"),
+                format!(
+                    "expected a finite number of magnitude at most {MAX_VALUE:e} for {what}, \
+                     found {v}"
+                ),
             ))
         }
     };
@@ -196,6 +242,12 @@ fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) ->
         camera.phi_deg = finite(v, "start.phi")?;
     }
     if let Some(v) = s.focal_length {
+        if v < 0.0 {
+            return Err(lines.error(
+                start,
+                format!("expected start.focal_length >= 0, found {v}"),
+            ));
+        }
         camera.focal_length = finite(v, "start.focal_length")?;
     }
     if let Some(v) = s.aperture {
@@ -360,6 +412,24 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
         None => Interpolation::Linear,
         Some(i) => i.get_ref().parse().map_err(|m: String| lines.error(i, m))?,
     };
+    let allowed = fields_of(raw.motion.get_ref());
+    if !allowed.is_empty()
+        && let Some(&(name, at)) = raw.given().iter().find(|(n, _)| !allowed.contains(n))
+    {
+        return Err(Error::parse(
+            lines.path,
+            lines.line(at),
+            format!(
+                "`{name}` does not apply to motion `{}`, which takes {}",
+                raw.motion.get_ref(),
+                allowed
+                    .iter()
+                    .map(|f| format!("`{f}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ));
+    }
     let missing = |what: &str| {
         lines.error(
             &raw.motion,
@@ -404,7 +474,7 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
                     axis,
                     center,
                     angle,
-                    keep_orientation: raw.keep_orientation.unwrap_or(true),
+                    keep_orientation: raw.keep_orientation.as_ref().is_none_or(|k| *k.get_ref()),
                 }
             }
         }
@@ -425,7 +495,7 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
             };
             Motion::LookAt {
                 aim,
-                focus: raw.focus.unwrap_or(false),
+                focus: raw.focus.as_ref().is_some_and(|f| *f.get_ref()),
             }
         }
         other => {

@@ -258,6 +258,46 @@ fn bad_input_is_an_error_with_file_and_line() {
         ),
         ("frames = [2\n", 3, ""),
         (
+            "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"look_at\"\nat = [0, 0, 0]\n\
+             keys = [[0, 1]]\n",
+            8,
+            "`keys` does not apply to motion `look_at`, which takes `at`, `focus`",
+        ),
+        (
+            "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"look_at\"\n\
+             interpolation = \"smooth\"\nat = [0, 0, 0]\n",
+            7,
+            "`interpolation` does not apply to motion `look_at`",
+        ),
+        (
+            "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"rotate\"\naxis = [0, 0, 1]\n\
+             keep_orientation = false\nkeys = [[0, 1]]\n",
+            8,
+            "`keep_orientation` does not apply to motion `rotate`",
+        ),
+        (
+            "frames = 2\n[[track]]\ntarget = \"shape:1\"\nmotion = \"translate\"\n\
+             axis = [0, 0, 1]\nkeys = [[0, [1, 2, 3]]]\n",
+            7,
+            "`axis` does not apply to motion `translate`",
+        ),
+        (
+            "frames = 2\n[[track]]\ntarget = \"shape:1\"\nmotion = \"orbit\"\n\
+             axis = [0, 0, 1]\nfocus = true\nkeys = [[0, 1]]\n",
+            8,
+            "`focus` does not apply to motion `orbit`",
+        ),
+        (
+            "frames = 2\n[start]\nfocal_length = -1\n",
+            4,
+            "expected start.focal_length >= 0, found -1",
+        ),
+        (
+            "frames = 2\n[start]\neye = [1e31, 0, 0]\n",
+            4,
+            "magnitude at most 1e30 for start.eye",
+        ),
+        (
             "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"rotate\"\naxis = [nan, 0, 1]\nkeys = [[0, 0]]\n",
             7,
             "expected finite numbers of magnitude at most 1e30 for the axis",
