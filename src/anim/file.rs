@@ -260,7 +260,7 @@ fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) ->
 }
 
 fn frame_count(lines: &Lines, raw: &RawFile, fps: f64) -> Result<u32> {
-    let frames = match (&raw.frames, &raw.duration) {
+    let (n, span): (f64, _) = match (&raw.frames, &raw.duration) {
         (Some(f), Some(_)) => {
             return Err(lines.error(f, "give frames or duration, not both"));
         }
@@ -271,35 +271,25 @@ fn frame_count(lines: &Lines, raw: &RawFile, fps: f64) -> Result<u32> {
                 "expected `frames = N` or `duration = SECONDS` (with `fps`, default 24)",
             ));
         }
-        (Some(f), None) => (*f.get_ref(), f.span()),
+        (Some(f), None) => (*f.get_ref() as f64, f.span()),
         (None, Some(d)) => {
             let secs = *d.get_ref();
             if !(secs.is_finite() && secs > 0.0) {
                 return Err(lines.error(d, format!("expected a duration > 0, found {secs}")));
             }
-            let n = (secs * fps).round();
-            (
-                if n > MAX_FRAMES as f64 {
-                    i64::MAX
-                } else {
-                    n as i64
-                },
-                d.span(),
-            )
+            ((secs * fps).round(), d.span())
         }
     };
-    let (n, span) = frames;
-    if n < 1 || n > MAX_FRAMES as i64 {
-        let line = lines.line(span.start);
+    if !(1.0..=MAX_FRAMES as f64).contains(&n) {
         return Err(Error::parse(
             lines.path,
-            line,
+            lines.line(span.start),
             format!(
                 "expected between 1 and {MAX_FRAMES} frames, found {}",
-                if n == i64::MAX {
-                    "more".to_string()
-                } else {
+                if n < 1e15 {
                     n.to_string()
+                } else {
+                    format!("{n:e}")
                 }
             ),
         ));
@@ -374,11 +364,7 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
             ));
         }
     };
-    Ok(Selection {
-        name: name.clone(),
-        shapes,
-        lights,
-    })
+    Ok(Selection { shapes, lights })
 }
 
 /// Largest coordinate, offset or angle accepted: beyond it, f32 scene coordinates
@@ -463,18 +449,19 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
                 RawValue::Vector(_) => None,
             })?;
             let (axis, center) = (axis()?, center()?);
-            if m == "rotate" {
-                Motion::Rotate {
+            let keep_orientation = raw.keep_orientation.as_ref().is_none_or(|k| *k.get_ref());
+            if m == "orbit" && keep_orientation {
+                Motion::Orbit {
                     axis,
                     center,
                     angle,
                 }
             } else {
-                Motion::Orbit {
+                // An orbit that does not keep its orientation turns the target: a rotation.
+                Motion::Rotate {
                     axis,
                     center,
                     angle,
-                    keep_orientation: raw.keep_orientation.as_ref().is_none_or(|k| *k.get_ref()),
                 }
             }
         }

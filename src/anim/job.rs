@@ -121,6 +121,9 @@ pub fn render_frames(
     prepare_folder(anim, &pattern.dir)?;
     let start = Instant::now();
     let mut report = FramesReport::default();
+    // One copy of the scene (textures included) for the whole run; each frame rewrites
+    // only what moves.
+    let mut posed = anim.scene.clone();
     for k in frames {
         let path = pattern.path_of(k);
         if path.is_file() {
@@ -128,8 +131,12 @@ pub fn render_frames(
             (observer.frame_done)(k, true);
             continue;
         }
-        let (image, stats) =
-            anim.render_frame(k, &|rows| (observer.frame_start)(k, rows), observer.rows)?;
+        let (image, stats) = anim.render_frame_in(
+            k,
+            &mut posed,
+            &|rows| (observer.frame_start)(k, rows),
+            observer.rows,
+        )?;
         write_image(&image, &path)?;
         report.rendered += 1;
         report.rays += stats.rays;

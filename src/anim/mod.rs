@@ -83,6 +83,20 @@ impl Animation {
             .map_err(|e| Error::parse(&self.path, e.line, e.message))
     }
 
+    /// Poses `posed` at frame `k` and returns the camera. `posed` starts as a copy of
+    /// [`Animation::scene`] and can be reused from frame to frame: only the shapes and
+    /// lights the tracks move are written.
+    pub fn pose_into(&self, frame: u32, posed: &mut Scene) -> Result<Camera> {
+        pose::pose_into(
+            &self.scene,
+            &self.camera,
+            &self.tracks,
+            self.time_of(frame),
+            posed,
+        )
+        .map_err(|e| Error::parse(&self.path, e.line, e.message))
+    }
+
     /// Checks that every frame in `frames` can be posed (no camera on its look-at
     /// point), before anything is rendered.
     pub fn check(&self, frames: Range<u32>) -> Result<()> {
@@ -108,8 +122,20 @@ impl Animation {
         start: &dyn Fn(u64),
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<(Image, RenderStats)> {
-        let (scene, camera) = self.pose(frame)?;
-        let renderer = Renderer::new(&scene, &camera, self.settings.clone())?;
+        self.render_frame_in(frame, &mut self.scene.clone(), start, progress)
+    }
+
+    /// [`Animation::render_frame`] posing the scene in `posed` (see
+    /// [`Animation::pose_into`]), so a run of frames copies the scene once.
+    pub fn render_frame_in(
+        &self,
+        frame: u32,
+        posed: &mut Scene,
+        start: &dyn Fn(u64),
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<(Image, RenderStats)> {
+        let camera = self.pose_into(frame, posed)?;
+        let renderer = Renderer::new(posed, &camera, self.settings.clone())?;
         start(renderer.rows_to_trace());
         renderer.render(progress)
     }

@@ -428,3 +428,53 @@ mod never_panics {
         }
     }
 }
+
+#[test]
+fn a_reused_posed_scene_equals_a_fresh_pose_at_every_frame() {
+    let a = parse_str(
+        "frames = 6\nfps = 2\n\
+         [[track]]\ntarget = \"shape:1\"\nmotion = \"translate\"\n\
+         keys = [[0, [0, 0, 0]], [2, [10, 0, 0]]]\n\
+         [[track]]\ntarget = \"shape:2\"\nmotion = \"orbit\"\naxis = [0, 0, 1]\n\
+         keys = [[0, 0], [2, 90]]\n",
+    )
+    .unwrap();
+    let mut posed = a.scene.clone();
+    for k in [3, 0, 5, 1, 1, 4] {
+        let camera = a.pose_into(k, &mut posed).unwrap();
+        let (fresh, fresh_camera) = a.pose(k).unwrap();
+        assert_eq!(posed.shapes, fresh.shapes, "frame {k}");
+        assert_eq!(posed.lights, fresh.lights, "frame {k}");
+        assert_eq!(camera, fresh_camera, "frame {k}");
+    }
+}
+
+#[test]
+fn checking_a_big_scene_costs_what_moves_not_the_scene() {
+    let mut a = parse_str(
+        "frames = 400\nfps = 24\n\
+         [[track]]\ntarget = \"shape:1\"\nmotion = \"translate\"\n\
+         keys = [[0, [0, 0, 0]], [10, [10, 0, 0]]]\n\
+         [[track]]\ntarget = \"camera\"\nmotion = \"look_at\"\nat = \"shape:1\"\n",
+    )
+    .unwrap();
+    // 300 000 more triangles, none of them moving.
+    let t = a.scene.shapes[0];
+    let m = a.scene.material_of[0];
+    for _ in 0..300_000 {
+        a.scene.push_shape(t, m);
+    }
+    let start = std::time::Instant::now();
+    a.check(0..400).unwrap();
+    let seconds = start.elapsed().as_secs_f64();
+    // Resizing per-shape arrays to the scene took about 2 ms a frame here.
+    assert!(seconds < 0.2, "{seconds} s to check 400 frames");
+    // Posing a reused scene is as cheap.
+    let mut posed = a.scene.clone();
+    let start = std::time::Instant::now();
+    for k in 0..400 {
+        a.pose_into(k, &mut posed).unwrap();
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    assert!(seconds < 0.2, "{seconds} s to pose 400 frames");
+}
