@@ -397,11 +397,20 @@ fn a_frame_folder_of_another_animation_is_not_resumed() {
     let o = animate(&anim, &out, &["--frames", "0"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(out.join(".prism-animation").is_file());
-    // A temporary file left by a crash is removed at the next start.
-    fs::write(out.join(".prism-x1y2.part"), b"half a frame").unwrap();
+    // A temporary file left by a crash (an hour ago) is removed at the next start; a
+    // fresh one may be another machine's frame being written, and stays.
+    let hour_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+    let old = fs::File::create(out.join(".prism-x1y2.part")).unwrap();
+    old.set_modified(hour_ago).unwrap();
+    drop(old);
+    fs::write(out.join(".prism-new.part"), b"half a frame").unwrap();
     let o = animate(&anim, &out, &["--frames", "1"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(names(&out), ["frame_0000.png", "frame_0001.png"]);
+    assert_eq!(
+        names(&out),
+        [".prism-new.part", "frame_0000.png", "frame_0001.png"]
+    );
+    fs::remove_file(out.join(".prism-new.part")).unwrap();
     // The animation changes (a longer film moves differently): its frames are refused.
     let text = fs::read_to_string(&anim).unwrap();
     fs::write(&anim, text.replace("frames = 3", "frames = 4")).unwrap();

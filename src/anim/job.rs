@@ -54,6 +54,9 @@ pub fn check(anim: &Animation, frames: Range<u32>, output: &Output) -> Result<()
     check_manifest(anim, frames_dir)
 }
 
+/// Age beyond which a temporary file in a frame folder is a crash's leftover.
+const STALE_PART: std::time::Duration = std::time::Duration::from_secs(600);
+
 /// The file in a frame folder that says which animation its frames are of.
 pub const MANIFEST: &str = ".prism-animation";
 
@@ -85,7 +88,7 @@ fn check_manifest(anim: &Animation, dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Creates the frame folder, removes temporary files an interrupted run left in it, and
+/// Creates the frame folder, removes temporary files a crashed run left in it, and
 /// writes its manifest.
 fn prepare_folder(anim: &Animation, dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir)
@@ -96,7 +99,16 @@ fn prepare_folder(anim: &Animation, dir: &Path) -> Result<()> {
     for entry in entries.flatten() {
         let name = entry.file_name();
         let name = name.to_string_lossy();
-        if name.starts_with(".prism-") && name.ends_with(".part") {
+        // A temporary file lives for the seconds it takes to write one frame: one older
+        // than ten minutes was left by a crash. Younger ones may be another machine's,
+        // rendering other frames into the same folder.
+        let stale = entry
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age > STALE_PART);
+        if name.starts_with(".prism-") && name.ends_with(".part") && stale {
             let _ = std::fs::remove_file(entry.path());
         }
     }
