@@ -43,10 +43,12 @@ fn animate(anim: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
         .args(extra))
 }
 
+/// The files in `dir`, but for a frame folder's manifest.
 fn names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != ".prism-animation")
         .collect();
     v.sort();
     v
@@ -197,10 +199,13 @@ fn mp4_has_the_frames_size_and_rate_and_plays() {
     assert_eq!((track.width(), track.height()), (32, 18));
     assert_eq!(track.sample_count(), 7);
     assert!((track.frame_rate() - 24.0).abs() < 1e-9);
+    // The container lasts as long as the stream: 7 frames at 24 fps.
+    let movie = &reader.moov.mvhd;
+    assert_eq!(movie.duration as f64 / movie.timescale as f64, 7.0 / 24.0);
 
     let probe = std::process::Command::new("ffprobe")
         .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
-        .args(["-show_entries", "stream=codec_name,width,height,r_frame_rate,nb_read_frames,color_space,color_primaries,color_transfer,pix_fmt"])
+        .args(["-show_entries", "stream=codec_name,width,height,r_frame_rate,nb_read_frames,color_space,color_primaries,color_transfer,pix_fmt:format=duration"])
         .args(["-of", "default=noprint_wrappers=1"])
         .arg(&mp4)
         .output();
@@ -217,6 +222,7 @@ fn mp4_has_the_frames_size_and_rate_and_plays() {
                 "nb_read_frames=7",
                 "color_space=smpte170m",
                 "pix_fmt=yuv420p",
+                "duration=0.291667",
             ] {
                 assert!(text.lines().any(|l| l == line), "{line} not in\n{text}");
             }
@@ -232,7 +238,7 @@ fn gif_decodes_to_every_frame() {
     let o = run(prism().arg("animate").arg(&anim).arg(&gif_path));
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("plays at 25.00 fps, not 24: GIF delays are whole hundredths"),
+        stderr(&o).contains("GIF delays are whole hundredths of a second: frames last 4 or 5"),
         "{}",
         stderr(&o)
     );
@@ -241,7 +247,8 @@ fn gif_decodes_to_every_frame() {
     assert_eq!((decoder.width(), decoder.height()), (32, 18));
     let mut n = 0;
     while let Some(frame) = decoder.read_next_frame().unwrap() {
-        assert_eq!((frame.width, frame.height, frame.delay), (32, 18, 4));
+        assert_eq!((frame.width, frame.height), (32, 18));
+        assert_eq!(frame.delay, [4, 4, 5, 4][n], "frame {n}");
         n += 1;
     }
     assert_eq!(n, 4);
@@ -293,7 +300,7 @@ fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
              keys = [[0, [0, 0, 0]], [2, [330, 0, -100]]]\n\
              [[track]]\ntarget = \"camera\"\nmotion = \"look_at\"\nat = [0, 0, 50]\n",
             "t.mp4",
-            "anim.toml:8: frame 2: at 2 s the camera's eye (0, 0, 50) is on the point it looks at",
+            "anim.toml:9: frame 2: at 2 s the camera's eye (0, 0, 50) is on the point it looks at",
         ),
     ];
     for (body, out, message) in cases {
@@ -317,7 +324,7 @@ fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
 }
 
 #[test]
-fn a_video_resumes_from_its_frames_and_a_range_makes_a_shorter_film() {
+fn a_video_resumes_from_its_frames() {
     let dir = tempfile::tempdir().unwrap();
     let anim = small_turntable(dir.path(), 5);
     let gif_path = dir.path().join("t.gif");
@@ -333,7 +340,8 @@ fn a_video_resumes_from_its_frames_and_a_range_makes_a_shorter_film() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("frames 3 rendered, 2 skipped"), "{stdout}");
     assert!(stdout.contains("encoded 5 frames"), "{stdout}");
-    assert!(stdout.contains("fps 25"), "{stdout}");
+    // 5 frames at 24 fps: 21 hundredths in all.
+    assert!(stdout.contains("fps 23.8"), "{stdout}");
     assert_eq!(names(dir.path()), ["anim.toml", "t.gif"]);
     let count = |path: &Path| {
         let file = fs::File::open(path).unwrap();
@@ -345,8 +353,74 @@ fn a_video_resumes_from_its_frames_and_a_range_makes_a_shorter_film() {
         n
     };
     assert_eq!(count(&gif_path), 5);
-    let part = dir.path().join("part.gif");
-    let o = animate(&anim, &part, &["--frames", "1..=3"]);
+}
+
+#[test]
+fn a_video_split_across_runs_is_encoded_by_the_run_that_completes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 5);
+    let gif_path = dir.path().join("split.gif");
+    let frames = dir.path().join("split.gif.frames");
+    // One machine's share: its frames stay, and no film is made yet.
+    let o = run(prism()
+        .arg("animate")
+        .arg(&anim)
+        .arg(&gif_path)
+        .args(["--frames", "1..=3"]));
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(count(&part), 3);
+    assert!(
+        stderr(&o).contains("2 of the animation's 5 frames are not in"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!gif_path.exists());
+    assert_eq!(
+        names(&frames),
+        ["frame_0001.png", "frame_0002.png", "frame_0003.png"]
+    );
+    let o = animate(&anim, &gif_path, &["--frames", "0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!gif_path.exists());
+    // The last share completes the frames: the whole film is encoded, the frames go.
+    let o = animate(&anim, &gif_path, &["--frames", "4..", "--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("encoded 5 frames"), "{stdout}");
+    assert_eq!(names(dir.path()), ["anim.toml", "split.gif"]);
+}
+
+#[test]
+fn a_frame_folder_of_another_animation_is_not_resumed() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 3);
+    let out = dir.path().join("f");
+    let o = animate(&anim, &out, &["--frames", "0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.join(".prism-animation").is_file());
+    // A temporary file left by a crash (an hour ago) is removed at the next start; a
+    // fresh one may be another machine's frame being written, and stays.
+    let hour_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+    let old = fs::File::create(out.join(".prism-x1y2.part")).unwrap();
+    old.set_modified(hour_ago).unwrap();
+    drop(old);
+    fs::write(out.join(".prism-new.part"), b"half a frame").unwrap();
+    let o = animate(&anim, &out, &["--frames", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        names(&out),
+        [".prism-new.part", "frame_0000.png", "frame_0001.png"]
+    );
+    fs::remove_file(out.join(".prism-new.part")).unwrap();
+    // The animation changes (a longer film moves differently): its frames are refused.
+    let text = fs::read_to_string(&anim).unwrap();
+    fs::write(&anim, text.replace("frames = 3", "frames = 4")).unwrap();
+    let o = animate(&anim, &out, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("holds frames of another version of the animation")
+            && e.contains("delete the folder"),
+        "{e}"
+    );
+    assert_eq!(names(&out), ["frame_0000.png", "frame_0001.png"]);
 }

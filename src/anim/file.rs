@@ -3,7 +3,7 @@
 
 use super::curve::{Curve, Interpolation};
 use super::motion::{Aim, Motion, Selection, Target, Track};
-use super::{Animation, MAX_FPS, MAX_FRAMES};
+use super::{Animation, FNV_OFFSET, MAX_FPS, MAX_FRAMES, MIN_FPS, fnv1a};
 use crate::film::resample::Filter;
 use crate::render::{RenderSettings, Renderer};
 use crate::scene::{Camera, Scene};
@@ -57,10 +57,53 @@ struct RawTrack {
     interpolation: Option<Spanned<String>>,
     axis: Option<Spanned<[f64; 3]>>,
     center: Option<Spanned<[f64; 3]>>,
-    keep_orientation: Option<bool>,
+    keep_orientation: Option<Spanned<bool>>,
     at: Option<Spanned<RawAim>>,
-    focus: Option<bool>,
+    focus: Option<Spanned<bool>>,
     keys: Option<RawKeys>,
+}
+
+impl RawTrack {
+    /// The optional fields given, each with where it starts in the file.
+    fn given(&self) -> Vec<(&'static str, usize)> {
+        let mut out = Vec::new();
+        let mut add = |name, span: Option<std::ops::Range<usize>>| {
+            if let Some(s) = span {
+                out.push((name, s.start));
+            }
+        };
+        add(
+            "interpolation",
+            self.interpolation.as_ref().map(|x| x.span()),
+        );
+        add("axis", self.axis.as_ref().map(|x| x.span()));
+        add("center", self.center.as_ref().map(|x| x.span()));
+        add(
+            "keep_orientation",
+            self.keep_orientation.as_ref().map(|x| x.span()),
+        );
+        add("at", self.at.as_ref().map(|x| x.span()));
+        add("focus", self.focus.as_ref().map(|x| x.span()));
+        add("keys", self.keys.as_ref().map(|x| x.span()));
+        out
+    }
+}
+
+/// The optional fields each motion takes.
+fn fields_of(motion: &str) -> &'static [&'static str] {
+    match motion {
+        "translate" => &["keys", "interpolation"],
+        "rotate" => &["keys", "interpolation", "axis", "center"],
+        "orbit" => &[
+            "keys",
+            "interpolation",
+            "axis",
+            "center",
+            "keep_orientation",
+        ],
+        "look_at" => &["at", "focus"],
+        _ => &[],
+    }
 }
 
 /// `keys = [[time, value], ...]`, each key with its place in the file.
@@ -95,12 +138,6 @@ impl Lines<'_> {
             .count()
     }
 
-    /// Line of the `[[...]]` header of the table whose body starts at `offset`.
-    fn header_line(&self, offset: usize) -> usize {
-        let end = offset.min(self.text.len());
-        self.line(self.text[..end].rfind("[[").unwrap_or(end))
-    }
-
     fn error<T>(&self, at: &Spanned<T>, message: impl Into<String>) -> Error {
         Error::parse(self.path, self.line(at.span().start), message)
     }
@@ -122,8 +159,20 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         Error::parse(path, line, e.message().trim_end().replace('\n', "; "))
     })?;
     let folder = path.parent().unwrap_or(Path::new(""));
-    let scene = crate::format::load_scene(&folder.join(raw.scene.get_ref()))?;
-    let mut camera = crate::format::load_camera(&folder.join(raw.camera.get_ref()))?;
+    let (scene_path, camera_path) = (
+        folder.join(raw.scene.get_ref()),
+        folder.join(raw.camera.get_ref()),
+    );
+    let scene = crate::format::load_scene(&scene_path)?;
+    let mut camera = crate::format::load_camera(&camera_path)?;
+    let mut fingerprint = fnv1a(FNV_OFFSET, text.as_bytes());
+    for file in [&scene_path, &camera_path] {
+        let bytes =
+            std::fs::read(file).map_err(|e| Error::file(file, format!("cannot read: {e}")))?;
+        // The length first, so moving bytes from one file to the next changes the hash.
+        fingerprint = fnv1a(fingerprint, &(bytes.len() as u64).to_le_bytes());
+        fingerprint = fnv1a(fingerprint, &bytes);
+    }
     if let Some(start) = &raw.start {
         apply_start(&lines, start, &mut camera)?;
     }
@@ -131,8 +180,11 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         None => 24.0,
         Some(f) => {
             let v = *f.get_ref();
-            if !(v > 0.0 && v <= MAX_FPS) {
-                return Err(lines.error(f, format!("expected fps > 0 and <= {MAX_FPS}, found {v}")));
+            if !(MIN_FPS..=MAX_FPS).contains(&v) {
+                return Err(lines.error(
+                    f,
+                    format!("expected fps between {MIN_FPS} and {MAX_FPS}, found {v}"),
+                ));
             }
             v
         }
@@ -157,18 +209,22 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         fps,
         settings,
         tracks,
+        fingerprint,
     })
 }
 
 fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) -> Result<()> {
     let s = start.get_ref();
     let finite = |v: f64, what: &str| {
-        if v.is_finite() && v.abs() <= f32::MAX as f64 {
+        if in_range(v) {
             Ok(v as f32)
         } else {
             Err(lines.error(
                 start,
-                format!("expected a finite number for {what}, found {v}"),
+                format!(
+                    "expected a finite number of magnitude at most {MAX_VALUE:e} for {what}, \
+                     found {v}"
+                ),
             ))
         }
     };
@@ -186,6 +242,12 @@ fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) ->
         camera.phi_deg = finite(v, "start.phi")?;
     }
     if let Some(v) = s.focal_length {
+        if v < 0.0 {
+            return Err(lines.error(
+                start,
+                format!("expected start.focal_length >= 0, found {v}"),
+            ));
+        }
         camera.focal_length = finite(v, "start.focal_length")?;
     }
     if let Some(v) = s.aperture {
@@ -198,7 +260,7 @@ fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) ->
 }
 
 fn frame_count(lines: &Lines, raw: &RawFile, fps: f64) -> Result<u32> {
-    let frames = match (&raw.frames, &raw.duration) {
+    let (n, span): (f64, _) = match (&raw.frames, &raw.duration) {
         (Some(f), Some(_)) => {
             return Err(lines.error(f, "give frames or duration, not both"));
         }
@@ -209,35 +271,25 @@ fn frame_count(lines: &Lines, raw: &RawFile, fps: f64) -> Result<u32> {
                 "expected `frames = N` or `duration = SECONDS` (with `fps`, default 24)",
             ));
         }
-        (Some(f), None) => (*f.get_ref(), f.span()),
+        (Some(f), None) => (*f.get_ref() as f64, f.span()),
         (None, Some(d)) => {
             let secs = *d.get_ref();
             if !(secs.is_finite() && secs > 0.0) {
                 return Err(lines.error(d, format!("expected a duration > 0, found {secs}")));
             }
-            let n = (secs * fps).round();
-            (
-                if n > MAX_FRAMES as f64 {
-                    i64::MAX
-                } else {
-                    n as i64
-                },
-                d.span(),
-            )
+            ((secs * fps).round(), d.span())
         }
     };
-    let (n, span) = frames;
-    if n < 1 || n > MAX_FRAMES as i64 {
-        let line = lines.line(span.start);
+    if !(1.0..=MAX_FRAMES as f64).contains(&n) {
         return Err(Error::parse(
             lines.path,
-            line,
+            lines.line(span.start),
             format!(
                 "expected between 1 and {MAX_FRAMES} frames, found {}",
-                if n == i64::MAX {
-                    "more".to_string()
-                } else {
+                if n < 1e15 {
                     n.to_string()
+                } else {
+                    format!("{n:e}")
                 }
             ),
         ));
@@ -312,11 +364,7 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
             ));
         }
     };
-    Ok(Selection {
-        name: name.clone(),
-        shapes,
-        lights,
-    })
+    Ok(Selection { shapes, lights })
 }
 
 /// Largest coordinate, offset or angle accepted: beyond it, f32 scene coordinates
@@ -340,7 +388,8 @@ fn vector(lines: &Lines, v: &Spanned<[f64; 3]>, what: &str) -> Result<DVec3> {
 
 fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
     let raw = t.get_ref();
-    let line = lines.header_line(t.span().start);
+    // The span of an array-of-tables entry starts at its own `[[track]]` header.
+    let line = lines.line(t.span().start);
     let target = match raw.target.get_ref().as_str() {
         "camera" => Target::Camera,
         _ => Target::Objects(selection(lines, &raw.target, scene)?),
@@ -349,6 +398,24 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
         None => Interpolation::Linear,
         Some(i) => i.get_ref().parse().map_err(|m: String| lines.error(i, m))?,
     };
+    let allowed = fields_of(raw.motion.get_ref());
+    if !allowed.is_empty()
+        && let Some(&(name, at)) = raw.given().iter().find(|(n, _)| !allowed.contains(n))
+    {
+        return Err(Error::parse(
+            lines.path,
+            lines.line(at),
+            format!(
+                "`{name}` does not apply to motion `{}`, which takes {}",
+                raw.motion.get_ref(),
+                allowed
+                    .iter()
+                    .map(|f| format!("`{f}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ));
+    }
     let missing = |what: &str| {
         lines.error(
             &raw.motion,
@@ -382,18 +449,19 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
                 RawValue::Vector(_) => None,
             })?;
             let (axis, center) = (axis()?, center()?);
-            if m == "rotate" {
-                Motion::Rotate {
+            let keep_orientation = raw.keep_orientation.as_ref().is_none_or(|k| *k.get_ref());
+            if m == "orbit" && keep_orientation {
+                Motion::Orbit {
                     axis,
                     center,
                     angle,
                 }
             } else {
-                Motion::Orbit {
+                // An orbit that does not keep its orientation turns the target: a rotation.
+                Motion::Rotate {
                     axis,
                     center,
                     angle,
-                    keep_orientation: raw.keep_orientation.unwrap_or(true),
                 }
             }
         }
@@ -414,7 +482,7 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
             };
             Motion::LookAt {
                 aim,
-                focus: raw.focus.unwrap_or(false),
+                focus: raw.focus.as_ref().is_some_and(|f| *f.get_ref()),
             }
         }
         other => {

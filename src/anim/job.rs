@@ -4,8 +4,10 @@
 use super::Animation;
 use super::output::{FramePattern, Output};
 use super::video::{self, VideoInfo};
+use crate::film::output::write_atomically;
 use crate::film::write_image;
 use crate::{Error, Result};
+use std::io::Write;
 use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
@@ -17,17 +19,6 @@ pub struct Observer<'a> {
     pub frame_start: &'a dyn Fn(u32, u64),
     pub rows: &'a (dyn Fn(u64) + Sync),
     pub frame_done: &'a dyn Fn(u32, bool),
-}
-
-impl Observer<'_> {
-    /// Reports nothing.
-    pub fn none() -> Observer<'static> {
-        Observer {
-            frame_start: &|_, _| {},
-            rows: &|_| {},
-            frame_done: &|_, _| {},
-        }
-    }
 }
 
 /// What rendering the frames did.
@@ -60,6 +51,74 @@ pub fn check(anim: &Animation, frames: Range<u32>, output: &Output) -> Result<()
     if frames_dir.exists() && !frames_dir.is_dir() {
         return Err(Error::file(frames_dir, "exists and is not a folder"));
     }
+    check_manifest(anim, frames_dir)
+}
+
+/// Age beyond which a temporary file in a frame folder is a crash's leftover.
+const STALE_PART: std::time::Duration = std::time::Duration::from_secs(600);
+
+/// The file in a frame folder that says which animation its frames are of.
+pub const MANIFEST: &str = ".prism-animation";
+
+fn manifest_text(anim: &Animation) -> String {
+    format!(
+        "prism animation frames\nfingerprint {:016x}\n",
+        anim.fingerprint
+    )
+}
+
+/// Refuses a frame folder whose frames were rendered from other inputs (animation,
+/// scene or camera file): resuming would mix frames of two animations.
+fn check_manifest(anim: &Animation, dir: &Path) -> Result<()> {
+    let path = dir.join(MANIFEST);
+    let Ok(found) = std::fs::read_to_string(&path) else {
+        return Ok(());
+    };
+    if found != manifest_text(anim) {
+        return Err(Error::file(
+            dir,
+            format!(
+                "holds frames of another version of the animation (its {MANIFEST} does not \
+                 match {} and the scene and camera files): delete the folder to render \
+                 them again, or use another output",
+                anim.path.display()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Creates the frame folder, removes temporary files a crashed run left in it, and
+/// writes its manifest.
+fn prepare_folder(anim: &Animation, dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Error::file(dir, format!("cannot create the folder: {e}")))?;
+    check_manifest(anim, dir)?;
+    let entries =
+        std::fs::read_dir(dir).map_err(|e| Error::file(dir, format!("cannot read: {e}")))?;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        // A temporary file lives for the seconds it takes to write one frame: one older
+        // than ten minutes was left by a crash. Younger ones may be another machine's,
+        // rendering other frames into the same folder.
+        let stale = entry
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age > STALE_PART);
+        if name.starts_with(".prism-") && name.ends_with(".part") && stale {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+    let path = dir.join(MANIFEST);
+    if !path.is_file() {
+        write_atomically(&path, |w| {
+            w.write_all(manifest_text(anim).as_bytes())
+                .map_err(|e| Error::file(&path, format!("cannot write: {e}")))
+        })?;
+    }
     Ok(())
 }
 
@@ -71,10 +130,12 @@ pub fn render_frames(
     pattern: &FramePattern,
     observer: &Observer,
 ) -> Result<FramesReport> {
-    std::fs::create_dir_all(&pattern.dir)
-        .map_err(|e| Error::file(&pattern.dir, format!("cannot create the folder: {e}")))?;
+    prepare_folder(anim, &pattern.dir)?;
     let start = Instant::now();
     let mut report = FramesReport::default();
+    // One copy of the scene (textures included) for the whole run; each frame rewrites
+    // only what moves.
+    let mut posed = anim.scene.clone();
     for k in frames {
         let path = pattern.path_of(k);
         if path.is_file() {
@@ -82,8 +143,12 @@ pub fn render_frames(
             (observer.frame_done)(k, true);
             continue;
         }
-        let (image, stats) =
-            anim.render_frame(k, &|rows| (observer.frame_start)(k, rows), observer.rows)?;
+        let (image, stats) = anim.render_frame_in(
+            k,
+            &mut posed,
+            &|rows| (observer.frame_start)(k, rows),
+            observer.rows,
+        )?;
         write_image(&image, &path)?;
         report.rendered += 1;
         report.rays += stats.rays;
@@ -143,10 +208,19 @@ fn read_frame(path: &Path, (width, height): (u32, u32)) -> Result<Vec<u8>> {
     Ok(image.into_raw())
 }
 
-/// Deletes the frame files of `frames` and then their folder if that left it empty.
+/// Frames of `0..count` whose file is not in `pattern`'s folder yet.
+pub fn missing_frames(pattern: &FramePattern, count: u32) -> u32 {
+    (0..count)
+        .filter(|&k| !pattern.path_of(k).is_file())
+        .count() as u32
+}
+
+/// Deletes the frame files of `frames` and the folder's manifest, and then the folder
+/// if that left it empty.
 pub fn remove_frames(pattern: &FramePattern, frames: Range<u32>) {
     for k in frames {
         let _ = std::fs::remove_file(pattern.path_of(k));
     }
+    let _ = std::fs::remove_file(pattern.dir.join(MANIFEST));
     let _ = std::fs::remove_dir(&pattern.dir);
 }

@@ -30,6 +30,8 @@ use std::path::{Path, PathBuf};
 
 /// Most frames an animation may have (a typo guard: about 11 hours at 24 fps).
 pub const MAX_FRAMES: u32 = 1_000_000;
+/// Lowest frame rate accepted (one frame per 100 s): every encoder keeps it exactly.
+pub const MIN_FPS: f64 = 0.01;
 /// Highest frame rate accepted.
 pub const MAX_FPS: f64 = 1000.0;
 
@@ -46,7 +48,23 @@ pub struct Animation {
     /// The file's `[render]` overrides; a caller may set threads and intersector.
     pub settings: RenderSettings,
     pub tracks: Vec<Track>,
+    /// FNV-1a 64 of the animation file's text and the scene and camera files' bytes:
+    /// what the frames' pixels depend on (with the file's `[render]` settings). A frame
+    /// folder records it, so frames of another animation are never resumed.
+    pub fingerprint: u64,
 }
+
+/// FNV-1a, 64 bits: a hash that stays the same across Rust versions and machines.
+pub fn fnv1a(mut hash: u64, bytes: &[u8]) -> u64 {
+    for &b in bytes {
+        hash ^= b as u64;
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    hash
+}
+
+/// FNV-1a's starting value.
+pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
 impl Animation {
     /// Reads an animation file and the scene and camera files it names (relative to it).
@@ -63,6 +81,20 @@ impl Animation {
     pub fn pose(&self, frame: u32) -> Result<(Scene, Camera)> {
         pose::pose(&self.scene, &self.camera, &self.tracks, self.time_of(frame))
             .map_err(|e| Error::parse(&self.path, e.line, e.message))
+    }
+
+    /// Poses `posed` at frame `k` and returns the camera. `posed` starts as a copy of
+    /// [`Animation::scene`] and can be reused from frame to frame: only the shapes and
+    /// lights the tracks move are written.
+    pub fn pose_into(&self, frame: u32, posed: &mut Scene) -> Result<Camera> {
+        pose::pose_into(
+            &self.scene,
+            &self.camera,
+            &self.tracks,
+            self.time_of(frame),
+            posed,
+        )
+        .map_err(|e| Error::parse(&self.path, e.line, e.message))
     }
 
     /// Checks that every frame in `frames` can be posed (no camera on its look-at
@@ -90,8 +122,20 @@ impl Animation {
         start: &dyn Fn(u64),
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<(Image, RenderStats)> {
-        let (scene, camera) = self.pose(frame)?;
-        let renderer = Renderer::new(&scene, &camera, self.settings.clone())?;
+        self.render_frame_in(frame, &mut self.scene.clone(), start, progress)
+    }
+
+    /// [`Animation::render_frame`] posing the scene in `posed` (see
+    /// [`Animation::pose_into`]), so a run of frames copies the scene once.
+    pub fn render_frame_in(
+        &self,
+        frame: u32,
+        posed: &mut Scene,
+        start: &dyn Fn(u64),
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<(Image, RenderStats)> {
+        let camera = self.pose_into(frame, posed)?;
+        let renderer = Renderer::new(posed, &camera, self.settings.clone())?;
         start(renderer.rows_to_trace());
         renderer.render(progress)
     }

@@ -7,8 +7,6 @@ use glam::{DAffine3, DVec3};
 /// Shapes and lights that move as one: what a target named in the animation file picked.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Selection {
-    /// As the file wrote it: `shape:3`, `material:glass`, `group:ball`.
-    pub name: String,
     /// Indices into the scene's shapes, ascending.
     pub shapes: Vec<u32>,
     /// Indices into the scene's lights, ascending.
@@ -42,14 +40,14 @@ pub enum Motion {
         center: DVec3,
         angle: Curve<f64>,
     },
-    /// Carry the target round the axis through `center`. With `keep_orientation` it
+    /// Carry the target round the axis through `center`, keeping its orientation: it
     /// only moves (every point by the offset of the target's centre; a camera keeps its
-    /// view direction); without, it is the same as `Rotate`.
+    /// view direction). An orbit with `keep_orientation = false` in the file is a
+    /// [`Motion::Rotate`].
     Orbit {
         axis: DVec3,
         center: DVec3,
         angle: Curve<f64>,
-        keep_orientation: bool,
     },
     /// The camera turns to look at a point or at objects; with `focus`, the focal
     /// length becomes the distance from the eye to that point (the convention of the

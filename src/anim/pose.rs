@@ -15,6 +15,7 @@ use super::motion::{Aim, Motion, Selection, Target, Track, rotation_about};
 use crate::math::Vec3;
 use crate::scene::{Camera, Rectangle, Scene, Shape, Sphere, Triangle};
 use glam::{DAffine3, DVec3};
+use std::collections::HashMap;
 
 /// Why a pose cannot be rendered, and which track caused it.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,14 +29,17 @@ pub struct PoseError {
 const DEGENERATE: f64 = 1e-9;
 
 /// The camera alone at time `t`: cheap, for checking every frame before rendering.
+/// Only the tracks up to the last camera track matter; objects they move cost in
+/// proportion to their size, never the scene's.
 pub fn pose_camera(
     scene: &Scene,
     camera: &Camera,
     tracks: &[Track],
     t: f64,
 ) -> Result<Camera, PoseError> {
+    let last = tracks.iter().rposition(|t| t.target == Target::Camera);
     let mut state = State::new(scene, camera);
-    state.apply(tracks, t)?;
+    state.apply(&tracks[..last.map_or(0, |i| i + 1)], t)?;
     Ok(state.camera())
 }
 
@@ -46,19 +50,36 @@ pub fn pose(
     tracks: &[Track],
     t: f64,
 ) -> Result<(Scene, Camera), PoseError> {
+    let mut posed = scene.clone();
+    let camera = pose_into(scene, camera, tracks, t, &mut posed)?;
+    Ok((posed, camera))
+}
+
+/// Poses `posed`, a copy of `scene` that earlier calls with the same tracks may have
+/// posed at other times, at time `t`, and returns the camera. Only the shapes and
+/// lights the tracks move are written (the same ones at every instant), so the cost
+/// is in proportion to them, not to the scene, and textures are never copied.
+pub fn pose_into(
+    scene: &Scene,
+    camera: &Camera,
+    tracks: &[Track],
+    t: f64,
+    posed: &mut Scene,
+) -> Result<Camera, PoseError> {
     let mut state = State::new(scene, camera);
     state.apply(tracks, t)?;
-    Ok((state.scene(), state.camera()))
+    state.write_scene(posed);
+    Ok(state.camera())
 }
 
 /// Transforms accumulated so far, and the camera being moved.
 struct State<'s> {
     base: &'s Scene,
     base_camera: &'s Camera,
-    /// Transform of each shape and light a track has moved; empty until one has, so
-    /// posing only the camera of a big scene allocates nothing per shape.
-    shapes: Vec<Option<DAffine3>>,
-    lights: Vec<Option<DAffine3>>,
+    /// Transform of each shape and light a track has moved, by index: as many entries
+    /// as moved shapes, whatever the scene's size.
+    shapes: HashMap<u32, DAffine3>,
+    lights: HashMap<u32, DAffine3>,
     eye: DVec3,
     /// Unit view direction; `None` while no track has turned it.
     forward: Option<DVec3>,
@@ -85,8 +106,8 @@ impl<'s> State<'s> {
         State {
             base,
             base_camera,
-            shapes: Vec::new(),
-            lights: Vec::new(),
+            shapes: HashMap::new(),
+            lights: HashMap::new(),
             eye: dvec(base_camera.eye),
             forward: None,
             focal_length: None,
@@ -119,15 +140,6 @@ impl<'s> State<'s> {
                     center,
                     angle,
                 },
-            )
-            | (
-                Target::Camera,
-                Motion::Orbit {
-                    axis,
-                    center,
-                    angle,
-                    keep_orientation: false,
-                },
             ) => {
                 let r = rotation_about(*axis, *center, angle.at(t));
                 self.eye = r.transform_point3(self.eye);
@@ -139,7 +151,6 @@ impl<'s> State<'s> {
                     axis,
                     center,
                     angle,
-                    keep_orientation: true,
                 },
             ) => {
                 let r = rotation_about(*axis, *center, angle.at(t));
@@ -177,15 +188,6 @@ impl<'s> State<'s> {
                     center,
                     angle,
                 },
-            )
-            | (
-                Target::Objects(s),
-                Motion::Orbit {
-                    axis,
-                    center,
-                    angle,
-                    keep_orientation: false,
-                },
             ) => self.transform(s, rotation_about(*axis, *center, angle.at(t))),
             (
                 Target::Objects(s),
@@ -193,7 +195,6 @@ impl<'s> State<'s> {
                     axis,
                     center,
                     angle,
-                    keep_orientation: true,
                 },
             ) => {
                 let c = self.center_of(s);
@@ -208,21 +209,18 @@ impl<'s> State<'s> {
     }
 
     fn transform(&mut self, s: &Selection, by: DAffine3) {
-        self.shapes.resize(self.base.shapes.len(), None);
-        self.lights.resize(self.base.lights.len(), None);
         for &i in &s.shapes {
-            let x = &mut self.shapes[i as usize];
-            *x = Some(by * x.unwrap_or(DAffine3::IDENTITY));
+            let x = self.shapes.entry(i).or_insert(DAffine3::IDENTITY);
+            *x = by * *x;
         }
         for &i in &s.lights {
-            let x = &mut self.lights[i as usize];
-            *x = Some(by * x.unwrap_or(DAffine3::IDENTITY));
+            let x = self.lights.entry(i).or_insert(DAffine3::IDENTITY);
+            *x = by * *x;
         }
     }
 
     fn shape_transform(&self, i: u32) -> DAffine3 {
-        let x = self.shapes.get(i as usize).copied().flatten();
-        x.unwrap_or(DAffine3::IDENTITY)
+        self.shapes.get(&i).copied().unwrap_or(DAffine3::IDENTITY)
     }
 
     /// Centre of the bounding box of the selection where it is now.
@@ -248,8 +246,7 @@ impl<'s> State<'s> {
             }
         }
         for &i in &s.lights {
-            let x = self.lights.get(i as usize).copied().flatten();
-            let x = x.unwrap_or(DAffine3::IDENTITY);
+            let x = self.lights.get(&i).copied().unwrap_or(DAffine3::IDENTITY);
             grow(
                 x.transform_point3(dvec(self.base.lights[i as usize].position)),
                 0.0,
@@ -258,12 +255,13 @@ impl<'s> State<'s> {
         (min + max) / 2.0
     }
 
-    fn scene(&self) -> Scene {
-        let mut scene = self.base.clone();
+    /// Writes the moved shapes and lights into `posed`, a copy of the base scene, each
+    /// moved from its place in the base scene.
+    fn write_scene(&self, posed: &mut Scene) {
         let moved = |x: &DAffine3, p: Vec3| fvec(x.transform_point3(dvec(p)));
-        for (shape, x) in scene.shapes.iter_mut().zip(&self.shapes) {
-            let Some(x) = x else { continue };
-            *shape = match *shape {
+        for (&i, x) in &self.shapes {
+            let i = i as usize;
+            posed.shapes[i] = match self.base.shapes[i] {
                 Shape::Sphere(s) => Shape::Sphere(Sphere {
                     center: moved(x, s.center),
                     radius: s.radius,
@@ -276,12 +274,10 @@ impl<'s> State<'s> {
                 }),
             };
         }
-        for (light, x) in scene.lights.iter_mut().zip(&self.lights) {
-            if let Some(x) = x {
-                light.position = moved(x, light.position);
-            }
+        for (&i, x) in &self.lights {
+            let i = i as usize;
+            posed.lights[i].position = moved(x, self.base.lights[i].position);
         }
-        scene
     }
 
     fn camera(&self) -> Camera {

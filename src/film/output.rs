@@ -115,6 +115,10 @@ pub fn write_atomically(
         write(&mut w)?;
         w.flush()
             .map_err(|e| Error::file(path, format!("cannot write: {e}")))?;
+        // On disk before the name appears: a file that exists after a crash is whole.
+        w.get_ref()
+            .sync_all()
+            .map_err(|e| Error::file(path, format!("cannot write: {e}")))?;
     }
     tmp.persist(path)
         .map_err(|e| Error::file(path, format!("cannot write: {}", e.error)))?;

@@ -12,17 +12,35 @@ pub struct Apng<W: Write> {
     fps: f64,
 }
 
-/// Frame delay as a fraction of a second `(numerator, denominator)`: exact for whole
-/// frame rates, else to 1/100 of a frame per second.
+/// Frame delay as a fraction of a second `(numerator, denominator)`, both 16-bit: the
+/// closest to `1 / fps` among whole frame rates, rates in thousandths, hundredths and
+/// tenths of a frame per second, and delays in thousandths to whole seconds. Whole
+/// rates and rates with three decimals below 65.536 fps (23.976, 29.97) are exact.
 pub fn delay_for(fps: f64) -> (u16, u16) {
-    if fps.fract() == 0.0 && fps <= u16::MAX as f64 {
-        (1, fps as u16)
-    } else {
-        (
-            100,
-            (fps * 100.0).round().clamp(1.0, u16::MAX as f64) as u16,
-        )
+    let fits = |x: f64| x >= 1.0 && x <= u16::MAX as f64;
+    let mut candidates = Vec::new();
+    for scale in [1.0, 1000.0, 100.0, 10.0] {
+        // A rate of n / scale frames per second: a delay of scale / n.
+        let n = (fps * scale).round();
+        if fits(n) {
+            candidates.push((scale as u16, n as u16));
+        }
+        // A delay of n / scale seconds.
+        let n = (scale / fps).round();
+        if fits(n) {
+            candidates.push((n as u16, scale as u16));
+        }
     }
+    let error = |&(num, den): &(u16, u16)| (num as f64 / den as f64 * fps - 1.0).abs();
+    let mut best = (1, 1);
+    let mut best_error = f64::INFINITY;
+    for c in candidates {
+        if error(&c) < best_error {
+            best_error = error(&c);
+            best = c;
+        }
+    }
+    best
 }
 
 impl<W: Write> Apng<W> {

@@ -39,22 +39,29 @@ fn child(buf: &[u8], start: usize, end: usize, kind: &[u8; 4]) -> Option<(usize,
     None
 }
 
-/// Adds the BT.601 `colr` box to the MP4 in `file`. Returns false, leaving the file as
-/// it was, if its layout is not the one expected (then only the stream is tagged).
-pub fn tag_bt601(mut file: &File) -> std::io::Result<bool> {
+/// The error for a file whose boxes are not laid out as the muxer writes them.
+fn unexpected(what: &str) -> std::io::Error {
+    std::io::Error::other(format!(
+        "cannot tag the colour space BT.601 in the container: {what}"
+    ))
+}
+
+/// Adds the BT.601 `colr` box to the MP4 in `file` (nothing if it has one). An error,
+/// leaving the file as it was, if its layout is not the one the muxer writes.
+pub fn tag_bt601(mut file: &File) -> std::io::Result<()> {
     let len = file.metadata()?.len() as usize;
     // Find `moov` among the top-level boxes; it must be the last.
     let mut at = 0usize;
     let mut header = [0u8; 8];
     let moov = loop {
         if at + 8 > len {
-            return Ok(false);
+            return Err(unexpected("no moov box"));
         }
         file.seek(SeekFrom::Start(at as u64))?;
         file.read_exact(&mut header)?;
         let size = size_at(&header, 0).unwrap_or(0);
         if size < 8 {
-            return Ok(false);
+            return Err(unexpected("a top-level box of an unexpected size"));
         }
         if &header[4..] == b"moov" {
             break (at, size);
@@ -62,7 +69,7 @@ pub fn tag_bt601(mut file: &File) -> std::io::Result<bool> {
         at += size;
     };
     if moov.0 + moov.1 != len {
-        return Ok(false);
+        return Err(unexpected("the moov box is not last"));
     }
     let mut buf = vec![0u8; moov.1];
     file.seek(SeekFrom::Start(moov.0 as u64))?;
@@ -73,16 +80,19 @@ pub fn tag_bt601(mut file: &File) -> std::io::Result<bool> {
     for kind in [b"trak", b"mdia", b"minf", b"stbl", b"stsd"] {
         let (start, size) = *chain.last().expect("moov");
         let Some(found) = child(&buf, start + 8, start + size, kind) else {
-            return Ok(false);
+            return Err(unexpected(&format!(
+                "no {} box",
+                String::from_utf8_lossy(kind)
+            )));
         };
         chain.push(found);
     }
     let (stsd, stsd_size) = *chain.last().expect("stsd");
     let Some(avc1) = child(&buf, stsd + STSD_FIELDS, stsd + stsd_size, b"avc1") else {
-        return Ok(false);
+        return Err(unexpected("no avc1 sample entry"));
     };
     if child(&buf, avc1.0 + VISUAL_ENTRY, avc1.0 + avc1.1, b"colr").is_some() {
-        return Ok(true);
+        return Ok(());
     }
     chain.push(avc1);
 
@@ -102,5 +112,36 @@ pub fn tag_bt601(mut file: &File) -> std::io::Result<bool> {
     file.seek(SeekFrom::Start(moov.0 as u64))?;
     file.write_all(&buf)?;
     file.flush()?;
-    Ok(true)
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_unexpected_layout_is_an_error_and_the_file_is_left_as_it_was() {
+        let mut tmp = tempfile::tempfile().unwrap();
+        // An `ftyp` box and a `moov` box with no track.
+        let mut bytes = Vec::new();
+        bytes.extend_from_slice(&16u32.to_be_bytes());
+        bytes.extend_from_slice(b"ftypisom\0\0\0\0");
+        bytes.extend_from_slice(&8u32.to_be_bytes());
+        bytes.extend_from_slice(b"moov");
+        tmp.write_all(&bytes).unwrap();
+        let e = tag_bt601(&tmp).unwrap_err().to_string();
+        assert!(e.contains("no trak box"), "{e}");
+        let mut back = Vec::new();
+        tmp.seek(SeekFrom::Start(0)).unwrap();
+        tmp.read_to_end(&mut back).unwrap();
+        assert_eq!(back, bytes);
+        // Not an MP4 at all.
+        let tmp = tempfile::tempfile().unwrap();
+        assert!(
+            tag_bt601(&tmp)
+                .unwrap_err()
+                .to_string()
+                .contains("no moov box")
+        );
+    }
 }

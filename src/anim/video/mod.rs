@@ -9,8 +9,9 @@ mod gif;
 mod mp4;
 
 use super::output::VideoFormat;
+use crate::film::output::write_atomically;
 use crate::{Error, Result};
-use std::io::BufWriter;
+use std::io::Write;
 use std::path::Path;
 
 /// What was written.
@@ -18,11 +19,15 @@ use std::path::Path;
 pub struct VideoInfo {
     pub frames: u32,
     pub bytes: u64,
-    /// The frame rate the file really plays at: GIF delays are whole hundredths of a
-    /// second (24 fps becomes 25), MP4 and APNG keep the requested rate to 1/1000 and
-    /// 1/100 of a frame per second.
+    /// The frame rate the file plays at on average: GIF delays are whole hundredths of
+    /// a second (each frame is rounded so the whole film lasts as long as asked), MP4
+    /// keeps the requested rate to 1/1000 of a frame per second, APNG to the nearest
+    /// fraction of 16-bit numbers it can write (23.976 is exact).
     pub fps: f64,
 }
+
+/// Smallest width and height the H.264 encoder takes (one macroblock).
+pub const MP4_MIN: u32 = 16;
 
 /// Largest frame H.264 gets from the encoder (level 5.2).
 pub const MP4_MAX: (u32, u32) = (3840, 2160);
@@ -32,6 +37,12 @@ pub fn check_size(format: VideoFormat, width: u32, height: u32, path: &Path) -> 
     let refuse = |why: String| Err(Error::file(path, why));
     match format {
         VideoFormat::Mp4 => {
+            if width < MP4_MIN || height < MP4_MIN {
+                return refuse(format!(
+                    "the H.264 encoder needs frames at least {MP4_MIN}x{MP4_MIN}, found \
+                     {width}x{height}: set [render] width and height"
+                ));
+            }
             if !width.is_multiple_of(2) || !height.is_multiple_of(2) {
                 return refuse(format!(
                     "H.264 (4:2:0) needs an even width and height, found {width}x{height}: \
@@ -58,6 +69,26 @@ pub fn check_size(format: VideoFormat, width: u32, height: u32, path: &Path) -> 
     Ok(())
 }
 
+/// What to tell the user about a GIF's timing at `fps`, if anything: GIF delays are
+/// whole hundredths of a second.
+pub fn gif_timing_note(fps: f64) -> Option<String> {
+    if gif::too_fast_for_browsers(fps) {
+        return Some(format!(
+            "at {fps} fps some GIF frames last less than 2 hundredths of a second, which \
+             browsers show for longer: use 50 fps or less for a GIF, or MP4 or APNG"
+        ));
+    }
+    let hundredths = 100.0 / fps;
+    (hundredths.fract() != 0.0).then(|| {
+        format!(
+            "GIF delays are whole hundredths of a second: frames last {} or {} hundredths, \
+             so the film keeps {fps} fps on average",
+            hundredths.floor(),
+            hundredths.ceil()
+        )
+    })
+}
+
 /// An encoder that is handed frames one by one.
 trait Encoder {
     fn push(&mut self, rgb: &[u8]) -> Result<()>;
@@ -77,23 +108,14 @@ pub fn encode(
     progress: &dyn Fn(),
 ) -> Result<VideoInfo> {
     check_size(format, width, height, path)?;
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".prism-").suffix(".part");
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let tmp = builder
-        .tempfile_in(dir)
-        .map_err(|e| Error::file(path, format!("cannot create a temporary file: {e}")))?;
-    let fps_played = {
-        let out = BufWriter::new(tmp.as_file());
+    let mut fps_played = fps;
+    write_atomically(path, |out| {
         let mut encoder: Box<dyn Encoder + '_> = match format {
-            VideoFormat::Mp4 => Box::new(mp4::Mp4::new(out, path, width, height, fps)?),
-            VideoFormat::Gif => Box::new(gif::Gif::new(out, path, width, height, fps)?),
-            VideoFormat::Apng => Box::new(apng::Apng::new(out, path, width, height, fps, count)?),
+            VideoFormat::Mp4 => Box::new(mp4::Mp4::new(&mut *out, path, width, height, fps)?),
+            VideoFormat::Gif => Box::new(gif::Gif::new(&mut *out, path, width, height, fps)?),
+            VideoFormat::Apng => {
+                Box::new(apng::Apng::new(&mut *out, path, width, height, fps, count)?)
+            }
         };
         for i in 0..count {
             let rgb = frame(i)?;
@@ -106,14 +128,14 @@ pub fn encode(
             encoder.push(&rgb)?;
             progress();
         }
-        encoder.finish()?
-    };
-    if format == VideoFormat::Mp4 {
-        colr::tag_bt601(tmp.as_file()).map_err(|e| write_error(path, e))?;
-    }
-    let bytes = tmp.as_file().metadata().map(|m| m.len()).unwrap_or(0);
-    tmp.persist(path)
-        .map_err(|e| Error::file(path, format!("cannot write: {}", e.error)))?;
+        fps_played = encoder.finish()?;
+        if format == VideoFormat::Mp4 {
+            out.flush().map_err(|e| write_error(path, e))?;
+            colr::tag_bt601(out.get_ref()).map_err(|e| write_error(path, e))?;
+        }
+        Ok(())
+    })?;
+    let bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     Ok(VideoInfo {
         frames: count,
         bytes,

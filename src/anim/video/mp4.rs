@@ -37,6 +37,15 @@ pub struct Mp4<W: Write + Seek> {
 
 impl<W: Write + Seek> Mp4<W> {
     pub fn new(out: W, path: &Path, width: u32, height: u32, fps: f64) -> Result<Mp4<W>> {
+        // A zero time scale would divide by zero in the muxer.
+        let timescale = (fps * TICKS as f64).round();
+        if !(timescale >= 1.0 && timescale <= u32::MAX as f64) {
+            return Err(Error::file(
+                path,
+                format!("cannot encode {fps} fps in MP4: the rate must be at least 0.001 fps"),
+            ));
+        }
+        let timescale = timescale as u32;
         let config = EncoderConfig::new()
             .skip_frames(false)
             .rate_control_mode(RateControlMode::Off)
@@ -51,7 +60,6 @@ impl<W: Write + Seek> Mp4<W> {
         let encoder =
             openh264::encoder::Encoder::with_api_config(OpenH264API::from_source(), config)
                 .map_err(|e| write_error(path, format!("cannot start the H.264 encoder: {e}")))?;
-        let timescale = (fps * TICKS as f64).round() as u32;
         Ok(Mp4 {
             path: path.to_path_buf(),
             encoder,
@@ -73,7 +81,9 @@ impl<W: Write + Seek> Mp4<W> {
             major_brand: brand("isom"),
             minor_version: 512,
             compatible_brands: vec![brand("isom"), brand("iso2"), brand("avc1"), brand("mp41")],
-            timescale: TICKS,
+            // The movie's time scale is the track's, so the container's duration is as
+            // exact as the stream's (a coarser one loses time on every frame).
+            timescale: self.timescale,
         };
         let out = self.out.take().expect("started once");
         let mut writer = Mp4Writer::write_start(out, &config).map_err(|e| write_error(path, e))?;

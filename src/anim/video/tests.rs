@@ -35,7 +35,7 @@ fn write(format: VideoFormat, name: &str, count: u32, fps: f64) -> (tempfile::Te
     (dir, path)
 }
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[test]
 fn mp4_has_every_frame_at_the_right_size_and_rate() {
@@ -54,6 +54,9 @@ fn mp4_has_every_frame_at_the_right_size_and_rate() {
         track.frame_rate()
     );
     assert_eq!(track.duration().as_millis(), 416);
+    // The movie's duration is as exact as the track's: 10 frames at 24 fps.
+    assert_eq!(mp4.timescale(), 24000);
+    assert_eq!(mp4.moov.mvhd.duration, 10_000);
     assert_eq!(track.media_type().unwrap(), ::mp4::MediaType::H264);
     // The SPS carries the colour description: BT.601 (SMPTE 170M) in its VUI.
     let sps = track.sequence_parameter_set().unwrap().to_vec();
@@ -101,7 +104,12 @@ fn gif_decodes_to_the_frames_with_hundredths_of_a_second() {
     let mut frames = 0;
     while let Some(frame) = decoder.read_next_frame().unwrap() {
         assert_eq!((frame.width, frame.height), (32, 18));
-        assert_eq!(frame.delay, 4, "24 fps is 4.17 hundredths: 4, so 25 fps");
+        // 24 fps is 4.17 hundredths: 4, 4, 5, 4, 4, 4 keeps time (25 hundredths in all).
+        assert_eq!(
+            frame.delay,
+            [4, 4, 5, 4, 4, 4][frames as usize],
+            "frame {frames}"
+        );
         // The frame is the card, up to the 256-colour palette (576 colours here).
         let card = card(frames, 32, 18);
         let rgb = frame.buffer.chunks(4).flat_map(|p| &p[..3]);
@@ -111,9 +119,16 @@ fn gif_decodes_to_the_frames_with_hundredths_of_a_second() {
         frames += 1;
     }
     assert_eq!(frames, 6);
-    assert_eq!(gif::delay_for(24.0), 4);
-    assert_eq!(gif::delay_for(30.0), 3);
-    assert_eq!(gif::delay_for(100.0), 2);
+    // The whole film lasts exactly as long as asked: 120 frames at 24 fps, 5 s.
+    let total = |n: u64, fps: f64| (0..n).map(|k| gif::delay_for(k, fps) as u64).sum::<u64>();
+    assert_eq!(total(120, 24.0), 500);
+    assert_eq!(total(30, 30.0), 100);
+    assert_eq!(total(7, 0.01), 70_000);
+    assert_eq!(gif::delay_for(0, 25.0), 4);
+    assert_eq!(gif::delay_for(0, 100.0), 1);
+    assert!(gif_timing_note(24.0).unwrap().contains("4 or 5 hundredths"));
+    assert!(gif_timing_note(60.0).unwrap().contains("browsers"));
+    assert_eq!(gif_timing_note(25.0), None);
 }
 
 #[test]
@@ -131,5 +146,52 @@ fn apng_decodes_to_the_exact_frames() {
         let fc = reader.info().frame_control().unwrap();
         assert_eq!((fc.delay_num, fc.delay_den), (1, 12));
     }
-    assert_eq!(apng::delay_for(29.97), (100, 2997));
+    assert_eq!(apng::delay_for(29.97), (1000, 29970));
+    assert_eq!(apng::delay_for(23.976), (1000, 23976));
+    assert_eq!(apng::delay_for(24.0), (1, 24));
+    assert_eq!(apng::delay_for(1000.0), (1, 1000));
+    // Slow rates are delays of many seconds, not a clamped 1 fps.
+    assert_eq!(apng::delay_for(0.01), (100, 1));
+    assert_eq!(apng::delay_for(0.5), (2, 1));
+    let (n, d) = apng::delay_for(0.03);
+    assert!((n as f64 / d as f64 - 1.0 / 0.03).abs() < 1e-3, "{n}/{d}");
+    let (n, d) = apng::delay_for(123.456);
+    assert!((d as f64 / n as f64 - 123.456).abs() < 0.01, "{n}/{d}");
+}
+
+#[test]
+fn mp4_needs_sixteen_pixels_a_side() {
+    for (w, h) in [(14, 18), (32, 8)] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("small.mp4");
+        let e = encode(
+            VideoFormat::Mp4,
+            &path,
+            (w, h),
+            24.0,
+            1,
+            &mut |_| Ok(vec![0; (w * h * 3) as usize]),
+            &|| {},
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains(&format!("at least 16x16, found {w}x{h}")), "{e}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+}
+
+#[test]
+fn mp4_refuses_a_rate_it_cannot_keep_and_keeps_slow_rates() {
+    let mut out = std::io::Cursor::new(Vec::new());
+    let e = mp4::Mp4::new(&mut out, Path::new("a.mp4"), 32, 18, 0.0004)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("0.0004 fps"), "{e}");
+    // The slowest rate an animation file accepts encodes, and lasts 100 s a frame.
+    let (_dir, path) = write(VideoFormat::Mp4, "slow.mp4", 2, crate::anim::MIN_FPS);
+    let size = std::fs::metadata(&path).unwrap().len();
+    let reader = BufReader::new(File::open(&path).unwrap());
+    let mp4 = ::mp4::Mp4Reader::read_header(reader, size).unwrap();
+    assert_eq!(mp4.duration().as_secs(), 200);
 }

@@ -6,6 +6,7 @@ use prism::accel::AccelKind;
 use prism::anim::Animation;
 use prism::anim::job::{self, Observer};
 use prism::anim::output::{Output, VideoFormat, parse_frame_range};
+use prism::anim::video;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -51,11 +52,22 @@ pub fn run(args: &AnimateArgs) -> prism::Result<()> {
     };
     job::check(&anim, frames.clone(), &output)?;
 
-    let bars = Bars::new(frames.len() as u64, args.quiet);
+    // The bar and its ETA count only the frames to render, not those an earlier run
+    // left (skipped in no time, they would make the ETA far too short).
+    let pattern = output.frames();
+    let to_render = frames
+        .clone()
+        .filter(|&k| !pattern.path_of(k).is_file())
+        .count();
+    let bars = Bars::new(to_render as u64, args.quiet);
     let observer = Observer {
         frame_start: &|k, rows| bars.frame_start(k, rows),
         rows: &|n| bars.frame.inc(n),
-        frame_done: &|_, _| bars.all.inc(1),
+        frame_done: &|_, skipped| {
+            if !skipped {
+                bars.all.inc(1)
+            }
+        },
     };
     let report = job::render_frames(&anim, frames.clone(), output.frames(), &observer)?;
     if args.stats {
@@ -65,12 +77,28 @@ pub fn run(args: &AnimateArgs) -> prism::Result<()> {
         );
     }
     if let Output::Video { path, format, .. } = &output {
-        bars.encoding(frames.len() as u64);
-        let (info, seconds) =
-            job::encode_frames(&anim, frames.clone(), &output, &|| bars.all.inc(1))?;
+        // A range of a video's frames (one machine's share) is encoded only once every
+        // frame of the animation is in the folder; until then the frames stay.
+        let missing = job::missing_frames(pattern, anim.frames);
+        if missing > 0 {
+            bars.finish();
+            if !args.quiet {
+                eprintln!(
+                    "note: {missing} of the animation's {} frames are not in {} yet: {} is \
+                     made by the run that completes them",
+                    anim.frames,
+                    pattern.dir.display(),
+                    path.display()
+                );
+            }
+            return Ok(());
+        }
+        let all = 0..anim.frames;
+        bars.encoding(all.len() as u64);
+        let (info, seconds) = job::encode_frames(&anim, all.clone(), &output, &|| bars.all.inc(1))?;
         bars.finish();
         if !args.keep_frames {
-            job::remove_frames(output.frames(), frames);
+            job::remove_frames(pattern, all);
         }
         if args.stats {
             println!(
@@ -78,13 +106,11 @@ pub fn run(args: &AnimateArgs) -> prism::Result<()> {
                 info.frames, info.bytes, info.fps
             );
         }
-        if *format == VideoFormat::Gif && info.fps != anim.fps && !args.quiet {
-            eprintln!(
-                "note: {} plays at {:.2} fps, not {}: GIF delays are whole hundredths of a second",
-                path.display(),
-                info.fps,
-                anim.fps
-            );
+        if *format == VideoFormat::Gif
+            && !args.quiet
+            && let Some(note) = video::gif_timing_note(anim.fps)
+        {
+            eprintln!("note: {}: {note}", path.display());
         }
     } else {
         bars.finish();
