@@ -53,8 +53,8 @@ def main():
             note = f" ({r['width']}x{r['height']})" if this_size != size else ""
             print(
                 f"| {name} | {r['primitives']} | {accel}{note} | {1000 * r['build_s']:.2f} | "
-                f"{r['bytes'] / max(r['primitives'], 1):.0f} | {r['primary_mrays']:.2f} | "
-                f"{r['shadow_mrays']:.2f} | {100 * r['hit_fraction']:.1f} |"
+                f"{r['bytes'] / max(r['primitives'], 1):.0f} | {r['primary_mrays']:.3g} | "
+                f"{r['shadow_mrays']:.3g} | {100 * r['hit_fraction']:.1f} |"
             )
 
 
