@@ -10,8 +10,7 @@ use std::path::{Path, PathBuf};
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use prism::accel::{Accel, AccelKind};
-use prism::bench::primary_rays;
-use prism::math::{Ray, surface_epsilon};
+use prism::bench::{primary_rays, shadow_ray};
 use prism::render::{RenderSettings, Renderer};
 use prism::scene::{Camera, Scene};
 
@@ -73,13 +72,8 @@ fn intersectors(c: &mut Criterion) {
                 points
                     .iter()
                     .filter(|&&p| {
-                        let d = p - light;
-                        let dist = d.length();
-                        let ray = Ray {
-                            origin: light,
-                            dir: d / dist,
-                        };
-                        accel.occluded(&ray, dist - surface_epsilon(p), |_| true)
+                        shadow_ray(light, p)
+                            .is_some_and(|(ray, t_max)| accel.occluded(&ray, t_max, |_| true))
                     })
                     .count()
             })

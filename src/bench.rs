@@ -204,6 +204,20 @@ pub fn closest_hit_mrays(accel: &Accel, rays: &[Ray], min_seconds: f64) -> f64 {
     .mrays()
 }
 
+/// The shadow ray the classic model casts for point `p` and a light: from the light
+/// toward `p`, stopping just short of it. `None` when `p` is the light.
+pub fn shadow_ray(light: Vec3, p: Vec3) -> Option<(Ray, f32)> {
+    let to_point = p - light;
+    let dist = to_point.length();
+    (dist > 0.0).then(|| {
+        let ray = Ray {
+            origin: light,
+            dir: to_point / dist,
+        };
+        (ray, dist - surface_epsilon(p))
+    })
+}
+
 /// Measures `scene` seen by `camera`.
 pub fn run(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Result<BenchReport> {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -257,13 +271,8 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
             .par_iter()
             .with_min_len(64)
             .filter(|&&p| {
-                let to_point = p - light;
-                let dist = to_point.length();
-                let ray = Ray {
-                    origin: light,
-                    dir: to_point / dist,
-                };
-                dist > 0.0 && accel.occluded(&ray, dist - surface_epsilon(p), |_| true)
+                shadow_ray(light, p)
+                    .is_some_and(|(ray, t_max)| accel.occluded(&ray, t_max, |_| true))
             })
             .count();
         points.len()
