@@ -17,6 +17,10 @@ use crate::render::{CameraRays, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene, Shape};
 use crate::{Error, Result};
 
+/// Pixels a benchmark camera may have: its rays and hit points are held at once
+/// (about 50 bytes a pixel), so a frame of 65536 x 65536 would need hundreds of GB.
+pub const MAX_BENCH_PIXELS: u64 = 1 << 24;
+
 /// What to measure and how.
 #[derive(Clone, Debug)]
 pub struct BenchOptions {
@@ -231,6 +235,13 @@ pub fn run(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Result<Ben
         ..RenderSettings::default()
     };
     let renderer = Renderer::new(scene, camera, settings)?;
+    let (w, h) = (renderer.camera().width, renderer.camera().height);
+    if u64::from(w) * u64::from(h) > MAX_BENCH_PIXELS {
+        return Err(Error::Settings(format!(
+            "a benchmark casts one ray per pixel and keeps them all: {w}x{h} is more than \
+             {MAX_BENCH_PIXELS} pixels; choose a smaller --width"
+        )));
+    }
     let mut report = pool.install(|| measure_rays(scene, renderer.camera(), options));
     if options.frame {
         let start = Instant::now();
@@ -388,6 +399,25 @@ mod tests {
         assert!(report.primary_mrays > 0.0 && report.shadow_mrays > 0.0);
         assert!(report.bytes >= size_of::<Shape>() + 4);
         assert_eq!(report.frame_s, None);
+    }
+
+    #[test]
+    fn a_huge_camera_is_refused_before_anything_is_allocated() {
+        let (scene, camera) = scene_and_camera();
+        let camera = Camera {
+            width: 65536,
+            height: 65536,
+            ..camera
+        };
+        let e = run(&scene, &camera, &BenchOptions::default()).unwrap_err();
+        assert!(e.to_string().contains("--width"), "{e}");
+        let options = BenchOptions {
+            width: Some(64),
+            min_seconds: 0.0,
+            frame: false,
+            ..BenchOptions::default()
+        };
+        assert_eq!(run(&scene, &camera, &options).unwrap().width, 64);
     }
 
     #[test]

@@ -155,6 +155,7 @@ fn index(at: At, token: &str, defined: usize) -> Result<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     fn parse_str(text: &str) -> Result<Scene> {
         parse(text, Path::new("mesh.obj"))
@@ -242,5 +243,39 @@ mod tests {
         // Quads fan into two triangles each.
         let spot = load(&root.join("spot/spot_quadrangulated.obj")).unwrap();
         assert_eq!(spot.shapes.len(), 2 * 2928);
+    }
+
+    /// A line from the OBJ vocabulary with random arguments.
+    fn obj_line() -> impl Strategy<Value = String> {
+        let keyword = prop_oneof![4 => "v|f|vt|vn|g|o|s|usemtl|#", 1 => "\\PC{0,3}"];
+        let token = prop_oneof![
+            "-?[0-9]{1,2}(/[0-9]{0,2}){0,2}",
+            "-?[0-9]{1,4}(\\.[0-9]{0,3})?",
+            "nan|inf|1e39|-0|0|4294967296|//|/1|1//",
+            "\\PC{0,4}",
+        ];
+        (keyword, prop::collection::vec(token, 0..6))
+            .prop_map(|(k, t)| format!("{k} {}", t.join(" ")))
+    }
+
+    proptest! {
+        #[test]
+        fn arbitrary_text_never_panics(text in "\\PC{0,300}") {
+            let _ = parse_str(&text);
+        }
+
+        /// Whatever the lines, a mesh that parses names only vertices it has.
+        #[test]
+        fn parsed_meshes_name_only_their_vertices(
+            lines in prop::collection::vec(obj_line(), 0..40),
+        ) {
+            let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\n{}", lines.join("\n"));
+            if let Ok(mesh) = parse_mesh(&text, Path::new("m.obj")) {
+                for t in &mesh.triangles {
+                    prop_assert!(t.iter().all(|&i| (i as usize) < mesh.vertices.len()));
+                }
+                prop_assert!(mesh.vertices.iter().all(|v| v.is_finite()));
+            }
+        }
     }
 }
