@@ -14,6 +14,10 @@ impl<'s> ListAccel<'s> {
         ListAccel { shapes }
     }
 
+    pub fn shape_count(&self) -> usize {
+        self.shapes.len()
+    }
+
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         for (i, s) in self.shapes.iter().enumerate() {

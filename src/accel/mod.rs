@@ -97,6 +97,15 @@ impl<'s> Accel<'s> {
         }
     }
 
+    /// Number of shapes the intersector was built over.
+    pub fn shape_count(&self) -> usize {
+        match self {
+            Accel::List(a) => a.shape_count(),
+            Accel::Octree(a) => a.shape_count(),
+            Accel::Bvh(a) => a.shape_count(),
+        }
+    }
+
     /// Bytes the intersector holds beyond the shapes themselves.
     pub fn memory_bytes(&self) -> usize {
         match self {

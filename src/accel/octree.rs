@@ -115,6 +115,10 @@ impl<'s> Octree<'s> {
         self.nodes.len()
     }
 
+    pub fn shape_count(&self) -> usize {
+        self.shapes.len()
+    }
+
     /// Bytes held by the cells and their shape lists.
     pub fn memory_bytes(&self) -> usize {
         self.nodes.capacity() * size_of::<Node>() + self.items.capacity() * size_of::<u32>()

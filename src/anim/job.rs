@@ -136,6 +136,7 @@ pub fn render_frames(
     // One copy of the scene (textures included) for the whole run; each frame rewrites
     // only what moves.
     let mut posed = anim.scene.clone();
+    let mut still = None;
     for k in frames {
         let path = pattern.path_of(k);
         if path.is_file() {
@@ -143,9 +144,15 @@ pub fn render_frames(
             (observer.frame_done)(k, true);
             continue;
         }
+        if still.is_none() {
+            // Built at the first frame rendered, so a resumed run that skips every
+            // frame builds nothing.
+            still = Some(anim.still_geometry()?);
+        }
         let (image, stats) = anim.render_frame_in(
             k,
             &mut posed,
+            still.as_ref().and_then(Option::as_ref),
             &|rows| (observer.frame_start)(k, rows),
             observer.rows,
         )?;

@@ -20,11 +20,12 @@ pub mod output;
 pub mod pose;
 pub mod video;
 
+use crate::accel::Accel;
 use crate::film::Image;
 use crate::render::{RenderSettings, RenderStats, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
-use motion::Track;
+use motion::{Target, Track};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -122,22 +123,43 @@ impl Animation {
         start: &dyn Fn(u64),
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<(Image, RenderStats)> {
-        self.render_frame_in(frame, &mut self.scene.clone(), start, progress)
+        self.render_frame_in(frame, &mut self.scene.clone(), None, start, progress)
     }
 
     /// [`Animation::render_frame`] posing the scene in `posed` (see
-    /// [`Animation::pose_into`]), so a run of frames copies the scene once.
+    /// [`Animation::pose_into`]), so a run of frames copies the scene once. With
+    /// `still`, an intersector from [`Animation::still_geometry`], no intersector is
+    /// built for the frame.
     pub fn render_frame_in(
         &self,
         frame: u32,
         posed: &mut Scene,
+        still: Option<&Accel>,
         start: &dyn Fn(u64),
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<(Image, RenderStats)> {
         let camera = self.pose_into(frame, posed)?;
         let renderer = Renderer::new(posed, &camera, self.settings.clone())?;
         start(renderer.rows_to_trace());
-        renderer.render(progress)
+        match still {
+            Some(accel) => renderer.render_with(accel, progress),
+            None => renderer.render(progress),
+        }
+    }
+
+    /// The intersector every frame can share when no track moves a shape (the camera
+    /// and lights may move): built once, on the render's threads. `None` when shapes
+    /// move, so each frame builds its own.
+    pub fn still_geometry(&self) -> Result<Option<Accel<'_>>> {
+        let moves_shapes = self.tracks.iter().any(|t| match &t.target {
+            Target::Camera => false,
+            Target::Objects(selection) => !selection.shapes.is_empty(),
+        });
+        if moves_shapes {
+            return Ok(None);
+        }
+        let renderer = Renderer::new(&self.scene, &self.camera, self.settings.clone())?;
+        renderer.build_accel().map(Some)
     }
 }
 

@@ -365,6 +365,47 @@ fn frame_k_is_the_still_render_of_the_posed_scene_for_any_thread_count() {
     assert_eq!(a.frame_size().unwrap(), (32, 18));
 }
 
+#[test]
+fn a_camera_only_animation_shares_one_intersector_and_renders_the_same_frames() {
+    let a = parse_str(
+        "frames = 3\nfps = 1\n[render]\nwidth = 32\nheight = 18\n\
+         [[track]]\ntarget = \"camera\"\nmotion = \"orbit\"\naxis = [0, 0, 1]\n\
+         center = [0, 0, 0]\nkeys = [[0, 0], [2, 30]]\n\
+         [[track]]\ntarget = \"camera\"\nmotion = \"look_at\"\nat = \"material:red\"\n",
+    )
+    .unwrap();
+    let still = a.still_geometry().unwrap().expect("no shape moves");
+    assert_eq!(still.shape_count(), a.scene.shapes.len());
+    let mut posed = a.scene.clone();
+    for k in 0..3 {
+        let (fresh, _) = a.render_frame(k, &|_| {}, &|_| {}).unwrap();
+        let (shared, _) = a
+            .render_frame_in(k, &mut posed, Some(&still), &|_| {}, &|_| {})
+            .unwrap();
+        assert_eq!(shared, fresh, "frame {k}");
+    }
+    // A track that moves shapes gets an intersector per frame.
+    let moving = parse_str(
+        "frames = 2\nfps = 1\n[[track]]\ntarget = \"material:red\"\nmotion = \"translate\"\n\
+         keys = [[0, [0, 0, 0]], [1, [0, 10, 0]]]\n",
+    )
+    .unwrap();
+    assert!(moving.still_geometry().unwrap().is_none());
+}
+
+#[test]
+fn an_intersector_over_other_shapes_is_refused() {
+    let a = parse_str("frames = 1\nfps = 1\n[render]\nwidth = 8\nheight = 6\n").unwrap();
+    let empty: Vec<crate::scene::Shape> = Vec::new();
+    let accel = crate::accel::Accel::build(crate::accel::AccelKind::Bvh, &empty);
+    let renderer = Renderer::new(&a.scene, &a.camera, a.settings.clone()).unwrap();
+    let e = renderer
+        .render_with(&accel, &|_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("built over 0 shapes"), "{e}");
+}
+
 mod never_panics {
     use super::*;
     use proptest::prelude::*;

@@ -140,18 +140,56 @@ impl<'a> Renderer<'a> {
     /// Renders the image (the region, if one is set). `progress` is called with the
     /// number of supersampled rows finished, from any thread.
     pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<(Image, RenderStats)> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(self.plan.threads.unwrap_or(0))
-            .build()
-            .map_err(|e| crate::Error::Settings(format!("cannot start threads: {e}")))?;
-        Ok(pool.install(|| self.render_in_pool(progress)))
+        let start = Instant::now();
+        Ok(self.pool()?.install(|| {
+            let accel = Accel::build(self.plan.accel, &self.scene.shapes);
+            self.render_in_pool(&accel, start, progress)
+        }))
     }
 
-    fn render_in_pool(&self, progress: &(dyn Fn(u64) + Sync)) -> (Image, RenderStats) {
+    /// Builds the intersector [`Renderer::render`] would, on the renderer's threads.
+    pub fn build_accel(&self) -> Result<Accel<'a>> {
+        Ok(self
+            .pool()?
+            .install(|| Accel::build(self.plan.accel, &self.scene.shapes)))
+    }
+
+    /// Renders with an intersector built earlier over shapes equal to this scene's (an
+    /// animation whose geometry stays still builds it once for every frame). An
+    /// intersector over a different number of shapes is refused.
+    pub fn render_with(
+        &self,
+        accel: &Accel,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<(Image, RenderStats)> {
+        if accel.shape_count() != self.scene.shapes.len() {
+            return Err(crate::Error::Settings(format!(
+                "the intersector was built over {} shapes, the scene has {}",
+                accel.shape_count(),
+                self.scene.shapes.len()
+            )));
+        }
         let start = Instant::now();
+        Ok(self
+            .pool()?
+            .install(|| self.render_in_pool(accel, start, progress)))
+    }
+
+    fn pool(&self) -> Result<rayon::ThreadPool> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(self.plan.threads.unwrap_or(0))
+            .build()
+            .map_err(|e| crate::Error::Settings(format!("cannot start threads: {e}")))
+    }
+
+    fn render_in_pool(
+        &self,
+        accel: &Accel,
+        start: Instant,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> (Image, RenderStats) {
         let plan = &self.plan;
-        let accel = Accel::build(plan.accel, &self.scene.shapes);
-        let integrator = Classic::new(self.scene, &accel, plan.camera.medium_ior);
+        let integrator = Classic::new(self.scene, accel, plan.camera.medium_ior);
         let rays = CameraRays::new(&plan.camera, plan.aa, plan.dof_rays);
         let region = plan.region;
         let (wx, wy) = self.weights();

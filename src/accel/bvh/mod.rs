@@ -152,6 +152,7 @@ impl RayBoxes {
 pub struct Bvh {
     nodes: Vec<Node4>,
     packets: Vec<Packet>,
+    shape_count: usize,
 }
 
 impl Bvh {
@@ -162,6 +163,7 @@ impl Bvh {
             return Bvh {
                 nodes: Vec::new(),
                 packets: Vec::new(),
+                shape_count: 0,
             };
         }
         let boxes: Vec<Aabb> = shapes.iter().map(padded_bounds).collect();
@@ -169,6 +171,7 @@ impl Bvh {
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.nodes.len() / 2 + 1),
             packets: Vec::with_capacity(shapes.len() / 2 + 1),
+            shape_count: shapes.len(),
         };
         bvh.nodes.push(EMPTY_NODE);
         bvh.collapse(&binary, shapes, 0, 0);
@@ -179,6 +182,10 @@ impl Bvh {
 
     pub fn node_count(&self) -> usize {
         self.nodes.len()
+    }
+
+    pub fn shape_count(&self) -> usize {
+        self.shape_count
     }
 
     /// Bytes held by the nodes and the leaf-ordered shape copies.
