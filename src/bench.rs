@@ -194,8 +194,8 @@ pub fn write_ray_dump(dir: &Path, scene: &Scene, rays: &[Ray], accel: &Accel) ->
     Ok(())
 }
 
-/// Seconds to find the closest hit of every ray, on the current rayon pool, repeated
-/// until `min_seconds` have passed; returns million rays per second.
+/// Million rays per second finding the closest hit of every ray on the current rayon
+/// pool, the passes repeated until `min_seconds` have passed.
 pub fn closest_hit_mrays(accel: &Accel, rays: &[Ray], min_seconds: f64) -> f64 {
     let mut hits = vec![false; rays.len()];
     repeat_for(Duration::from_secs_f64(min_seconds), || {
