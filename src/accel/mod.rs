@@ -54,7 +54,7 @@ pub enum AccelKind {
 }
 
 impl AccelKind {
-    pub const ALL: [AccelKind; 3] = [AccelKind::List, AccelKind::Octree, AccelKind::Bvh];
+    pub const ALL: [AccelKind; 3] = [AccelKind::Bvh, AccelKind::Octree, AccelKind::List];
 
     pub fn name(self) -> &'static str {
         match self {

@@ -21,8 +21,8 @@ pub struct AnimateArgs {
     #[arg(long, value_name = "A..B")]
     pub frames: Option<String>,
     /// Intersector.
-    #[arg(long, default_value = "bvh", value_parser = ["bvh", "octree", "list"])]
-    pub accel: String,
+    #[arg(long, default_value = "bvh", value_parser = crate::accel_parser())]
+    pub accel: AccelKind,
     /// Worker threads (default: every core). The frames do not depend on it.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -42,10 +42,7 @@ pub fn run(args: &AnimateArgs) -> prism::Result<()> {
     let output = Output::from_path(&args.output)?;
     let mut anim = Animation::load(&args.animation)?;
     anim.settings.threads = args.threads;
-    anim.settings.accel = args
-        .accel
-        .parse::<AccelKind>()
-        .map_err(prism::Error::Settings)?;
+    anim.settings.accel = args.accel;
     let frames = match &args.frames {
         Some(text) => parse_frame_range(text, anim.frames)?,
         None => 0..anim.frames,

@@ -19,8 +19,8 @@ pub struct BenchArgs {
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// Intersector.
-    #[arg(long, default_value = "bvh", value_parser = ["bvh", "octree", "list"])]
-    pub accel: String,
+    #[arg(long, default_value = "bvh", value_parser = crate::accel_parser())]
+    pub accel: AccelKind,
     /// Repeat each ray pass until it has run this many seconds.
     #[arg(long, value_name = "S", default_value_t = 1.0)]
     pub seconds: f64,
@@ -47,10 +47,7 @@ pub fn run(args: &BenchArgs) -> prism::Result<()> {
     let scene = prism::format::load_scene(&args.scene)?;
     let camera = prism::format::load_camera(&args.camera)?;
     let options = BenchOptions {
-        accel: args
-            .accel
-            .parse::<AccelKind>()
-            .map_err(prism::Error::Settings)?,
+        accel: args.accel,
         threads: args.threads,
         min_seconds: args.seconds,
         frame: !args.no_frame,

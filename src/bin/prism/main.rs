@@ -6,9 +6,11 @@ mod convert;
 mod render;
 
 use bench::BenchArgs;
+use clap::builder::TypedValueParser as _;
 use clap::{Parser, Subcommand};
 use convert::ConvertArgs;
 use indicatif::{ProgressBar, ProgressStyle};
+use prism::accel::AccelKind;
 use render::RenderArgs;
 use std::io::IsTerminal;
 use std::process::ExitCode;
@@ -60,6 +62,12 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// `--accel`: clap checks and lists the intersector names, so commands get the kind.
+pub(crate) fn accel_parser() -> impl clap::builder::TypedValueParser<Value = AccelKind> {
+    clap::builder::PossibleValuesParser::new(AccelKind::ALL.map(AccelKind::name))
+        .map(|name| name.parse().expect("clap accepts only listed names"))
 }
 
 pub(crate) fn progress_bar(rows: u64, quiet: bool) -> ProgressBar {

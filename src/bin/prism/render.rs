@@ -39,8 +39,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub dof_rays: Option<u32>,
     /// Intersector.
-    #[arg(long, default_value = "bvh", value_parser = ["bvh", "octree", "list"])]
-    pub accel: String,
+    #[arg(long, default_value = "bvh", value_parser = crate::accel_parser())]
+    pub accel: AccelKind,
     /// Worker threads (default: every core). The image does not depend on it.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -77,10 +77,7 @@ pub fn run(args: &RenderArgs) -> prism::Result<()> {
         region: args.region,
         seed: args.seed,
         threads: args.threads,
-        accel: args
-            .accel
-            .parse::<AccelKind>()
-            .map_err(prism::Error::Settings)?,
+        accel: args.accel,
     };
     let renderer = Renderer::new(&scene, &camera, settings)?;
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
