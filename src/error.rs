@@ -11,6 +11,14 @@ pub enum Error {
         line: usize,
         message: String,
     },
+    /// Malformed content at a known line and column (1-based, in characters) of a file.
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    ParseAt {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
     /// A file that cannot be opened, read or written.
     #[error("{}: {message}", path.display())]
     File { path: PathBuf, message: String },
@@ -24,6 +32,15 @@ impl Error {
         Error::Parse {
             path: path.to_path_buf(),
             line,
+            message: message.into(),
+        }
+    }
+
+    pub fn parse_at(path: &Path, line: usize, column: usize, message: impl Into<String>) -> Error {
+        Error::ParseAt {
+            path: path.to_path_buf(),
+            line,
+            column,
             message: message.into(),
         }
     }
