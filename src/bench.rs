@@ -354,10 +354,9 @@ mod tests {
             }),
             0,
         );
-        scene.lights.push(Light {
-            position: Vec3::new(5.0, 0.0, 10.0),
-            color: Vec3::ONE,
-        });
+        scene
+            .lights
+            .push(Light::point(Vec3::new(5.0, 0.0, 10.0), Vec3::ONE));
         let camera = Camera {
             eye: Vec3::ZERO,
             theta_deg: 90.0,
@@ -371,6 +370,7 @@ mod tests {
             aperture: 0.0,
             rays_per_pixel: 1,
             aa: 1,
+            up: None,
         };
         (scene, camera)
     }

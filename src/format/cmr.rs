@@ -123,6 +123,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
         aperture: above(11, false)?,
         rays_per_pixel: count(12)?,
         aa: count(13)?,
+        up: None,
     })
 }
 
@@ -162,6 +163,7 @@ mod tests {
                 aperture: 5.0,
                 rays_per_pixel: 128,
                 aa: 4,
+                up: None,
             }
         );
     }

@@ -153,7 +153,7 @@ impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
                 None => Vec3::ONE,
             };
             let light = self.scene.lights.len() as u32;
-            self.scene.lights.push(Light { position, color });
+            self.scene.lights.push(Light::point(position, color));
             for g in self.named_groups() {
                 self.scene.groups[g].lights.push(light);
             }
@@ -390,13 +390,7 @@ mod tests {
                 }),
             ]
         );
-        assert_eq!(
-            scene.lights,
-            vec![Light {
-                position: v(1., 1., 5.5),
-                color: Vec3::ONE
-            }]
-        );
+        assert_eq!(scene.lights, vec![Light::point(v(1., 1., 5.5), Vec3::ONE)]);
         // The default white is added once, for the faces that had no usemtl.
         assert_eq!(scene.materials, vec![Material::default_white()]);
         assert_eq!(scene.material_of, vec![0, 0, 0]);

@@ -59,7 +59,8 @@ impl CameraRays {
         self.screen_center + self.frame.right * sx + self.frame.down * sy
     }
 
-    /// Calls `emit` with each camera ray of pixel `(x, y)`: the pinhole ray, then the
+    /// Calls `emit` with each camera ray of pixel `(x, y)` and the pixel's random stream
+    /// (for what the shading model samples): the pinhole ray, then the
     /// lens rays, aimed at the point where the pinhole ray meets the focal plane (which
     /// lies `d + f` from the eye along the view direction).
     #[inline]
@@ -68,10 +69,10 @@ impl CameraRays {
         x: u32,
         y: u32,
         sampler: &mut PixelSampler,
-        mut emit: impl FnMut(Ray),
+        mut emit: impl FnMut(Ray, &mut PixelSampler),
     ) {
         let to_screen = self.screen_point(x, y) - self.eye;
-        emit(Ray::new(self.eye, to_screen));
+        emit(Ray::new(self.eye, to_screen), sampler);
         let lens_rays = self.rays_per_pixel - 1;
         if lens_rays == 0 {
             return;
@@ -80,7 +81,7 @@ impl CameraRays {
         for i in 0..lens_rays {
             let (lx, ly) = sampler.disk_sample(i, lens_rays);
             let origin = self.eye + (self.frame.right * lx + self.frame.down * ly) * self.aperture;
-            emit(Ray::new(origin, focus - origin));
+            emit(Ray::new(origin, focus - origin), sampler);
         }
     }
 }
@@ -105,6 +106,7 @@ mod tests {
             aperture: 0.5,
             rays_per_pixel: 1,
             aa: 1,
+            up: None,
         }
     }
 
@@ -146,7 +148,7 @@ mod tests {
         let rays = CameraRays::new(&camera(), 1, 9);
         let mut sampler = PixelSampler::new(0, 2, 1);
         let mut all = Vec::new();
-        rays.for_each_ray(2, 1, &mut sampler, |r| all.push(r));
+        rays.for_each_ray(2, 1, &mut sampler, |r, _| all.push(r));
         assert_eq!(all.len(), 9);
         // Focal plane at x = d + f = 4.
         let focus = all[0].at(4.0 / all[0].dir.x);

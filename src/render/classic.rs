@@ -6,7 +6,7 @@
 //! with the ray's intensity, which each reflection or refraction scales by the material's
 //! ratio. Light colours are not used.
 
-use super::{Integrator, RayCount, WeightedColor};
+use super::{Integrator, PixelSampler, RayCount, WeightedColor};
 use crate::accel::Accel;
 use crate::math::{Ray, Vec3, offset_origin, reflect, surface_epsilon};
 use crate::scene::Scene;
@@ -163,7 +163,13 @@ pub fn refract(d: Vec3, n: Vec3, ray_ior: f32, material_ior: f32) -> Option<(Vec
 
 impl Integrator for Classic<'_> {
     #[inline]
-    fn trace_camera_ray(&self, ray: Ray, acc: &mut WeightedColor, count: &mut RayCount) {
+    fn trace_camera_ray(
+        &self,
+        ray: Ray,
+        _sampler: &mut PixelSampler,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
         let r = ClassicRay {
             ray,
             intensity: 1.0,

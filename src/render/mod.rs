@@ -3,14 +3,19 @@
 
 pub mod camera;
 pub mod classic;
+pub mod optics;
 pub mod sampler;
 mod settings;
+pub mod whitted;
 
 pub use camera::CameraRays;
 pub use classic::Classic;
 pub use sampler::PixelSampler;
 use settings::Plan;
-pub use settings::{Region, RenderSettings};
+pub use settings::{
+    DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, IntegratorKind, MAX_DEPTH_LIMIT, Region, RenderSettings,
+};
+pub use whitted::Whitted;
 
 use crate::Result;
 use crate::accel::Accel;
@@ -58,9 +63,16 @@ pub struct RayCount {
     pub rays: u64,
 }
 
-/// A shading model: what one camera ray adds to its pixel.
+/// A shading model: what one camera ray adds to its pixel. `sampler` is the pixel's
+/// random stream (area lights draw from it), so the image does not depend on threads.
 pub trait Integrator: Sync {
-    fn trace_camera_ray(&self, ray: Ray, acc: &mut WeightedColor, count: &mut RayCount);
+    fn trace_camera_ray(
+        &self,
+        ray: Ray,
+        sampler: &mut PixelSampler,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    );
 }
 
 /// Figures of one render.
@@ -189,7 +201,33 @@ impl<'a> Renderer<'a> {
         progress: &(dyn Fn(u64) + Sync),
     ) -> (Image, RenderStats) {
         let plan = &self.plan;
-        let integrator = Classic::new(self.scene, accel, plan.camera.medium_ior);
+        match plan.integrator {
+            IntegratorKind::Classic => {
+                let classic = Classic::new(self.scene, accel, plan.camera.medium_ior);
+                self.render_frame(&classic, start, progress)
+            }
+            IntegratorKind::Whitted => {
+                let surfaces = self.scene.resolved_surfaces();
+                let whitted = Whitted::new(
+                    self.scene,
+                    accel,
+                    &surfaces,
+                    plan.max_depth,
+                    plan.min_weight,
+                );
+                self.render_frame(&whitted, start, progress)
+            }
+        }
+    }
+
+    /// The band loop, for one shading model (static dispatch: one copy per model).
+    fn render_frame(
+        &self,
+        integrator: &impl Integrator,
+        start: Instant,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> (Image, RenderStats) {
+        let plan = &self.plan;
         let rays = CameraRays::new(&plan.camera, plan.aa, plan.dof_rays);
         let region = plan.region;
         let (wx, wy) = self.weights();
@@ -211,7 +249,7 @@ impl<'a> Renderer<'a> {
                         let mut count = RayCount::default();
                         for (j, out) in row.iter_mut().enumerate() {
                             let x = x_lo + j as u32;
-                            *out = self.pixel(&integrator, &rays, x, y, &mut count).to_array();
+                            *out = self.pixel(integrator, &rays, x, y, &mut count).to_array();
                         }
                         total_rays.fetch_add(count.rays, Ordering::Relaxed);
                         progress(1);
@@ -251,8 +289,8 @@ impl<'a> Renderer<'a> {
     ) -> Vec3 {
         let mut sampler = PixelSampler::new(self.plan.seed, x, y);
         let mut acc = WeightedColor::default();
-        rays.for_each_ray(x, y, &mut sampler, |ray| {
-            integrator.trace_camera_ray(ray, &mut acc, count)
+        rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
+            integrator.trace_camera_ray(ray, sampler, &mut acc, count)
         });
         acc.mean()
     }

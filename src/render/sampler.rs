@@ -40,6 +40,22 @@ impl PixelSampler {
     }
 }
 
+impl PixelSampler {
+    /// Sample `i` of `n` stratified points on the unit square, in the lattice pattern
+    /// of [`PixelSampler::disk_sample`]: the first coordinate in equal strata, the
+    /// second along golden-ratio steps.
+    #[inline]
+    pub fn square_sample(&mut self, i: u32, n: u32) -> (f32, f32) {
+        const GOLDEN: f32 = 0.618_034;
+        let u = (i as f32 + self.next_f32()) / n as f32;
+        let v = (i as f32 * GOLDEN + self.next_f32() / n as f32).fract();
+        (u.min(ONE_BELOW), v.min(ONE_BELOW))
+    }
+}
+
+/// The largest f32 below 1: strata computed in f32 can round up to 1.
+const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
 /// A strong 64-bit mixer: neighbouring pixels get unrelated seeds.
 fn splitmix64(mut z: u64) -> u64 {
     z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);

@@ -34,7 +34,7 @@ impl std::str::FromStr for Region {
 }
 
 /// Render options. `None` keeps the camera file's value.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct RenderSettings {
     /// Output width; alone, the height follows the camera's aspect ratio. The
     /// horizontal field of view is kept: the retina scale follows the width.
@@ -51,7 +51,71 @@ pub struct RenderSettings {
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
     pub accel: AccelKind,
+    /// The shading model.
+    pub integrator: IntegratorKind,
+    /// Limits of the whitted model's recursion.
+    pub max_depth: u32,
+    pub min_weight: f32,
 }
+
+impl Default for RenderSettings {
+    fn default() -> RenderSettings {
+        RenderSettings {
+            width: None,
+            height: None,
+            aa: None,
+            filter: Filter::default(),
+            dof_rays: None,
+            region: None,
+            seed: 0,
+            threads: None,
+            accel: AccelKind::default(),
+            integrator: IntegratorKind::default(),
+            max_depth: DEFAULT_MAX_DEPTH,
+            min_weight: DEFAULT_MIN_WEIGHT,
+        }
+    }
+}
+
+/// The shading models (SPEC 3.2 and 4.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// The 2014 program's weighted-mean colours: the 2014 files' model, frozen.
+    #[default]
+    Classic,
+    /// Physically based Whitted: linear radiance, Fresnel, Beer, area lights.
+    Whitted,
+}
+
+impl IntegratorKind {
+    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::Classic, IntegratorKind::Whitted];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::Classic => "classic",
+            IntegratorKind::Whitted => "whitted",
+        }
+    }
+}
+
+impl std::str::FromStr for IntegratorKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        IntegratorKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| format!("unknown integrator `{s}`: expected classic or whitted"))
+    }
+}
+
+/// Recursion depth of the whitted model: POV-Ray's `max_trace_level` default is 5;
+/// ten lets light cross a few glass surfaces.
+pub const DEFAULT_MAX_DEPTH: u32 = 10;
+/// A ray whose contribution can change no 8-bit value is not traced (POV-Ray's
+/// `adc_bailout`).
+pub const DEFAULT_MIN_WEIGHT: f32 = 1.0 / 255.0;
+/// The deepest recursion a scene may ask for.
+pub const MAX_DEPTH_LIMIT: u32 = 64;
 
 /// Limits that keep a typo from asking for days of work or all the memory.
 pub const MAX_SIDE: u32 = 1 << 16;
@@ -72,6 +136,9 @@ pub(crate) struct Plan {
     pub seed: u64,
     pub threads: Option<usize>,
     pub accel: AccelKind,
+    pub integrator: IntegratorKind,
+    pub max_depth: u32,
+    pub min_weight: f32,
 }
 
 impl RenderSettings {
@@ -130,6 +197,18 @@ impl RenderSettings {
         if let Some(0) = self.threads {
             return Err(Error::Settings("thread count must be at least 1".into()));
         }
+        if self.max_depth > MAX_DEPTH_LIMIT {
+            return Err(Error::Settings(format!(
+                "max depth must be at most {MAX_DEPTH_LIMIT}, found {}",
+                self.max_depth
+            )));
+        }
+        if !(0.0..=1.0).contains(&self.min_weight) {
+            return Err(Error::Settings(format!(
+                "min weight must be between 0 and 1, found {}",
+                self.min_weight
+            )));
+        }
         let mut camera = camera.with_resolution(width, height);
         camera.aa = aa;
         camera.rays_per_pixel = dof_rays;
@@ -142,6 +221,9 @@ impl RenderSettings {
             seed: self.seed,
             threads: self.threads,
             accel: self.accel,
+            integrator: self.integrator,
+            max_depth: self.max_depth,
+            min_weight: self.min_weight,
         })
     }
 }
@@ -170,6 +252,7 @@ mod tests {
             aperture: 5.0,
             rays_per_pixel: 128,
             aa: 4,
+            up: None,
         }
     }
 

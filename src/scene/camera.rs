@@ -25,6 +25,10 @@ pub struct Camera {
     pub rays_per_pixel: u32,
     /// Supersampling factor per axis.
     pub aa: u32,
+    /// `None`: the 2014 frame (SPEC 3.1), as the `.cmr` files mean it. `Some(up)`: a
+    /// right-handed look-at frame with `up` as the image's vertical, as standard OBJ,
+    /// PLY and Prism scene files mean it: seen from +z with +y up, +x is on the right.
+    pub up: Option<Vec3>,
 }
 
 /// Orthonormal camera frame: `forward` (w), image right (r), image down (u).
@@ -41,10 +45,46 @@ impl Camera {
     pub fn frame(&self) -> Frame {
         let (st, ct) = self.theta_deg.to_radians().sin_cos();
         let (sp, cp) = self.phi_deg.to_radians().sin_cos();
+        let forward = Vec3::new(st * cp, st * sp, ct);
+        if let Some(up) = self.up {
+            return look_at_frame(forward, up);
+        }
         Frame {
-            forward: Vec3::new(st * cp, st * sp, ct),
+            forward,
             right: Vec3::new(-sp, cp, 0.0),
             down: Vec3::new(ct * cp, ct * sp, -st),
+        }
+    }
+
+    /// A right-handed pinhole camera at `from` looking at `at`, `up` the image's
+    /// vertical, `fov_deg` the full horizontal field of view, `width x height` pixels.
+    /// The screen sits at distance 1; `focal_length` and `aperture` are left at a
+    /// pinhole's (set them for depth of field: the focal plane lies at `1 +
+    /// focal_length`).
+    pub fn look_at(
+        from: Vec3,
+        at: Vec3,
+        up: Vec3,
+        fov_deg: f32,
+        width: u32,
+        height: u32,
+    ) -> Camera {
+        let (theta_deg, phi_deg) = angles_of(at - from);
+        let half = (fov_deg.clamp(1e-3, 179.0) * 0.5).to_radians().tan();
+        Camera {
+            eye: from,
+            theta_deg,
+            phi_deg,
+            medium_ior: 1.0,
+            screen_distance: 1.0,
+            width,
+            height,
+            retina_scale: half / width.max(1) as f32,
+            focal_length: 0.0,
+            aperture: 0.0,
+            rays_per_pixel: 1,
+            aa: 1,
+            up: Some(up),
         }
     }
 
@@ -55,6 +95,35 @@ impl Camera {
         c.width = width;
         c.height = height;
         c
+    }
+}
+
+/// Polar angle from +z and azimuth from +x, in degrees, of direction `d`: how the 2014
+/// camera states where it looks (`Camera::frame` turns them back).
+pub fn angles_of(d: Vec3) -> (f32, f32) {
+    let d = d.normalize_or(Vec3::X);
+    let theta = d.z.clamp(-1.0, 1.0).acos().to_degrees();
+    let phi = if d.x == 0.0 && d.y == 0.0 {
+        0.0
+    } else {
+        d.y.atan2(d.x).to_degrees()
+    };
+    (theta, phi)
+}
+
+/// The right-handed frame looking along `forward` with `up` as the vertical: right =
+/// forward x up. When the two are (nearly) parallel, another vertical is chosen so the
+/// frame stays orthonormal.
+pub fn look_at_frame(forward: Vec3, up: Vec3) -> Frame {
+    let forward = forward.normalize_or(Vec3::X);
+    let mut right = forward.cross(up).normalize_or_zero();
+    if right.length_squared() < 0.5 {
+        right = forward.any_orthonormal_vector();
+    }
+    Frame {
+        forward,
+        right,
+        down: forward.cross(right),
     }
 }
 
@@ -76,6 +145,7 @@ mod tests {
             aperture: 0.0,
             rays_per_pixel: 1,
             aa: 1,
+            up: None,
         }
     }
 
@@ -96,6 +166,27 @@ mod tests {
         assert!(f.forward.dot(f.right).abs() < 1e-6);
         assert!(f.forward.dot(f.down).abs() < 1e-6);
         assert!(f.right.dot(f.down).abs() < 1e-6);
+    }
+
+    #[test]
+    fn look_at_is_right_handed_with_plus_x_on_the_right_seen_from_plus_z() {
+        let c = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 90.0, 4, 2);
+        let f = c.frame();
+        assert!((f.forward + Vec3::Z).length() < 1e-6, "{f:?}");
+        assert!((f.right - Vec3::X).length() < 1e-6, "{f:?}");
+        assert!((f.down + Vec3::Y).length() < 1e-6, "{f:?}");
+        // A 90 degree field: the screen at distance 1 spans [-1, 1] across.
+        assert!((c.retina_scale * c.width as f32 - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn look_at_straight_along_up_still_gives_a_frame() {
+        let c = Camera::look_at(Vec3::ZERO, Vec3::new(0.0, -3.0, 0.0), Vec3::Y, 60.0, 4, 4);
+        let f = c.frame();
+        for v in [f.forward, f.right, f.down] {
+            assert!((v.length() - 1.0).abs() < 1e-5, "{f:?}");
+        }
+        assert!(f.forward.dot(f.right).abs() < 1e-5 && f.right.dot(f.down).abs() < 1e-5);
     }
 
     #[test]

@@ -41,3 +41,156 @@ impl Material {
         }
     }
 }
+
+/// The physically based Whitted terms of a material (SPEC 4.3). Colours are linear RGB.
+///
+/// `Scene::surfaces[i]` belongs to `Scene::materials[i]`; a material without one (the
+/// 2014 files) gets [`Surface::from_classic`] when rendered with the whitted model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Surface {
+    /// Where the albedo C comes from.
+    pub albedo: Albedo,
+    /// Scales the albedo in the diffuse term (kd).
+    pub diffuse: f32,
+    /// Ka: multiplied by the scene's ambient light.
+    pub ambient: Vec3,
+    /// Ks: the highlight colour.
+    pub specular: Vec3,
+    /// Ns: the highlight exponent.
+    pub shininess: f32,
+    pub highlight: Highlight,
+    /// Scale the highlight so Ns changes its width, not the scene's brightness.
+    pub normalized: bool,
+    /// Le: radiance the surface emits (an emissive mesh is also an area light).
+    pub emission: Vec3,
+    /// R: mirror reflectance (with Fresnel off), or the tint of the Fresnel reflection.
+    pub reflection: Vec3,
+    /// T: transmission filter colour (Tf); zero for opaque surfaces.
+    pub transmission: Vec3,
+    /// Index of refraction of the medium inside.
+    pub ior: f32,
+    /// Reflect F(cos, ior) and transmit (1 - F) T instead of fixed R and T.
+    pub fresnel: bool,
+    /// Beer absorption per unit length inside the medium.
+    pub absorption: Vec3,
+    /// Whether lights shade it at all (`illum 0` shows the colour only).
+    pub lit: bool,
+    /// Alpha cut-out: rays pass where the map's value is below 1/2.
+    pub alpha_map: Option<TextureSlot>,
+    /// A tangent-space normal map (`norm`).
+    pub normal_map: Option<TextureSlot>,
+}
+
+/// The albedo of a surface.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Albedo {
+    Color(Vec3),
+    /// An image read at the hit's texture coordinates, times a tint.
+    Image {
+        slot: TextureSlot,
+        tint: Vec3,
+    },
+    /// A solid checker in world space: cubes of side `scale` alternate `a` and `b`.
+    Checker {
+        a: Vec3,
+        b: Vec3,
+        scale: f32,
+    },
+    /// The 2014 material colour or texture, with the 2014 mapping, decoded from sRGB.
+    Classic,
+}
+
+/// An image (an index into `Scene::images`) with its texture-coordinate transform.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureSlot {
+    pub image: u32,
+    /// `uv * scale + offset` is what is looked up (MTL `-s`, `-o`).
+    pub scale: [f32; 2],
+    pub offset: [f32; 2],
+    /// Clamp to the edge instead of repeating (MTL `-clamp on`).
+    pub clamp: bool,
+}
+
+impl TextureSlot {
+    pub fn new(image: u32) -> TextureSlot {
+        TextureSlot {
+            image,
+            scale: [1.0, 1.0],
+            offset: [0.0, 0.0],
+            clamp: false,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Highlight {
+    /// `max(0, R.V)^Ns`.
+    #[default]
+    Phong,
+    /// `max(0, N.H)^Ns`.
+    BlinnPhong,
+}
+
+impl Default for Surface {
+    /// A matte white.
+    fn default() -> Surface {
+        Surface {
+            albedo: Albedo::Color(Vec3::splat(0.8)),
+            diffuse: 1.0,
+            ambient: Vec3::ZERO,
+            specular: Vec3::ZERO,
+            shininess: 1.0,
+            highlight: Highlight::Phong,
+            normalized: false,
+            emission: Vec3::ZERO,
+            reflection: Vec3::ZERO,
+            transmission: Vec3::ZERO,
+            ior: 1.0,
+            fresnel: false,
+            absorption: Vec3::ZERO,
+            lit: true,
+            alpha_map: None,
+            normal_map: None,
+        }
+    }
+}
+
+impl Surface {
+    /// The physically based reading of a 2014 material: its colour (or texture) as the
+    /// albedo with the diffuse factor, highlights of strength ks, and its reflect and
+    /// refract ratios as mirror reflectance and transmission (no Fresnel: the 2014 files
+    /// chose those ratios themselves). The 2014 ambient factor multiplies the colour.
+    pub fn from_classic(m: &Material) -> Surface {
+        let color = srgb_to_linear(m.color);
+        Surface {
+            albedo: Albedo::Classic,
+            diffuse: m.diffuse.clamp(0.0, 1.0),
+            ambient: color * m.ambient.clamp(0.0, 1.0),
+            specular: Vec3::splat(m.specular.clamp(0.0, 1.0)),
+            shininess: m.shininess.max(0.0),
+            reflection: Vec3::splat(m.reflect.clamp(0.0, 1.0)),
+            transmission: Vec3::splat(m.refract.clamp(0.0, 1.0)),
+            ior: m.ior,
+            ..Surface::default()
+        }
+    }
+
+    /// Whether light passes through: such surfaces tint shadows instead of casting them.
+    pub fn is_transmissive(&self) -> bool {
+        self.transmission.max_element() > 0.0
+    }
+}
+
+/// The sRGB transfer curve undone (IEC 61966-2-1), per channel.
+pub fn srgb_to_linear(c: Vec3) -> Vec3 {
+    Vec3::from_array(c.to_array().map(srgb_channel_to_linear))
+}
+
+/// One channel of [`srgb_to_linear`].
+pub fn srgb_channel_to_linear(v: f32) -> f32 {
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}

@@ -1,23 +1,24 @@
 //! The scene model: plain data, no I/O and no rendering.
 
 pub mod camera;
+pub mod image;
+pub mod light;
 pub mod material;
+pub mod mesh;
 pub mod shape;
+mod surface_point;
 pub mod texture;
 
 pub use camera::{Camera, Frame};
-pub use material::Material;
+pub use image::{ImageTexture, Texels};
+pub use light::{Falloff, Light, LightKind};
+pub use material::{Albedo, Highlight, Material, Surface, TextureSlot};
+pub use mesh::MeshAttributes;
 pub use shape::{Rectangle, Shape, Sphere, SurfaceCoords, Triangle};
+pub use surface_point::SurfacePoint;
 pub use texture::{FillMode, Texture};
 
 use crate::math::{Aabb, Vec3};
-
-/// A point light. Its colour is ignored by the classic shading model.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Light {
-    pub position: Vec3,
-    pub color: Vec3,
-}
 
 /// A named set of shapes and lights (`g NAME` / `o NAME` in a scene file): what an
 /// animation track can move as one.
@@ -30,6 +31,22 @@ pub struct Group {
     pub lights: Vec<u32>,
 }
 
+/// What a ray that hits nothing sees (the whitted model; classic rays see black).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum Background {
+    #[default]
+    Black,
+    Color(Vec3),
+    /// An equirectangular image (`Scene::images[image]`) whose top row looks along `up`
+    /// and whose centre looks along `forward`, scaled by `intensity`.
+    Environment {
+        image: u32,
+        up: Vec3,
+        forward: Vec3,
+        intensity: f32,
+    },
+}
+
 /// Everything that can be seen. `shapes[i]` wears `materials[material_of[i]]`; the two
 /// arrays are parallel so the intersection loop touches geometry only.
 #[derive(Clone, Debug, Default)]
@@ -37,10 +54,22 @@ pub struct Scene {
     pub shapes: Vec<Shape>,
     pub material_of: Vec<u32>,
     pub materials: Vec<Material>,
+    /// The 2014 textures, read with the 2014 mappings.
     pub textures: Vec<Texture>,
     pub lights: Vec<Light>,
     /// Named groups, in order of first appearance; rendering ignores them.
     pub groups: Vec<Group>,
+    /// The whitted terms of `materials[i]`; materials past its end (all of them, for
+    /// the 2014 files) get [`Surface::from_classic`].
+    pub surfaces: Vec<Surface>,
+    /// Per-vertex normals, texture coordinates and colours of triangle meshes, in
+    /// ascending order of `first_shape`; shapes outside every mesh have none.
+    pub meshes: Vec<MeshAttributes>,
+    /// Images read at texture coordinates (whitted materials, environment maps).
+    pub images: Vec<ImageTexture>,
+    /// La: the ambient light the whitted model multiplies by each surface's Ka.
+    pub ambient: Vec3,
+    pub background: Background,
 }
 
 impl Scene {
@@ -51,6 +80,30 @@ impl Scene {
 
     pub fn material(&self, shape: u32) -> &Material {
         &self.materials[self.material_of[shape as usize] as usize]
+    }
+
+    /// The mesh that owns shape `shape`, with the shape's triangle number in it.
+    #[inline]
+    pub fn mesh_of(&self, shape: u32) -> Option<(&MeshAttributes, usize)> {
+        let i = self.meshes.partition_point(|m| m.first_shape <= shape);
+        let mesh = self.meshes.get(i.checked_sub(1)?)?;
+        mesh.owns(shape)
+            .then(|| (mesh, (shape - mesh.first_shape) as usize))
+    }
+
+    /// The whitted terms of every material, derived from the classic terms where the
+    /// scene gives none.
+    pub fn resolved_surfaces(&self) -> Vec<Surface> {
+        self.materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                self.surfaces
+                    .get(i)
+                    .cloned()
+                    .unwrap_or_else(|| Surface::from_classic(m))
+            })
+            .collect()
     }
 
     /// The group called `name`, if the scene file named one.

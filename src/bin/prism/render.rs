@@ -78,6 +78,7 @@ pub fn run(args: &RenderArgs) -> prism::Result<()> {
         seed: args.seed,
         threads: args.threads,
         accel: args.accel,
+        ..RenderSettings::default()
     };
     let renderer = Renderer::new(&scene, &camera, settings)?;
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);

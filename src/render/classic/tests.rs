@@ -40,10 +40,7 @@ fn scene(materials: Vec<Material>, shapes: Vec<(Shape, u32)>, lights: Vec<Vec3>)
     }
     s.lights = lights
         .into_iter()
-        .map(|position| Light {
-            position,
-            color: Vec3::ONE,
-        })
+        .map(|position| Light::point(position, Vec3::ONE))
         .collect();
     s
 }
@@ -55,7 +52,7 @@ fn shade(s: &Scene) -> (Vec3, RayCount) {
     let mut acc = WeightedColor::default();
     let mut count = RayCount::default();
     let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
-    classic.trace_camera_ray(ray, &mut acc, &mut count);
+    classic.trace_camera_ray(ray, &mut PixelSampler::new(0, 0, 0), &mut acc, &mut count);
     (acc.mean(), count)
 }
 
@@ -229,7 +226,7 @@ fn total_internal_reflection_sends_the_refracted_share_to_the_mirror_ray() {
         Vec3::new(0.0, 0.0, 2.0),
         Vec3::new(0.75f32.sqrt(), 0.0, 0.5),
     );
-    classic.trace_camera_ray(ray, &mut acc, &mut count);
+    classic.trace_camera_ray(ray, &mut PixelSampler::new(0, 0, 0), &mut acc, &mut count);
     assert_eq!(count.rays, 2);
     assert_close(acc.mean(), Vec3::Y);
 }

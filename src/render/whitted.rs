@@ -1,0 +1,492 @@
+//! The physically based Whitted model (SPEC 4.3): linear radiance along each camera
+//! ray, local lighting from every light (area lights by stratified shadow rays),
+//! coloured shadows through transparent surfaces, mirror reflection, refraction with
+//! exact Fresnel and Beer absorption, and the background where rays escape.
+//!
+//! ```text
+//! L = Le + Ka La + sum_lights vis E (kd C max(0, N.L) + Ks s(N, L, V)) + R L_r + T L_t
+//! ```
+
+use super::optics::{fresnel_dielectric, refract};
+use super::{Integrator, PixelSampler, RayCount, WeightedColor};
+use crate::accel::{Accel, Hit};
+use crate::math::{Ray, Vec3, offset_origin, reflect, surface_epsilon};
+use crate::scene::{
+    Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
+    material::srgb_to_linear,
+};
+
+/// Surfaces a ray may pass through (alpha cut-outs) or a shadow ray may cross
+/// (transparent ones) before the answer is taken as final: bounds the work of a ray
+/// that meets a stack of leaves.
+const MAX_CROSSINGS: u32 = 64;
+
+pub struct Whitted<'a> {
+    scene: &'a Scene,
+    accel: &'a Accel<'a>,
+    surfaces: &'a [Surface],
+    max_depth: u32,
+    min_weight: f32,
+    /// Whether any surface lets light through or cuts out: otherwise a shadow ray is a
+    /// plain occlusion query.
+    see_through: bool,
+}
+
+/// One sample of a light as seen from a shading point.
+struct LightSample {
+    /// Unit direction from the point toward the light.
+    dir: Vec3,
+    /// Distance to the sample (infinite for a directional light).
+    dist: f32,
+    /// Irradiance the sample delivers to a surface facing it.
+    e: Vec3,
+}
+
+impl<'a> Whitted<'a> {
+    pub fn new(
+        scene: &'a Scene,
+        accel: &'a Accel<'a>,
+        surfaces: &'a [Surface],
+        max_depth: u32,
+        min_weight: f32,
+    ) -> Whitted<'a> {
+        let see_through = surfaces
+            .iter()
+            .any(|s| s.is_transmissive() || s.alpha_map.is_some());
+        Whitted {
+            scene,
+            accel,
+            surfaces,
+            max_depth,
+            min_weight,
+            see_through,
+        }
+    }
+
+    #[inline]
+    fn surface(&self, shape: u32) -> &Surface {
+        &self.surfaces[self.scene.material_of[shape as usize] as usize]
+    }
+
+    /// Radiance arriving along `ray`; `weight` is what the camera will multiply it by
+    /// (for the bail-out), `depth` the number of bounces so far.
+    pub fn radiance(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        weight: Vec3,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) -> Vec3 {
+        count.rays += 1;
+        let Some((hit, sp)) = self.first_hit(ray) else {
+            return self.background(ray.dir);
+        };
+        let s = self.surface(hit.shape);
+        let d = ray.dir;
+        // Inside/outside from the geometric normal; shading normals turned to the ray.
+        let entering = d.dot(sp.ng) < 0.0;
+        let (ng, n) = if entering {
+            (sp.ng, sp.n)
+        } else {
+            (-sp.ng, -sp.n)
+        };
+        // Beer: the ray crossed this surface's medium to get here from inside.
+        let absorbed = if entering || s.absorption == Vec3::ZERO {
+            Vec3::ONE
+        } else {
+            (-s.absorption * hit.t).exp()
+        };
+        let weight = weight * absorbed;
+
+        let mut l = s.emission;
+        let albedo = self.albedo(s, &sp, hit.shape) * sp.color;
+        if !s.lit {
+            return absorbed * (l + albedo);
+        }
+        l += s.ambient * self.scene.ambient;
+        let v = -d;
+        let shadow_from = if entering { sp.shadow_origin } else { sp.p };
+        let kd = albedo * s.diffuse;
+        for light in &self.scene.lights {
+            self.for_each_sample(light, sp.p, sampler, |ls| {
+                let cos = n.dot(ls.dir);
+                if cos <= 0.0 || ng.dot(ls.dir) <= 0.0 {
+                    return;
+                }
+                let mut shade = kd * cos;
+                if s.specular != Vec3::ZERO {
+                    shade += s.specular * highlight(s, n, ls.dir, v);
+                }
+                if shade.max_element() <= 0.0 {
+                    return;
+                }
+                let vis = self.visibility(shadow_from, ng, &ls, count);
+                l += vis * ls.e * shade;
+            });
+        }
+
+        if depth >= self.max_depth {
+            return absorbed * l;
+        }
+        // Reflection and refraction shares.
+        let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
+        let (eta_i, eta_t) = if entering { (1.0, s.ior) } else { (s.ior, 1.0) };
+        let transmitted = if s.is_transmissive() {
+            refract(d, n, eta_i, eta_t)
+        } else {
+            None
+        };
+        let (mut kr, mut kt) = if s.fresnel {
+            let f = fresnel_dielectric(cos_i, eta_i, eta_t);
+            (s.reflection * f, s.transmission * (1.0 - f))
+        } else {
+            (s.reflection, s.transmission)
+        };
+        if s.is_transmissive() && transmitted.is_none() {
+            // Total internal reflection: what would have crossed is reflected.
+            kr += kt;
+            kt = Vec3::ZERO;
+        }
+        if (weight * kr).max_element() >= self.min_weight {
+            let dir = reflect(d, n);
+            let child = Ray::new(offset_origin(sp.p, ng, dir), dir);
+            l += kr * self.radiance(&child, depth + 1, weight * kr, sampler, count);
+        }
+        if let Some(dir) = transmitted
+            && (weight * kt).max_element() >= self.min_weight
+        {
+            let child = Ray::new(offset_origin(sp.p, ng, dir), dir);
+            l += kt * self.radiance(&child, depth + 1, weight * kt, sampler, count);
+        }
+        absorbed * l
+    }
+
+    /// The first surface along `ray` that is not cut out by its alpha map.
+    fn first_hit(&self, ray: &Ray) -> Option<(Hit, SurfacePoint)> {
+        let mut r = *ray;
+        let mut travelled = 0.0;
+        for _ in 0..MAX_CROSSINGS {
+            let hit = self.accel.closest(&r, f32::INFINITY)?;
+            let sp = self.scene.surface_point(hit.shape, &r, hit.t);
+            if !self.cut_out(hit.shape, &sp) {
+                return Some((
+                    Hit {
+                        t: travelled + hit.t,
+                        shape: hit.shape,
+                    },
+                    sp,
+                ));
+            }
+            travelled += hit.t;
+            r = Ray {
+                origin: offset_origin(sp.p, sp.ng, r.dir),
+                dir: r.dir,
+            };
+        }
+        None
+    }
+
+    #[inline]
+    fn cut_out(&self, shape: u32, sp: &SurfacePoint) -> bool {
+        let Some(slot) = &self.surface(shape).alpha_map else {
+            return false;
+        };
+        self.scene.images[slot.image as usize]
+            .sample_slot(slot, sp.uv)
+            .w
+            < 0.5
+    }
+
+    /// Fraction (per channel) of a light sample's light that reaches the point: zero
+    /// behind an opaque surface, tinted by each transparent surface crossed.
+    fn visibility(&self, from: Vec3, ng: Vec3, ls: &LightSample, count: &mut RayCount) -> Vec3 {
+        count.rays += 1;
+        let origin = offset_origin(from, ng, ls.dir);
+        // Stop short of the light itself: an emissive mesh is geometry too.
+        let t_max = if ls.dist.is_finite() {
+            ls.dist * (1.0 - 1e-4) - surface_epsilon(origin)
+        } else {
+            f32::INFINITY
+        };
+        if t_max <= 0.0 {
+            return Vec3::ONE;
+        }
+        let ray = Ray {
+            origin,
+            dir: ls.dir,
+        };
+        if !self.see_through {
+            return if self.accel.occluded(&ray, t_max, |_| true) {
+                Vec3::ZERO
+            } else {
+                Vec3::ONE
+            };
+        }
+        let opaque = |shape: u32| {
+            let s = self.surface(shape);
+            !s.is_transmissive() && s.alpha_map.is_none()
+        };
+        if self.accel.occluded(&ray, t_max, opaque) {
+            return Vec3::ZERO;
+        }
+        // Only see-through surfaces remain on the way: walk them.
+        let mut vis = Vec3::ONE;
+        let mut r = ray;
+        let mut left = t_max;
+        for _ in 0..MAX_CROSSINGS {
+            let Some(hit) = self.accel.closest(&r, left) else {
+                return vis;
+            };
+            let sp = self.scene.surface_point(hit.shape, &r, hit.t);
+            if !self.cut_out(hit.shape, &sp) {
+                let s = self.surface(hit.shape);
+                vis *= s.transmission;
+                if vis.max_element() <= 0.0 {
+                    return Vec3::ZERO;
+                }
+            }
+            let next = offset_origin(sp.p, sp.ng, r.dir);
+            left -= (next - r.origin).length();
+            if left <= 0.0 {
+                return vis;
+            }
+            r.origin = next;
+        }
+        vis
+    }
+
+    /// The albedo C at a hit.
+    fn albedo(&self, s: &Surface, sp: &SurfacePoint, shape: u32) -> Vec3 {
+        match &s.albedo {
+            Albedo::Color(c) => *c,
+            Albedo::Image { slot, tint } => {
+                let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
+                Vec3::new(c.x, c.y, c.z) * *tint
+            }
+            Albedo::Checker { a, b, scale } => {
+                let q = (sp.p / scale.max(f32::MIN_POSITIVE)).floor();
+                let parity = (q.x + q.y + q.z).rem_euclid(2.0);
+                if parity < 0.5 { *a } else { *b }
+            }
+            Albedo::Classic => srgb_to_linear(self.scene.surface_color(shape, sp.p)),
+        }
+    }
+
+    fn background(&self, d: Vec3) -> Vec3 {
+        match &self.scene.background {
+            Background::Black => Vec3::ZERO,
+            Background::Color(c) => *c,
+            Background::Environment {
+                image,
+                up,
+                forward,
+                intensity,
+            } => self.scene.images[*image as usize].sample_direction(d, *up, *forward) * *intensity,
+        }
+    }
+
+    /// Calls `f` with each sample of `light` seen from `p`: one for a point, spot or
+    /// directional light, `light.samples` stratified ones for an area light.
+    fn for_each_sample(
+        &self,
+        light: &Light,
+        p: Vec3,
+        sampler: &mut PixelSampler,
+        mut f: impl FnMut(LightSample),
+    ) {
+        let power = light.color * light.intensity;
+        let n = light.samples.max(1);
+        match &light.kind {
+            LightKind::Point | LightKind::Spot { .. } => {
+                let to = light.position - p;
+                let dist = to.length();
+                if dist <= 0.0 || !dist.is_finite() {
+                    return;
+                }
+                let dir = to / dist;
+                let mut e = power;
+                if light.falloff == Falloff::InverseSquare {
+                    e /= dist * dist;
+                }
+                if let LightKind::Spot {
+                    direction,
+                    cos_inner,
+                    cos_outer,
+                } = light.kind
+                {
+                    let cos = (-dir).dot(direction.normalize_or_zero());
+                    e *= smoothstep(cos_outer, cos_inner, cos);
+                }
+                f(LightSample { dir, dist, e });
+            }
+            LightKind::Directional { direction } => {
+                let dir = -direction.normalize_or_zero();
+                if dir != Vec3::ZERO {
+                    f(LightSample {
+                        dir,
+                        dist: f32::INFINITY,
+                        e: power,
+                    });
+                }
+            }
+            LightKind::Quad { u, v } => {
+                let normal = u.cross(*v);
+                let area = normal.length();
+                let normal = normal / area;
+                for i in 0..n {
+                    let (a, b) = sampler.square_sample(i, n);
+                    let y = light.position + *u * (a - 0.5) + *v * (b - 0.5);
+                    if let Some(ls) = area_sample(p, y, normal, area / n as f32, power, false) {
+                        f(ls);
+                    }
+                }
+            }
+            LightKind::Disk { normal, radius } => {
+                let normal = normal.normalize_or(Vec3::Y);
+                let (t1, t2) = normal.any_orthonormal_pair();
+                let area = std::f32::consts::PI * radius * radius;
+                for i in 0..n {
+                    let (a, b) = sampler.disk_sample(i, n);
+                    let y = light.position + (t1 * a + t2 * b) * *radius;
+                    if let Some(ls) = area_sample(p, y, normal, area / n as f32, power, false) {
+                        f(ls);
+                    }
+                }
+            }
+            LightKind::Sphere { radius } => {
+                // Directions inside the cone the sphere fills, uniform in solid angle.
+                let to = light.position - p;
+                let d2 = to.length_squared();
+                let r2 = radius * radius;
+                if d2 <= r2 {
+                    return;
+                }
+                let dist_c = d2.sqrt();
+                let axis = to / dist_c;
+                let cos_max = (1.0 - r2 / d2).max(0.0).sqrt();
+                let solid_angle = std::f32::consts::TAU * (1.0 - cos_max);
+                let (t1, t2) = axis.any_orthonormal_pair();
+                for i in 0..n {
+                    let (a, b) = sampler.square_sample(i, n);
+                    let cos = 1.0 - a * (1.0 - cos_max);
+                    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+                    let (sp, cp) = (b * std::f32::consts::TAU).sin_cos();
+                    let dir = (axis * cos + t1 * (sin * cp) + t2 * (sin * sp)).normalize();
+                    // Distance to the near side of the sphere along `dir`.
+                    let along = dist_c * cos;
+                    let dist = along - (r2 - (d2 - along * along)).max(0.0).sqrt();
+                    f(LightSample {
+                        dir,
+                        dist,
+                        e: power * (solid_angle / n as f32),
+                    });
+                }
+            }
+            LightKind::Mesh {
+                first,
+                count,
+                cdf,
+                area,
+            } => {
+                for i in 0..n {
+                    let (a, b) = sampler.square_sample(i, n);
+                    let k = cdf.partition_point(|&c| c <= a).min(*count as usize - 1);
+                    let shape = first + k as u32;
+                    let Shape::Triangle(tri) = self.scene.shapes[shape as usize] else {
+                        continue;
+                    };
+                    // Reuse the stratified coordinate within the chosen triangle.
+                    let lo = if k == 0 { 0.0 } else { cdf[k - 1] };
+                    let within = ((a - lo) / (cdf[k] - lo).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+                    let su = within.sqrt();
+                    let [v0, v1, v2] = tri.v;
+                    let y = v0 * (1.0 - su) + v1 * (su * (1.0 - b)) + v2 * (su * b);
+                    let le = self.surface(shape).emission * light.intensity;
+                    if let Some(ls) = area_sample(p, y, tri.normal(), area / n as f32, le, true) {
+                        f(ls);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A sample at `y` on an emitter of radiance `le` with unit normal `normal`, standing
+/// for `area` of its surface: irradiance `le cos_l area / r^2` toward `p`. One-sided
+/// emitters light only the side their normal faces.
+#[inline]
+fn area_sample(
+    p: Vec3,
+    y: Vec3,
+    normal: Vec3,
+    area: f32,
+    le: Vec3,
+    two_sided: bool,
+) -> Option<LightSample> {
+    let to = y - p;
+    let d2 = to.length_squared();
+    if d2 <= 0.0 || !d2.is_finite() {
+        return None;
+    }
+    let dist = d2.sqrt();
+    let dir = to / dist;
+    let mut cos_l = -normal.dot(dir);
+    if two_sided {
+        cos_l = cos_l.abs();
+    }
+    if cos_l <= 0.0 {
+        return None;
+    }
+    Some(LightSample {
+        dir,
+        dist,
+        e: le * (cos_l * area / d2),
+    })
+}
+
+/// The highlight term s(N, L, V), normalised if the material asks.
+#[inline]
+fn highlight(s: &Surface, n: Vec3, l: Vec3, v: Vec3) -> f32 {
+    let (cos, norm) = match s.highlight {
+        Highlight::Phong => (reflect(-l, n).dot(v), (s.shininess + 2.0) / 2.0),
+        Highlight::BlinnPhong => {
+            let h = (l + v).normalize_or_zero();
+            (n.dot(h), (s.shininess + 8.0) / 8.0)
+        }
+    };
+    if cos <= 0.0 {
+        return 0.0;
+    }
+    let value = cos.powf(s.shininess);
+    if s.normalized { value * norm } else { value }
+}
+
+#[inline]
+fn smoothstep(lo: f32, hi: f32, x: f32) -> f32 {
+    if hi <= lo {
+        return if x >= hi { 1.0 } else { 0.0 };
+    }
+    let t = ((x - lo) / (hi - lo)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+impl Integrator for Whitted<'_> {
+    #[inline]
+    fn trace_camera_ray(
+        &self,
+        ray: Ray,
+        sampler: &mut PixelSampler,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        let l = self.radiance(&ray, 0, Vec3::ONE, sampler, count);
+        // Every camera ray counts once: the pixel is the plain mean of its rays.
+        let l = if l.is_finite() { l } else { Vec3::ZERO };
+        acc.sum += l;
+        acc.weight += 1.0;
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,110 @@
+//! Lights: the 2014 point light, and the kinds the physically based model adds
+//! (SPEC 4.3): directional, spot, and area lights sampled with stratified shadow rays.
+
+use crate::math::Vec3;
+
+/// A light. The classic model uses only `position` (every light is a white point light
+/// there); the whitted model uses everything.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    /// Where a point or spot light sits; the centre of an area light (its shape is
+    /// given relative to it, so moving the position moves the whole light).
+    pub position: Vec3,
+    /// Linear RGB. For point, spot and directional lights `color * intensity` is the
+    /// irradiance a surface facing the light receives (before any falloff); for area
+    /// lights it is the emitted radiance.
+    pub color: Vec3,
+    pub intensity: f32,
+    pub kind: LightKind,
+    pub falloff: Falloff,
+    /// Shadow rays per shading point for area lights (stratified, seeded per pixel).
+    pub samples: u32,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightKind {
+    Point,
+    /// Light arriving from infinitely far along `direction` (the way it travels).
+    Directional {
+        direction: Vec3,
+    },
+    /// A point light shining along `direction`, full inside `cos_inner`, fading smoothly
+    /// to nothing at `cos_outer`.
+    Spot {
+        direction: Vec3,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
+    /// A parallelogram `position + s u + t v`, `s, t` in `[-1/2, 1/2]`, emitting on the
+    /// side `u x v` points to.
+    Quad {
+        u: Vec3,
+        v: Vec3,
+    },
+    /// A disk around `position` facing `normal`, emitting on that side.
+    Disk {
+        normal: Vec3,
+        radius: f32,
+    },
+    /// A sphere around `position`, emitting outward.
+    Sphere {
+        radius: f32,
+    },
+    /// The triangles `Scene::shapes[first..first + count]`, emitting with their
+    /// material's emission (an emissive mesh); `cdf` holds their cumulative areas,
+    /// normalised, so samples pick triangles in proportion to area.
+    Mesh {
+        first: u32,
+        count: u32,
+        cdf: Vec<f32>,
+        area: f32,
+    },
+}
+
+/// How a point or spot light dims with distance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Falloff {
+    /// No dimming, as in POV-Ray: easy to light a scene of any scale.
+    #[default]
+    None,
+    /// `1 / d^2`: physically right.
+    InverseSquare,
+}
+
+impl Light {
+    /// A white point light of intensity 1 (the 2014 format's lights).
+    pub fn point(position: Vec3, color: Vec3) -> Light {
+        Light {
+            position,
+            color,
+            intensity: 1.0,
+            kind: LightKind::Point,
+            falloff: Falloff::None,
+            samples: 1,
+        }
+    }
+
+    /// Whether the light has an extent, so its shadows are soft and it is sampled.
+    pub fn is_area(&self) -> bool {
+        matches!(
+            self.kind,
+            LightKind::Quad { .. }
+                | LightKind::Disk { .. }
+                | LightKind::Sphere { .. }
+                | LightKind::Mesh { .. }
+        )
+    }
+
+    /// The name of the light's kind, as the scene file and `prism info` spell it.
+    pub fn kind_name(&self) -> &'static str {
+        match self.kind {
+            LightKind::Point => "point",
+            LightKind::Directional { .. } => "directional",
+            LightKind::Spot { .. } => "spot",
+            LightKind::Quad { .. } => "quad",
+            LightKind::Disk { .. } => "disk",
+            LightKind::Sphere { .. } => "sphere",
+            LightKind::Mesh { .. } => "mesh",
+        }
+    }
+}

@@ -1,0 +1,144 @@
+//! What the whitted model needs to know about a hit: where, which way the surface
+//! faces geometrically and for shading, and where textures are read.
+
+use super::{Scene, Shape};
+use crate::math::{Ray, Vec3};
+
+/// A hit, resolved for shading.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    pub p: Vec3,
+    /// Unit geometric normal, as the shape is wound (not turned toward the ray): for
+    /// inside/outside and for offsetting new rays.
+    pub ng: Vec3,
+    /// Unit shading normal (interpolated vertex normals where a mesh has them), on the
+    /// same side as `ng`.
+    pub n: Vec3,
+    /// Texture coordinates: a mesh's own, else the shape's natural parametrisation.
+    pub uv: [f32; 2],
+    /// Interpolated vertex colour (white where the mesh has none).
+    pub color: Vec3,
+    /// The point moved off the flat triangle toward the surface its vertex normals
+    /// describe, for the origins of shadow rays (see [`terminator_point`]).
+    pub shadow_origin: Vec3,
+}
+
+impl Scene {
+    /// The shading view of a hit at distance `t` on shape `shape`.
+    pub fn surface_point(&self, shape: u32, ray: &Ray, t: f32) -> SurfacePoint {
+        let p = ray.at(t);
+        let s = &self.shapes[shape as usize];
+        let ng = s.normal(p);
+        let mut sp = SurfacePoint {
+            p,
+            ng,
+            n: ng,
+            uv: [0.0, 0.0],
+            color: Vec3::ONE,
+            shadow_origin: p,
+        };
+        match s {
+            Shape::Triangle(tri) => {
+                let b = barycentrics(tri.v, p);
+                sp.uv = [b[1], b[2]];
+                if let Some((mesh, i)) = self.mesh_of(shape) {
+                    if let Some(n) = mesh.normal(i, b) {
+                        // Vertex normals may be wound against the triangle: follow ng.
+                        sp.n = if n.dot(ng) < 0.0 { -n } else { n };
+                    }
+                    if let Some(normals) = mesh.vertex_normals(i) {
+                        sp.shadow_origin = terminator_point(tri.v, normals, b, p);
+                    }
+                    if let Some(uv) = mesh.texcoord(i, b) {
+                        sp.uv = uv;
+                    }
+                    if let Some(c) = mesh.color(i, b) {
+                        sp.color = c;
+                    }
+                }
+            }
+            Shape::Rectangle(r) => {
+                let c = r.surface_coords(p);
+                let u = if c.len_x > 0.0 { c.x / c.len_x } else { 0.0 };
+                let v = if c.len_y > 0.0 { c.y / c.len_y } else { 0.0 };
+                sp.uv = [u, v];
+            }
+            Shape::Sphere(_) => {
+                // Latitude-longitude with +y up, u = 0 at -z... seam behind: a common
+                // convention for spheres in y-up scenes.
+                let d = ng;
+                let u = 0.5 + d.x.atan2(d.z) / std::f32::consts::TAU;
+                let v = 0.5 + d.y.clamp(-1.0, 1.0).asin() / std::f32::consts::PI;
+                sp.uv = [u, v];
+            }
+        }
+        sp
+    }
+}
+
+/// Barycentric coordinates of `p` (on or near the triangle's plane) for `v0 v1 v2`.
+pub fn barycentrics(v: [Vec3; 3], p: Vec3) -> [f32; 3] {
+    let (e1, e2, d) = (v[1] - v[0], v[2] - v[0], p - v[0]);
+    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let (dp1, dp2) = (d.dot(e1), d.dot(e2));
+    let det = d11 * d22 - d12 * d12;
+    if det == 0.0 || !det.is_finite() {
+        return [1.0, 0.0, 0.0];
+    }
+    let b1 = ((d22 * dp1 - d12 * dp2) / det).clamp(0.0, 1.0);
+    let b2 = ((d11 * dp2 - d12 * dp1) / det).clamp(0.0, 1.0);
+    let b0 = (1.0 - b1 - b2).max(0.0);
+    [b0, b1, b2]
+}
+
+/// Hanika's shadow-terminator fix ("Hacking the Shadow Terminator", Ray Tracing Gems
+/// II, ch. 4): the point on the curved surface the vertex normals describe, found by
+/// projecting `p` onto each vertex's tangent plane and blending the projections with
+/// the barycentrics. A shadow ray leaving from there does not graze the neighbouring
+/// flat triangles, so low-polygon smooth meshes have no black stair-steps where light
+/// turns away.
+pub fn terminator_point(v: [Vec3; 3], n: [Vec3; 3], b: [f32; 3], p: Vec3) -> Vec3 {
+    let ng = (v[1] - v[0]).cross(v[2] - v[0]);
+    let mut lifted = Vec3::ZERO;
+    for i in 0..3 {
+        let ni = n[i].normalize_or_zero();
+        let ni = if ni.dot(ng) < 0.0 { -ni } else { ni };
+        // Below the tangent plane (a convex patch): lift; above it (concave): stay.
+        let d = (p - v[i]).dot(ni).min(0.0);
+        lifted += (p - d * ni) * b[i];
+    }
+    if lifted.is_finite() { lifted } else { p }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn barycentrics_of_the_corners_and_the_centroid() {
+        let v = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        assert_eq!(barycentrics(v, Vec3::ZERO), [1.0, 0.0, 0.0]);
+        assert_eq!(barycentrics(v, Vec3::X), [0.0, 1.0, 0.0]);
+        assert_eq!(
+            barycentrics(v, Vec3::new(0.25, 0.5, 0.0)),
+            [0.25, 0.25, 0.5]
+        );
+    }
+
+    #[test]
+    fn terminator_point_lifts_onto_a_sphere_and_leaves_flat_patches_alone() {
+        // A flat triangle with its own normal at every vertex: nothing moves.
+        let v = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let p = Vec3::new(0.25, 0.25, 0.0);
+        assert_eq!(terminator_point(v, [Vec3::Z; 3], [0.5, 0.25, 0.25], p), p);
+        // A triangle cut from the unit sphere, normals radial: the centroid rises
+        // toward the sphere (but not past it).
+        let v = [Vec3::X, Vec3::Y, Vec3::Z];
+        let c = (v[0] + v[1] + v[2]) / 3.0;
+        let q = terminator_point(v, v, [1.0 / 3.0; 3], c);
+        assert!(
+            q.length() > c.length() + 0.1 && q.length() <= 1.0 + 1e-6,
+            "{q}"
+        );
+    }
+}
