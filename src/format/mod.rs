@@ -24,7 +24,77 @@ mod text;
 use std::path::Path;
 
 use crate::Result;
+use crate::film::resample::Filter;
+use crate::render::IntegratorKind;
 use crate::scene::{Camera, Scene};
+
+/// What a scene file says: the scene, and for the dialects that can say them (Prism
+/// scene files), a camera and render settings. Front ends merge their own options over
+/// `settings` and fall back to a default camera when there is none.
+#[derive(Clone, Debug)]
+pub struct SceneFile {
+    pub dialect: SceneDialect,
+    pub scene: Scene,
+    pub camera: Option<Camera>,
+    pub settings: FileSettings,
+    /// What was read but not understood or not found (`file:line: message`): the peers
+    /// are lenient with these, and so is Prism, but it says so.
+    pub warnings: Vec<String>,
+}
+
+/// Render settings a scene file may state; `None` leaves the front end's default.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FileSettings {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub aa: Option<u32>,
+    pub filter: Option<Filter>,
+    /// Camera rays per pixel (lens samples for depth of field).
+    pub spp: Option<u32>,
+    pub max_depth: Option<u32>,
+    pub min_weight: Option<f32>,
+    pub seed: Option<u64>,
+    pub integrator: Option<IntegratorKind>,
+    /// Exposure in stops.
+    pub exposure: Option<f32>,
+    /// `clamp`, `reinhard` or `aces`.
+    pub tonemap: Option<String>,
+}
+
+impl SceneDialect {
+    /// The shading model a file of this dialect is rendered with unless told otherwise.
+    pub fn default_integrator(self) -> IntegratorKind {
+        match self {
+            SceneDialect::Objx2014 => IntegratorKind::Classic,
+            _ => IntegratorKind::Whitted,
+        }
+    }
+
+    /// The name `prism info` and `--dialect` use.
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneDialect::Objx2014 => "objx",
+            SceneDialect::WavefrontObj => "obj",
+        }
+    }
+}
+
+/// Reads any scene file, with the dialect its extension names.
+pub fn load(path: &Path) -> Result<SceneFile> {
+    load_as(path, SceneDialect::for_path(path))
+}
+
+/// Reads any scene file in the given dialect.
+pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
+    let scene = load_scene_as(path, dialect)?;
+    Ok(SceneFile {
+        dialect,
+        scene,
+        camera: None,
+        settings: FileSettings::default(),
+        warnings: Vec::new(),
+    })
+}
 
 /// The dialects a scene file can be written in.
 ///
