@@ -15,5 +15,6 @@ pub mod format;
 pub mod math;
 pub mod render;
 pub mod scene;
+pub mod still;
 
 pub use error::{Error, Result};

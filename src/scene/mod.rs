@@ -1,6 +1,7 @@
 //! The scene model: plain data, no I/O and no rendering.
 
 pub mod camera;
+pub mod framing;
 pub mod image;
 pub mod light;
 pub mod material;

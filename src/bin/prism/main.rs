@@ -37,7 +37,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene and camera to an image file.
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Measure intersector build time, memory and rays per second on a scene.
     Bench(BenchArgs),
     /// Rewrite a standard Wavefront OBJ mesh as a 2014 scene file.
@@ -46,7 +46,27 @@ enum Command {
     Animate(animate::AnimateArgs),
 }
 
+/// What `prism` alone prints: the commands, a line each.
+const COMMANDS: &str = "\
+Prism: a Whitted-style ray tracer.
+
+Usage: prism <COMMAND> [ARGS]...   (prism <COMMAND> --help for its options)
+
+Commands:
+  render    Render a scene (.objx, .obj, .ply or .toml) to an image
+  animate   Render every frame of an animation to images or a video
+  info      Print what Prism reads in a scene file: counts, bounds, warnings
+  bench     Measure intersector build time, memory and rays per second
+  convert   Rewrite a Wavefront OBJ mesh as a 2014 scene file
+
+prism SCENE CAMERA OUTPUT is the 2014 program's command line (= prism render).
+";
+
 fn main() -> ExitCode {
+    if std::env::args_os().len() <= 1 {
+        print!("{COMMANDS}");
+        return ExitCode::SUCCESS;
+    }
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Render(args)) => render::run(&args),

@@ -1,24 +1,49 @@
-//! `prism render`: one still image from a scene and a camera.
+//! `prism render`: one still image from a scene (and a camera, when the scene has none
+//! of its own and the default view will not do).
 
 use clap::Args;
 use prism::accel::AccelKind;
 use prism::film::output::check_output_path;
 use prism::film::resample::Filter;
 use prism::film::write_image;
-use prism::render::{Region, RenderSettings, Renderer};
+use prism::format::SceneDialect;
+use prism::math::Vec3;
+use prism::render::{IntegratorKind, Region, Renderer};
+use prism::still::{LookAt, StillOptions};
 use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// Scene file (.objx); mtllib and texture paths resolve against its folder.
+    /// Scene file: .objx (2014), .obj (Wavefront), .ply or .toml (Prism scene); paths
+    /// inside it resolve against its folder.
     #[arg(required = true)]
     pub scene: Option<PathBuf>,
-    /// Camera file (.cmr).
-    #[arg(required = true)]
+    /// [CAMERA] OUTPUT: an optional 2014 camera file (.cmr), then the output image;
+    /// the extension picks the format.
+    #[arg(required = true, num_args = 1..=2, value_name = "[CAMERA] OUTPUT")]
+    pub paths: Vec<PathBuf>,
+    /// Camera file (.cmr), over the scene's own camera.
+    #[arg(long, value_name = "FILE")]
     pub camera: Option<PathBuf>,
-    /// Output image; the extension picks the format: png, bmp, jpg, ppm, tga.
-    #[arg(required = true)]
-    pub output: Option<PathBuf>,
+    /// Put the camera here (a right-handed look-at camera).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3)]
+    pub look_from: Option<Vec3>,
+    /// Aim the camera at this point.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3)]
+    pub look_at: Option<Vec3>,
+    /// The image's vertical for --look-from/--look-at and the default view (default:
+    /// 0,1,0; 0,0,1 for .objx scenes).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3)]
+    pub up: Option<Vec3>,
+    /// Horizontal field of view in degrees.
+    #[arg(long, value_name = "DEGREES")]
+    pub fov: Option<f32>,
+    /// Shading model (default: classic for .objx, whitted otherwise).
+    #[arg(long, value_parser = integrator_parser())]
+    pub integrator: Option<IntegratorKind>,
+    /// Read the scene file as this dialect, whatever its extension.
+    #[arg(long, value_parser = ["objx", "obj"])]
+    pub dialect: Option<String>,
     /// Image width in pixels; the field of view is kept (alone, the height follows the
     /// camera's aspect ratio).
     #[arg(long)]
@@ -32,22 +57,28 @@ pub struct RenderArgs {
     /// Anti-aliasing: render K times larger per axis and resample down.
     #[arg(long, value_name = "K")]
     pub aa: Option<u32>,
-    /// Resampling filter for anti-aliasing.
-    #[arg(long, value_name = "FILTER", default_value = "area", value_parser = ["nearest", "bilinear", "area", "bicubic", "lanczos"])]
-    pub aa_filter: String,
+    /// Resampling filter for anti-aliasing (default: area).
+    #[arg(long, value_name = "FILTER", value_parser = ["nearest", "bilinear", "area", "bicubic", "lanczos"])]
+    pub aa_filter: Option<String>,
     /// Camera rays per pixel; more than 1 turns on depth of field.
     #[arg(long, value_name = "N")]
     pub dof_rays: Option<u32>,
+    /// Whitted model: deepest reflection/refraction recursion (default 10).
+    #[arg(long, value_name = "N")]
+    pub max_depth: Option<u32>,
+    /// Whitted model: rays whose weight falls below this are not traced (default 1/255).
+    #[arg(long, value_name = "W")]
+    pub min_weight: Option<f32>,
     /// Intersector.
     #[arg(long, default_value = "bvh", value_parser = crate::accel_parser())]
     pub accel: AccelKind,
     /// Worker threads (default: every core). The image does not depend on it.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
-    /// Seed of the lens samples; the same seed gives the same image.
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
-    /// No progress bar.
+    /// Seed of the lens and light samples; the same seed gives the same image.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// No progress bar and no warnings.
     #[arg(long, short)]
     pub quiet: bool,
     /// Print one line of figures: rays traced, seconds, million rays per second.
@@ -56,31 +87,57 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: &RenderArgs) -> prism::Result<()> {
-    let (Some(scene_path), Some(camera_path), Some(output)) =
-        (&args.scene, &args.camera, &args.output)
-    else {
-        unreachable!("clap requires the three paths");
+    let Some(scene_path) = &args.scene else {
+        unreachable!("clap requires the scene");
+    };
+    let (camera_file, output) = match args.paths.as_slice() {
+        [output] => (args.camera.clone(), output),
+        [camera, output] => {
+            if args.camera.is_some() {
+                return Err(prism::Error::Settings(
+                    "a camera file is given twice: as a path and with --camera".into(),
+                ));
+            }
+            (Some(camera.clone()), output)
+        }
+        _ => unreachable!("clap takes one or two paths"),
     };
     // Refuse a bad output path before spending time on the render.
     check_output_path(output)?;
-    let scene = prism::format::load_scene(scene_path)?;
-    let camera = prism::format::load_camera(camera_path)?;
-    let settings = RenderSettings {
+    let options = StillOptions {
+        dialect: args.dialect.as_deref().map(dialect_of),
+        camera_file,
+        look: LookAt {
+            from: args.look_from,
+            at: args.look_at,
+            up: args.up,
+            fov: args.fov,
+        },
+        integrator: args.integrator,
         width: args.width,
         height: args.height,
         aa: args.aa,
         filter: args
             .aa_filter
-            .parse::<Filter>()
+            .as_deref()
+            .map(str::parse::<Filter>)
+            .transpose()
             .map_err(prism::Error::Settings)?,
         dof_rays: args.dof_rays,
         region: args.region,
         seed: args.seed,
         threads: args.threads,
         accel: args.accel,
-        ..RenderSettings::default()
+        max_depth: args.max_depth,
+        min_weight: args.min_weight,
     };
-    let renderer = Renderer::new(&scene, &camera, settings)?;
+    let still = prism::still::prepare(scene_path, &options)?;
+    if !args.quiet {
+        for w in &still.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    let renderer = Renderer::new(&still.scene, &still.camera, still.settings.clone())?;
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
     let (image, stats) = renderer.render(&|n| bar.inc(n))?;
     bar.finish_and_clear();
@@ -94,4 +151,32 @@ pub fn run(args: &RenderArgs) -> prism::Result<()> {
         );
     }
     Ok(())
+}
+
+fn dialect_of(name: &str) -> SceneDialect {
+    match name {
+        "objx" => SceneDialect::Objx2014,
+        _ => SceneDialect::WavefrontObj,
+    }
+}
+
+fn integrator_parser() -> impl clap::builder::TypedValueParser<Value = IntegratorKind> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(IntegratorKind::ALL.map(IntegratorKind::name))
+        .map(|name| name.parse().expect("clap accepts only listed names"))
+}
+
+/// `X,Y,Z`: three finite numbers.
+fn parse_vec3(text: &str) -> Result<Vec3, String> {
+    let parts: Vec<f32> = text
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("expected X,Y,Z (three numbers), found `{text}`"))?;
+    match parts.as_slice() {
+        &[x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!(
+            "expected X,Y,Z (three finite numbers), found `{text}`"
+        )),
+    }
 }

@@ -1,0 +1,137 @@
+//! A view for a model that brings no camera or lights: a three-quarter view framing
+//! its bounds, a key and a fill light, a neutral background. What `prism render
+//! model.obj out.png` shows.
+
+use super::{Background, Camera, Light, LightKind, Scene};
+use crate::math::{Aabb, Vec3};
+
+/// Horizontal field of view of the default camera, in degrees: a normal lens.
+pub const DEFAULT_FOV: f32 = 40.0;
+/// Width and height of the default view (16:9).
+pub const DEFAULT_SIZE: (u32, u32) = (960, 540);
+
+/// A camera looking at the centre of `bounds` from the front-left and above (with
+/// `up` the vertical), far enough that the bounding sphere fits the frame with a margin.
+pub fn three_quarter_view(bounds: Aabb, up: Vec3, width: u32, height: u32) -> Camera {
+    let up = up.normalize_or(Vec3::Y);
+    let (front, right) = horizontal_axes(up);
+    let (center, radius) = if bounds.is_empty() || !bounds.extent().is_finite() {
+        (Vec3::ZERO, 1.0)
+    } else {
+        (bounds.center(), (0.5 * bounds.extent().length()).max(1e-6))
+    };
+    let dir = (front - 0.75 * right + 0.5 * up).normalize();
+    // The narrower of the two fields of view must hold the sphere, with 10% to spare.
+    let half_h = (DEFAULT_FOV * 0.5).to_radians();
+    let half_v = (half_h.tan() * height as f32 / width.max(1) as f32).atan();
+    let distance = 1.1 * radius / half_h.min(half_v).sin();
+    Camera::look_at(
+        center + dir * distance,
+        center,
+        up,
+        DEFAULT_FOV,
+        width,
+        height,
+    )
+}
+
+/// Front and right for a given vertical: +z and +x when y is up (as OBJ exporters
+/// write), -y and +x when z is up.
+fn horizontal_axes(up: Vec3) -> (Vec3, Vec3) {
+    let helper = if up.z.abs() < 0.9 { Vec3::Z } else { -Vec3::Y };
+    let right = helper.cross(up).normalize_or(Vec3::X);
+    let right = if right.dot(Vec3::X) < 0.0 {
+        -right
+    } else {
+        right
+    };
+    let front = right.cross(up).normalize();
+    (front, right)
+}
+
+/// Adds what an unlit model needs to be seen from `camera`: a key light from the
+/// camera's upper left, a fill from its right at a third of the strength, and a
+/// neutral grey background where there is none. Directional lights: the scale of the
+/// model does not matter.
+pub fn add_default_lighting(scene: &mut Scene, camera: &Camera) {
+    let f = camera.frame();
+    let up = -f.down;
+    let key = (-f.right + 1.2 * up - 0.6 * f.forward).normalize();
+    let fill = (f.right + 0.2 * up - 0.8 * f.forward).normalize();
+    for (toward_light, intensity) in [(key, 0.9f32), (fill, 0.3)] {
+        scene.lights.push(Light {
+            kind: LightKind::Directional {
+                direction: -toward_light,
+            },
+            intensity,
+            ..Light::point(Vec3::ZERO, Vec3::ONE)
+        });
+    }
+    scene.ambient = scene.ambient.max(Vec3::splat(0.03));
+    if scene.background == Background::Black {
+        scene.background = Background::Color(Vec3::splat(0.18));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_view_frames_the_bounds_from_front_left_above() {
+        let bounds = Aabb {
+            min: Vec3::new(-1.0, 0.0, -1.0),
+            max: Vec3::new(1.0, 2.0, 1.0),
+        };
+        let c = three_quarter_view(bounds, Vec3::Y, 1600, 900);
+        let f = c.frame();
+        // Looks at the centre.
+        let to_center = (bounds.center() - c.eye).normalize();
+        assert!((f.forward - to_center).length() < 1e-5);
+        // From the front (+z), the left (-x) and above (+y).
+        assert!(
+            c.eye.z > 1.0 && c.eye.x < -1.0 && c.eye.y > 1.0,
+            "{}",
+            c.eye
+        );
+        // Every corner of the box is inside the frame.
+        for i in 0..8 {
+            let p = Vec3::new(
+                if i & 1 == 0 { -1.0 } else { 1.0 },
+                if i & 2 == 0 { 0.0 } else { 2.0 },
+                if i & 4 == 0 { -1.0 } else { 1.0 },
+            );
+            let d = p - c.eye;
+            let z = d.dot(f.forward);
+            let x = d.dot(f.right) / z / (c.retina_scale * c.width as f32);
+            let y = d.dot(f.down) / z / (c.retina_scale * c.height as f32);
+            assert!(x.abs() < 1.0 && y.abs() < 1.0, "corner {p} at {x}, {y}");
+        }
+    }
+
+    #[test]
+    fn z_up_models_are_seen_upright() {
+        let bounds = Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ONE,
+        };
+        let c = three_quarter_view(bounds, Vec3::Z, 960, 540);
+        assert!(c.frame().down.z < -0.8, "{:?}", c.frame());
+        assert!(c.eye.z > 1.0);
+    }
+
+    #[test]
+    fn default_lighting_adds_a_key_and_a_fill_and_a_grey_background() {
+        let mut s = Scene::default();
+        let c = three_quarter_view(Aabb::EMPTY, Vec3::Y, 16, 9);
+        add_default_lighting(&mut s, &c);
+        assert_eq!(s.lights.len(), 2);
+        assert!(s.lights[0].intensity > s.lights[1].intensity);
+        // The key light comes from above.
+        let LightKind::Directional { direction } = s.lights[0].kind else {
+            panic!("{:?}", s.lights[0]);
+        };
+        assert!(direction.y < 0.0);
+        assert_eq!(s.background, Background::Color(Vec3::splat(0.18)));
+    }
+}
