@@ -82,6 +82,7 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
         camera: file_camera,
         settings: fs,
         warnings,
+        ..
     } = file;
     let size = |o: Option<u32>, f: Option<u32>| o.or(f);
     let width = size(options.width, fs.width);
@@ -213,6 +214,7 @@ mod tests {
             camera: None,
             settings: FileSettings::default(),
             warnings: vec![],
+            counts: Default::default(),
         }
     }
 

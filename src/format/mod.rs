@@ -40,6 +40,18 @@ pub struct SceneFile {
     /// What was read but not understood or not found (`file:line: message`): the peers
     /// are lenient with these, and so is Prism, but it says so.
     pub warnings: Vec<String>,
+    /// What the file itself held, where the reader knows (`prism info`).
+    pub counts: SourceCounts,
+}
+
+/// Counts of the file's own records, before Prism builds its scene from them: `v`,
+/// `vn` and `vt` lines of an OBJ, vertex properties of a PLY. Zero where the format
+/// has none or the reader does not count them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SourceCounts {
+    pub vertices: usize,
+    pub normals: usize,
+    pub texcoords: usize,
 }
 
 /// Render settings a scene file may state; `None` leaves the front end's default.
@@ -93,6 +105,7 @@ pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
         camera: None,
         settings: FileSettings::default(),
         warnings: Vec::new(),
+        counts: SourceCounts::default(),
     })
 }
 
