@@ -258,7 +258,8 @@ mod tests {
             "{}",
             a.apply(0.18)
         );
-        // Saturates at 1 (the fit's limit is 2.51 / 2.43 > 1), also far out and at +inf.
+        // Saturates at 1 (the fit's limit is 2.51 / 2.43 > 1), from x = 7.24 (0.08 x² = 0.56 x + 0.14), also far out and at +inf.
+        assert!(a.apply(7.2) < 1.0 && a.apply(7.3) == 1.0);
         assert_eq!(
             [a.apply(1e6), a.apply(f32::MAX), a.apply(f32::INFINITY)],
             [1.0; 3]
