@@ -1,10 +1,15 @@
-//! The image being made: linear RGB in 0..1, the resampler that turns a supersampled
-//! frame into it, and the writers that store it.
+//! The image being made: linear RGB (0..1 for the classic model, unbounded radiance for
+//! the physically based one), the resampler that turns a supersampled frame into it, its
+//! development into display values, and the writers and readers that store it.
 
+pub mod develop;
+pub mod hdr_io;
 pub mod output;
 pub mod resample;
 
-pub use output::{OutputFormat, write_image};
+pub use develop::{Develop, ToneMap, Transfer};
+pub use hdr_io::{ExrPrecision, MAX_LINEAR_PIXELS, read_linear_image};
+pub use output::{OutputFormat, OutputOptions, PngBits, write_image, write_image_with};
 
 /// A floating-point RGB image, rows top to bottom.
 #[derive(Clone, Debug, PartialEq)]

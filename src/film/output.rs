@@ -2,10 +2,16 @@
 //! renamed over it only once complete, so a failed run never leaves a partial image.
 
 use super::Image;
+use super::develop::Develop;
+use super::hdr_io::{ExrPrecision, write_exr, write_hdr};
 use crate::{Error, Result};
-use image::ImageFormat;
+use image::codecs::png::PngEncoder;
+use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
+use image::{ExtendedColorType, ImageEncoder, ImageFormat};
+use std::fmt;
 use std::io::{BufWriter, Write};
 use std::path::Path;
+use std::str::FromStr;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OutputFormat {
@@ -14,10 +20,14 @@ pub enum OutputFormat {
     Jpeg,
     Ppm,
     Tga,
+    /// OpenEXR: linear radiance, half or float.
+    Exr,
+    /// Radiance RGBE: linear radiance, 8-bit mantissas sharing an exponent.
+    Hdr,
 }
 
 impl OutputFormat {
-    pub const EXTENSIONS: &'static str = "png, bmp, jpg/jpeg, ppm, tga";
+    pub const EXTENSIONS: &'static str = "png, bmp, jpg/jpeg, ppm, tga, exr, hdr";
 
     /// The format named by `path`'s extension (case-insensitive).
     pub fn from_path(path: &Path) -> Result<OutputFormat> {
@@ -32,6 +42,8 @@ impl OutputFormat {
             "jpg" | "jpeg" => OutputFormat::Jpeg,
             "ppm" => OutputFormat::Ppm,
             "tga" => OutputFormat::Tga,
+            "exr" => OutputFormat::Exr,
+            "hdr" => OutputFormat::Hdr,
             _ => {
                 return Err(Error::file(
                     path,
@@ -44,13 +56,57 @@ impl OutputFormat {
         })
     }
 
-    fn image_format(self) -> ImageFormat {
-        match self {
-            OutputFormat::Png => ImageFormat::Png,
-            OutputFormat::Bmp => ImageFormat::Bmp,
-            OutputFormat::Jpeg => ImageFormat::Jpeg,
-            OutputFormat::Ppm => ImageFormat::Pnm,
-            OutputFormat::Tga => ImageFormat::Tga,
+    /// Whether the file stores radiance as is rather than developed display values.
+    pub fn is_linear(self) -> bool {
+        matches!(self, OutputFormat::Exr | OutputFormat::Hdr)
+    }
+}
+
+/// Bits per channel of a PNG file; the other display formats always have 8.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum PngBits {
+    #[default]
+    Eight,
+    /// 65536 levels: no banding in smooth gradients, and room for later grading.
+    Sixteen,
+}
+
+impl fmt::Display for PngBits {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(match self {
+            PngBits::Eight => "8",
+            PngBits::Sixteen => "16",
+        })
+    }
+}
+
+impl FromStr for PngBits {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<PngBits, String> {
+        match s {
+            "8" => Ok(PngBits::Eight),
+            "16" => Ok(PngBits::Sixteen),
+            _ => Err(format!("unknown PNG depth `{s}`: expected 8 or 16")),
+        }
+    }
+}
+
+/// How an image becomes a file: display formats are developed, linear ones
+/// (`OutputFormat::is_linear`) ignore `develop` and store radiance.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OutputOptions {
+    pub develop: Develop,
+    pub png_bits: PngBits,
+    pub exr_precision: ExrPrecision,
+}
+
+impl OutputOptions {
+    /// The 2014 program's output: classic development, 8-bit PNG.
+    pub fn classic() -> OutputOptions {
+        OutputOptions {
+            develop: Develop::classic(),
+            ..OutputOptions::default()
         }
     }
 }
@@ -78,19 +134,53 @@ pub fn check_output_path(path: &Path) -> Result<OutputFormat> {
     Ok(format)
 }
 
-/// Writes `image` to `path` in the format its extension names.
+/// Writes `image` to `path` in the format its extension names, developed as the 2014
+/// program did (`OutputOptions::classic`): classic renders keep their exact bytes.
 pub fn write_image(image: &Image, path: &Path) -> Result<()> {
+    write_image_with(image, path, &OutputOptions::classic())
+}
+
+/// Writes `image` to `path` in the format its extension names.
+pub fn write_image_with(image: &Image, path: &Path, options: &OutputOptions) -> Result<()> {
     let format = check_output_path(path)?;
-    write_atomically(path, |w| {
-        image::write_buffer_with_format(
-            w,
-            &image.to_rgb8(),
-            image.width,
-            image.height,
-            image::ExtendedColorType::Rgb8,
-            format.image_format(),
-        )
-        .map_err(|e| Error::file(path, format!("cannot encode image: {e}")))
+    let cannot_encode =
+        |e: &dyn fmt::Display| Error::file(path, format!("cannot encode image: {e}"));
+    let (w, h) = (image.width, image.height);
+    write_atomically(path, |out| match format {
+        OutputFormat::Exr => {
+            write_exr(image, options.exr_precision, out).map_err(|e| cannot_encode(&e))
+        }
+        OutputFormat::Hdr => write_hdr(image, out).map_err(|e| cannot_encode(&e)),
+        OutputFormat::Png if options.png_bits == PngBits::Sixteen => {
+            let rgb16 = options.develop.to_rgb16(image);
+            // The encoder takes native-endian samples and stores them big-endian.
+            let bytes: Vec<u8> = rgb16.iter().flat_map(|v| v.to_ne_bytes()).collect();
+            PngEncoder::new(out)
+                .write_image(&bytes, w, h, ExtendedColorType::Rgb16)
+                .map_err(|e| cannot_encode(&e))
+        }
+        // Binary PPM (`P6`), which every tool reads, rather than the image crate's
+        // default for PNM output, PAM (`P7`).
+        OutputFormat::Ppm => PnmEncoder::new(out)
+            .with_subtype(PnmSubtype::Pixmap(SampleEncoding::Binary))
+            .write_image(
+                &options.develop.to_rgb8(image),
+                w,
+                h,
+                ExtendedColorType::Rgb8,
+            )
+            .map_err(|e| cannot_encode(&e)),
+        OutputFormat::Png | OutputFormat::Bmp | OutputFormat::Jpeg | OutputFormat::Tga => {
+            let image_format = match format {
+                OutputFormat::Png => ImageFormat::Png,
+                OutputFormat::Bmp => ImageFormat::Bmp,
+                OutputFormat::Jpeg => ImageFormat::Jpeg,
+                _ => ImageFormat::Tga,
+            };
+            let rgb8 = options.develop.to_rgb8(image);
+            image::write_buffer_with_format(out, &rgb8, w, h, ExtendedColorType::Rgb8, image_format)
+                .map_err(|e| cannot_encode(&e))
+        }
     })
 }
 
@@ -154,11 +244,158 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let e = write_image(&tiny(), &dir.path().join("a.xyz")).unwrap_err();
         assert!(
-            e.to_string().contains("unknown image extension `xyz`"),
+            e.to_string().contains(
+                "unknown image extension `xyz`: expected one of png, bmp, jpg/jpeg, ppm, tga, \
+                 exr, hdr"
+            ),
             "{e}"
         );
         let e = write_image(&tiny(), &dir.path().join("missing/a.png")).unwrap_err();
         assert!(e.to_string().contains("does not exist"), "{e}");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    /// What `write_image` wrote before development existed: today's 8-bit values through
+    /// the image crate.
+    fn legacy_bytes(image: &Image, format: ImageFormat) -> Vec<u8> {
+        let mut out = std::io::Cursor::new(Vec::new());
+        let (w, h) = (image.width, image.height);
+        image::write_buffer_with_format(
+            &mut out,
+            &image.to_rgb8(),
+            w,
+            h,
+            ExtendedColorType::Rgb8,
+            format,
+        )
+        .unwrap();
+        out.into_inner()
+    }
+
+    /// Classic-model values and beyond: out of range, NaN, rounding edges.
+    fn classic_render() -> Image {
+        let values = [
+            0.0,
+            0.2,
+            0.5,
+            0.5 / 255.0,
+            1.0,
+            1.7,
+            -0.3,
+            f32::NAN,
+            0.999,
+            0.25,
+        ];
+        let pixels = (0..12).map(|i| [values[i % 10], values[(i + 3) % 10], values[(i + 7) % 10]]);
+        Image::new(4, 3, pixels.collect())
+    }
+
+    #[test]
+    fn classic_outputs_keep_their_bytes() {
+        let dir = tempfile::tempdir().unwrap();
+        let image = classic_render();
+        for (ext, format) in [
+            ("png", ImageFormat::Png),
+            ("bmp", ImageFormat::Bmp),
+            ("jpg", ImageFormat::Jpeg),
+            ("tga", ImageFormat::Tga),
+        ] {
+            let p = dir.path().join(format!("a.{ext}"));
+            write_image(&image, &p).unwrap();
+            assert_eq!(
+                std::fs::read(&p).unwrap(),
+                legacy_bytes(&image, format),
+                "{ext}"
+            );
+        }
+    }
+
+    #[test]
+    fn ppm_is_binary_pixmap() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.ppm");
+        write_image(&tiny(), &p).unwrap();
+        let bytes = std::fs::read(&p).unwrap();
+        assert!(bytes.starts_with(b"P6\n"), "{:?}", &bytes[..8]);
+        // Netpbm allows any whitespace between the header's numbers.
+        assert_eq!(bytes, b"P6\n2 1 255\n\xff\x00\x00\x00\x80\xff");
+    }
+
+    #[test]
+    fn sixteen_bit_png_reads_back_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.png");
+        let image = Image::new(2, 1, vec![[0.0, 0.5, 1.0], [0.001, 3.0, f32::NAN]]);
+        let options = OutputOptions {
+            png_bits: PngBits::Sixteen,
+            ..OutputOptions::default()
+        };
+        write_image_with(&image, &p, &options).unwrap();
+        let back = image::open(&p).unwrap();
+        assert_eq!(back.color(), image::ColorType::Rgb16);
+        // sRGB: 0.5 -> 0.7353570 * 65535 = 48191.6; 0.001 -> 0.01292 * 65535 = 846.7.
+        assert_eq!(
+            back.into_rgb16().into_raw(),
+            [0, 48192, 65535, 847, 65535, 0]
+        );
+    }
+
+    #[test]
+    fn display_development_applies_to_eight_bit_outputs() {
+        let dir = tempfile::tempdir().unwrap();
+        let image = Image::new(1, 1, vec![[0.5, 0.25, 2.0]]);
+        let options = OutputOptions {
+            develop: Develop {
+                exposure: 1.0,
+                ..Develop::display()
+            },
+            ..OutputOptions::default()
+        };
+        for ext in ["png", "ppm", "bmp", "tga"] {
+            let p = dir.path().join(format!("a.{ext}"));
+            write_image_with(&image, &p, &options).unwrap();
+            // Doubled to 1, 0.5 and 4: sRGB 255, 188 and clamped 255.
+            let back = image::open(&p).unwrap().into_rgb8().into_raw();
+            assert_eq!(back, [255, 188, 255], "{ext}");
+        }
+        assert_eq!(OutputOptions::default().develop, Develop::display());
+        assert_eq!(OutputOptions::default().png_bits, PngBits::Eight);
+    }
+
+    #[test]
+    fn png_bits_parse() {
+        assert_eq!("8".parse::<PngBits>(), Ok(PngBits::Eight));
+        assert_eq!("16".parse::<PngBits>(), Ok(PngBits::Sixteen));
+        assert_eq!(PngBits::Sixteen.to_string(), "16");
+        let e = "12".parse::<PngBits>().unwrap_err();
+        assert_eq!(e, "unknown PNG depth `12`: expected 8 or 16");
+    }
+
+    #[test]
+    fn linear_formats_by_extension() {
+        let f = |name: &str| OutputFormat::from_path(Path::new(name)).unwrap();
+        assert_eq!(
+            (f("a.exr"), f("a.HDR")),
+            (OutputFormat::Exr, OutputFormat::Hdr)
+        );
+        assert!(f("a.exr").is_linear() && f("a.hdr").is_linear() && !f("a.png").is_linear());
+    }
+
+    #[test]
+    fn failed_encoding_leaves_no_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let empty = Image::new(0, 0, Vec::new());
+        let old = dir.path().join("old.png");
+        std::fs::write(&old, b"previous").unwrap();
+        for name in ["a.png", "a.exr", "a.jpg", "old.png"] {
+            let e = write_image(&empty, &dir.path().join(name)).unwrap_err();
+            assert!(e.to_string().contains("cannot encode image"), "{name}: {e}");
+        }
+        let left: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left, ["old.png"]);
+        assert_eq!(std::fs::read(&old).unwrap(), b"previous");
     }
 }

@@ -1,0 +1,368 @@
+//! Developing linear radiance into display values, as a photographer develops film:
+//! exposure, then a tone map that brings unbounded radiance into 0..1, then the transfer
+//! curve a display expects, then rounding to 8 or 16 bits.
+//!
+//! Each channel is developed on its own: `out = transfer(tonemap(2^exposure * radiance))`.
+//! Negative radiance (a sharpening filter's lobe) and NaN develop to 0, +∞ to full white,
+//! so a stray sample can never make an image fail to write.
+
+use super::{Image, quantize};
+use std::fmt;
+use std::str::FromStr;
+
+/// How radiance above 1 (after exposure) is brought into 0..1.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ToneMap {
+    /// `min(x, 1)`: what the classic model has always done.
+    #[default]
+    Clamp,
+    /// `x / (1 + x)` on each channel: never reaches 1, so highlights keep some detail and
+    /// saturated colours fade towards white as they brighten (luminance-based Reinhard
+    /// keeps the hue but pushes channels past 1, to be clipped again).
+    Reinhard,
+    /// Narkowicz's fit of the ACES filmic curve, on each channel:
+    /// `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, clamped to 0..1. Applied to
+    /// radiance as is (no 0.6 pre-scale; `--exposure -0.737` gives it).
+    Aces,
+}
+
+impl ToneMap {
+    pub const ALL: [ToneMap; 3] = [ToneMap::Clamp, ToneMap::Reinhard, ToneMap::Aces];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ToneMap::Clamp => "clamp",
+            ToneMap::Reinhard => "reinhard",
+            ToneMap::Aces => "aces",
+        }
+    }
+
+    /// Maps exposed radiance `x` (finite or +∞, not negative) into 0..1.
+    pub fn apply(self, x: f32) -> f32 {
+        if x == f32::INFINITY {
+            return 1.0;
+        }
+        match self {
+            ToneMap::Clamp => x.min(1.0),
+            ToneMap::Reinhard => x / (1.0 + x),
+            ToneMap::Aces => aces_narkowicz(x),
+        }
+    }
+}
+
+/// Computed in f64: for large `x` both quadratics overflow f32 long before their ratio
+/// settles at 2.51 / 2.43.
+fn aces_narkowicz(x: f32) -> f32 {
+    let x = f64::from(x);
+    let y = x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14);
+    y.clamp(0.0, 1.0) as f32
+}
+
+impl fmt::Display for ToneMap {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for ToneMap {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<ToneMap, String> {
+        ToneMap::ALL
+            .into_iter()
+            .find(|t| t.name() == s)
+            .ok_or_else(|| format!("unknown tone map `{s}`: expected clamp, reinhard or aces"))
+    }
+}
+
+/// The curve from tone-mapped values (0..1, linear) to the values stored in the file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Transfer {
+    /// IEC 61966-2-1: `12.92 v` up to `v = 0.0031308`, `1.055 v^(1/2.4) - 0.055` above.
+    /// What every viewer assumes of an untagged 8-bit image.
+    #[default]
+    Srgb,
+    /// No curve: values are stored as they are, as the 2014 program stored them.
+    Classic,
+}
+
+impl Transfer {
+    /// `v` in 0..1 to the stored value in 0..1.
+    pub fn encode(self, v: f32) -> f32 {
+        match self {
+            Transfer::Classic => v,
+            Transfer::Srgb => srgb_encode(v),
+        }
+    }
+}
+
+/// In f64, so that rounding to 16 bits sees the curve's true value.
+fn srgb_encode(v: f32) -> f32 {
+    let v = f64::from(v);
+    let e = if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
+    e as f32
+}
+
+/// Everything that turns radiance into stored display values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Develop {
+    /// In stops: radiance is multiplied by `2^exposure` first.
+    pub exposure: f32,
+    pub tonemap: ToneMap,
+    pub transfer: Transfer,
+}
+
+impl Default for Develop {
+    fn default() -> Develop {
+        Develop::display()
+    }
+}
+
+impl Develop {
+    /// The 2014 program's output, bit for bit: clamp to 0..1, no curve, round.
+    pub const fn classic() -> Develop {
+        Develop {
+            exposure: 0.0,
+            tonemap: ToneMap::Clamp,
+            transfer: Transfer::Classic,
+        }
+    }
+
+    /// Radiance shown as is on an sRGB display: clamp to 0..1, sRGB curve.
+    pub const fn display() -> Develop {
+        Develop {
+            exposure: 0.0,
+            tonemap: ToneMap::Clamp,
+            transfer: Transfer::Srgb,
+        }
+    }
+
+    /// One channel of radiance to its stored value in 0..1.
+    pub fn channel(&self, radiance: f32) -> f32 {
+        let exposed = if self.exposure == 0.0 {
+            radiance
+        } else {
+            radiance * self.exposure.exp2()
+        };
+        // NaN and negatives (and 0 × ∞ from an extreme exposure) develop to black.
+        let exposed = if exposed > 0.0 { exposed } else { 0.0 };
+        self.transfer.encode(self.tonemap.apply(exposed))
+    }
+
+    /// 8-bit RGB, rounded to nearest.
+    pub fn to_rgb8(&self, image: &Image) -> Vec<u8> {
+        let values = image.pixels.iter().flatten();
+        values.map(|&v| quantize(self.channel(v))).collect()
+    }
+
+    /// 16-bit RGB, rounded to nearest.
+    pub fn to_rgb16(&self, image: &Image) -> Vec<u16> {
+        let values = image.pixels.iter().flatten();
+        values.map(|&v| quantize16(self.channel(v))).collect()
+    }
+}
+
+/// 0..1 to 0..65535, rounded; NaN and out-of-range values are clamped.
+pub fn quantize16(v: f32) -> u16 {
+    if v.is_nan() {
+        return 0;
+    }
+    (v.clamp(0.0, 1.0) * 65535.0).round() as u16
+}
+
+/// Parses an exposure in stops for the command line: finite, within ±64 stops (beyond
+/// that every pixel is black or white).
+pub fn parse_exposure(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(ev) if ev.is_finite() && ev.abs() <= 64.0 => Ok(ev),
+        _ => Err(format!(
+            "expected an exposure in stops between -64 and 64, found `{s}`"
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn gray(v: f32) -> Image {
+        Image::new(1, 1, vec![[v; 3]])
+    }
+
+    fn rgb8(d: Develop, v: f32) -> u8 {
+        d.to_rgb8(&gray(v))[0]
+    }
+
+    fn rgb16(d: Develop, v: f32) -> u16 {
+        d.to_rgb16(&gray(v))[0]
+    }
+
+    #[test]
+    fn srgb_curve_exact_values() {
+        let d = Develop::display();
+        assert_eq!((rgb8(d, 0.0), rgb16(d, 0.0)), (0, 0));
+        assert_eq!((rgb8(d, 1.0), rgb16(d, 1.0)), (255, 65535));
+        // 1.055 * 0.5^(1/2.4) - 0.055 = 0.735356983...: 187.516 -> 188, 48191.62 -> 48192.
+        assert_eq!(rgb8(d, 0.5), 188);
+        assert_eq!(rgb16(d, 0.5), 48192);
+        // The linear segment ends at 0.0031308 -> 12.92 * 0.0031308 = 0.04044994:
+        // 10.31 in 8 bits, 2650.87 in 16.
+        assert_eq!(rgb8(d, 0.003_130_8), 10);
+        assert_eq!(rgb16(d, 0.003_130_8), 2651);
+        assert_eq!(rgb16(d, 0.001), 847); // 0.01292 * 65535 = 846.7
+        // The two pieces meet: no jump across the boundary.
+        let below = Transfer::Srgb.encode(0.003_130_8);
+        let above = Transfer::Srgb.encode(0.003_130_8f32.next_up());
+        assert!((above - below).abs() < 1e-6, "{below} {above}");
+    }
+
+    #[test]
+    fn exposure_is_in_stops() {
+        let plus1 = Develop {
+            exposure: 1.0,
+            ..Develop::classic()
+        };
+        let minus2 = Develop {
+            exposure: -2.0,
+            ..Develop::classic()
+        };
+        assert_eq!(plus1.channel(0.25), 0.5);
+        assert_eq!(plus1.channel(0.3), 0.6);
+        assert_eq!(minus2.channel(0.8), 0.2);
+        assert_eq!(rgb8(plus1, 0.25), rgb8(Develop::classic(), 0.5));
+    }
+
+    #[test]
+    fn reinhard_and_aces_at_known_inputs() {
+        let r = ToneMap::Reinhard;
+        assert_eq!(
+            [
+                r.apply(0.0),
+                r.apply(1.0),
+                r.apply(3.0),
+                r.apply(f32::INFINITY)
+            ],
+            [0.0, 0.5, 0.75, 1.0]
+        );
+        let a = ToneMap::Aces;
+        assert_eq!(a.apply(0.0), 0.0);
+        // 1 * 2.54 / 3.16 = 0.80379746...
+        assert_eq!(a.apply(1.0), (2.54f64 / 3.16) as f32);
+        // 0.18 (middle grey): 0.18 * 0.4818 / (0.18 * 1.0274 + 0.14) = 0.266899...
+        assert!(
+            (a.apply(0.18) - 0.266_899).abs() < 1e-6,
+            "{}",
+            a.apply(0.18)
+        );
+        // Saturates at 1 (the fit's limit is 2.51 / 2.43 > 1), from x = 7.24 (0.08 x² = 0.56 x + 0.14), also far out and at +inf.
+        assert!(a.apply(7.2) < 1.0 && a.apply(7.3) == 1.0);
+        assert_eq!(
+            [a.apply(1e6), a.apply(f32::MAX), a.apply(f32::INFINITY)],
+            [1.0; 3]
+        );
+        assert_eq!(ToneMap::Clamp.apply(7.0), 1.0);
+        // Through a Develop: Reinhard of 1 is 0.5, no curve -> 128 (127.5 rounds up).
+        let d = Develop {
+            tonemap: ToneMap::Reinhard,
+            ..Develop::classic()
+        };
+        assert_eq!(rgb8(d, 1.0), 128);
+    }
+
+    #[test]
+    fn non_finite_and_negative_radiance() {
+        for d in [Develop::classic(), Develop::display()] {
+            for t in ToneMap::ALL {
+                let d = Develop { tonemap: t, ..d };
+                let img = Image::new(
+                    4,
+                    1,
+                    vec![
+                        [f32::NAN; 3],
+                        [f32::INFINITY; 3],
+                        [f32::NEG_INFINITY; 3],
+                        [-2.0; 3],
+                    ],
+                );
+                assert_eq!(d.to_rgb8(&img), [0, 0, 0, 255, 255, 255, 0, 0, 0, 0, 0, 0]);
+                assert_eq!(d.to_rgb16(&img)[3..6], [65535; 3]);
+            }
+        }
+        // An exposure so large that 2^EV overflows: 0 stays black, not NaN.
+        let huge = Develop {
+            exposure: 200.0,
+            ..Develop::display()
+        };
+        assert_eq!(
+            huge.to_rgb8(&Image::new(2, 1, vec![[0.0; 3], [1e-30; 3]])),
+            [0, 0, 0, 255, 255, 255]
+        );
+    }
+
+    #[test]
+    fn classic_matches_quantize_bit_for_bit() {
+        // Every 1/16 of an 8-bit step over -0.1..1.1, around every rounding boundary, and
+        // the special values: classic development must equal `Image::to_rgb8`.
+        let mut values: Vec<f32> = (-400..=4500).map(|i| i as f32 / (255.0 * 16.0)).collect();
+        for k in 0..=255 {
+            let edge = (k as f32 + 0.5) / 255.0;
+            values.extend([edge, edge.next_down(), edge.next_up()]);
+        }
+        values.extend([
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            -0.0,
+            f32::MAX,
+            1e-40,
+        ]);
+        let pixels: Vec<[f32; 3]> = values.iter().map(|&v| [v, 1.0 - v, v * 0.5]).collect();
+        let img = Image::new(pixels.len() as u32, 1, pixels);
+        assert_eq!(Develop::classic().to_rgb8(&img), img.to_rgb8());
+    }
+
+    #[test]
+    fn quantize16_rounds_and_clamps() {
+        assert_eq!(quantize16(0.5), 32768); // 32767.5 rounds away from zero
+        assert_eq!(quantize16(0.49 / 65535.0), 0);
+        assert_eq!(quantize16(0.51 / 65535.0), 1);
+        assert_eq!(
+            [quantize16(-1.0), quantize16(2.0), quantize16(f32::NAN)],
+            [0, 65535, 0]
+        );
+    }
+
+    #[test]
+    fn names_parse() {
+        for t in ToneMap::ALL {
+            assert_eq!(t.name().parse::<ToneMap>(), Ok(t));
+            assert_eq!(t.to_string(), t.name());
+        }
+        assert_eq!(ToneMap::default(), ToneMap::Clamp);
+        let e = "filmic".parse::<ToneMap>().unwrap_err();
+        assert_eq!(
+            e,
+            "unknown tone map `filmic`: expected clamp, reinhard or aces"
+        );
+    }
+
+    #[test]
+    fn exposure_parses_in_range() {
+        assert_eq!(parse_exposure("-1.5"), Ok(-1.5));
+        assert_eq!(parse_exposure("64"), Ok(64.0));
+        for bad in ["inf", "NaN", "65", "two"] {
+            let e = parse_exposure(bad).unwrap_err();
+            assert!(e.contains("between -64 and 64") && e.contains(bad), "{e}");
+        }
+    }
+
+    #[test]
+    fn default_is_display() {
+        assert_eq!(Develop::default(), Develop::display());
+        assert_eq!(Develop::display().transfer, Transfer::Srgb);
+    }
+}
