@@ -12,6 +12,7 @@ pub mod compare;
 pub mod error;
 pub mod film;
 pub mod format;
+pub mod info;
 pub mod math;
 pub mod render;
 pub mod scene;

@@ -3,6 +3,7 @@
 mod animate;
 mod bench;
 mod convert;
+mod info;
 mod render;
 
 use bench::BenchArgs;
@@ -44,6 +45,8 @@ enum Command {
     Convert(ConvertArgs),
     /// Render every frame of an animation file to numbered images or a video.
     Animate(animate::AnimateArgs),
+    /// Print what Prism reads in a scene file: dialect, counts, bounds, warnings.
+    Info(info::InfoArgs),
 }
 
 /// What `prism` alone prints: the commands, a line each.
@@ -73,6 +76,7 @@ fn main() -> ExitCode {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Convert(args)) => convert::run(&args),
         Some(Command::Animate(args)) => animate::run(&args),
+        Some(Command::Info(args)) => info::run(&args),
         None => render::run(&cli.render),
     };
     match outcome {

@@ -5,7 +5,9 @@ use clap::Args;
 use prism::accel::AccelKind;
 use prism::film::output::check_output_path;
 use prism::film::resample::Filter;
-use prism::film::write_image;
+use prism::film::{
+    Develop, ExrPrecision, OutputOptions, PngBits, ToneMap, Transfer, write_image_with,
+};
 use prism::format::SceneDialect;
 use prism::math::Vec3;
 use prism::render::{IntegratorKind, Region, Renderer};
@@ -69,6 +71,18 @@ pub struct RenderArgs {
     /// Whitted model: rays whose weight falls below this are not traced (default 1/255).
     #[arg(long, value_name = "W")]
     pub min_weight: Option<f32>,
+    /// Exposure in stops for 8- and 16-bit outputs (+1 doubles the light).
+    #[arg(long, value_name = "EV", allow_hyphen_values = true, value_parser = prism::film::develop::parse_exposure)]
+    pub exposure: Option<f32>,
+    /// Tone map for 8- and 16-bit outputs (default: clamp).
+    #[arg(long, value_parser = ["clamp", "reinhard", "aces"])]
+    pub tonemap: Option<String>,
+    /// Bits per channel of PNG output.
+    #[arg(long, value_name = "BITS", default_value = "8", value_parser = ["8", "16"])]
+    pub png_bits: String,
+    /// Precision of OpenEXR output.
+    #[arg(long, default_value = "half", value_parser = ["half", "float"])]
+    pub exr_precision: String,
     /// Intersector.
     #[arg(long, default_value = "bvh", value_parser = crate::accel_parser())]
     pub accel: AccelKind,
@@ -141,7 +155,8 @@ pub fn run(args: &RenderArgs) -> prism::Result<()> {
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
     let (image, stats) = renderer.render(&|n| bar.inc(n))?;
     bar.finish_and_clear();
-    write_image(&image, output)?;
+    let output_options = output_options(args, &still)?;
+    write_image_with(&image, output, &output_options)?;
     if args.stats {
         println!(
             "rays {}  seconds {:.3}  Mrays/s {:.2}",
@@ -151,6 +166,33 @@ pub fn run(args: &RenderArgs) -> prism::Result<()> {
         );
     }
     Ok(())
+}
+
+/// How the image is stored: the classic model's values as the 2014 program wrote them
+/// (no transfer curve), the whitted model's radiance developed for display; the scene
+/// file's exposure and tone map unless the command line says otherwise.
+fn output_options(args: &RenderArgs, still: &prism::still::Still) -> prism::Result<OutputOptions> {
+    let settings_error = prism::Error::Settings;
+    let transfer = match still.settings.integrator {
+        IntegratorKind::Classic => Transfer::Classic,
+        IntegratorKind::Whitted => Transfer::Srgb,
+    };
+    let tonemap = match args.tonemap.as_deref().or(still.tonemap.as_deref()) {
+        Some(name) => name.parse::<ToneMap>().map_err(settings_error)?,
+        None => ToneMap::default(),
+    };
+    Ok(OutputOptions {
+        develop: Develop {
+            exposure: args.exposure.or(still.exposure).unwrap_or(0.0),
+            tonemap,
+            transfer,
+        },
+        png_bits: args.png_bits.parse::<PngBits>().map_err(settings_error)?,
+        exr_precision: args
+            .exr_precision
+            .parse::<ExrPrecision>()
+            .map_err(settings_error)?,
+    })
 }
 
 fn dialect_of(name: &str) -> SceneDialect {
