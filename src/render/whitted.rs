@@ -383,16 +383,14 @@ impl<'a> Whitted<'a> {
                     });
                 }
             }
-            LightKind::Mesh {
-                first,
-                count,
-                cdf,
-                area,
-            } => {
+            LightKind::Mesh { shapes, cdf, area } => {
+                if shapes.is_empty() {
+                    return;
+                }
                 for i in 0..n {
                     let (a, b) = sampler.square_sample(i, n);
-                    let k = cdf.partition_point(|&c| c <= a).min(*count as usize - 1);
-                    let shape = first + k as u32;
+                    let k = cdf.partition_point(|&c| c <= a).min(shapes.len() - 1);
+                    let shape = shapes[k];
                     let Shape::Triangle(tri) = self.scene.shapes[shape as usize] else {
                         continue;
                     };

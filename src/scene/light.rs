@@ -50,12 +50,11 @@ pub enum LightKind {
     Sphere {
         radius: f32,
     },
-    /// The triangles `Scene::shapes[first..first + count]`, emitting with their
-    /// material's emission (an emissive mesh); `cdf` holds their cumulative areas,
-    /// normalised, so samples pick triangles in proportion to area.
+    /// Triangles of `Scene::shapes` (by index) emitting with their material's
+    /// emission: an emissive mesh. `cdf` holds their cumulative areas, normalised, so
+    /// samples pick triangles in proportion to area; `area` is the total.
     Mesh {
-        first: u32,
-        count: u32,
+        shapes: Vec<u32>,
         cdf: Vec<f32>,
         area: f32,
     },
@@ -72,6 +71,37 @@ pub enum Falloff {
 }
 
 impl Light {
+    /// An emissive-mesh light over the triangles `shapes` of `scene_shapes` (others
+    /// are skipped), or `None` when they have no area.
+    pub fn mesh(scene_shapes: &[super::Shape], shapes: &[u32]) -> Option<Light> {
+        let mut kept = Vec::with_capacity(shapes.len());
+        let mut cdf = Vec::with_capacity(shapes.len());
+        let mut total = 0.0f64;
+        for &i in shapes {
+            if let Some(super::Shape::Triangle(t)) = scene_shapes.get(i as usize) {
+                let [a, b, c] = t.v;
+                let area = 0.5 * f64::from((b - a).cross(c - a).length());
+                if area > 0.0 && area.is_finite() {
+                    total += area;
+                    kept.push(i);
+                    cdf.push(total);
+                }
+            }
+        }
+        if kept.is_empty() || !(total > 0.0 && total.is_finite()) {
+            return None;
+        }
+        let cdf = cdf.iter().map(|&c| (c / total) as f32).collect();
+        Some(Light {
+            kind: LightKind::Mesh {
+                shapes: kept,
+                cdf,
+                area: total as f32,
+            },
+            ..Light::point(Vec3::ZERO, Vec3::ONE)
+        })
+    }
+
     /// A white point light of intensity 1 (the 2014 format's lights).
     pub fn point(position: Vec3, color: Vec3) -> Light {
         Light {
