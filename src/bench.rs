@@ -224,17 +224,18 @@ pub fn shadow_ray(light: Vec3, p: Vec3) -> Option<(Ray, f32)> {
 
 /// Measures `scene` seen by `camera`.
 pub fn run(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Result<BenchReport> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Error::Settings(format!("cannot start threads: {e}")))?;
     let settings = RenderSettings {
         width: options.width,
         threads: options.threads,
         accel: options.accel,
         ..RenderSettings::default()
     };
+    // Checks the thread count (among the rest) before any thread starts.
     let renderer = Renderer::new(scene, camera, settings)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::Settings(format!("cannot start threads: {e}")))?;
     let (w, h) = (renderer.camera().width, renderer.camera().height);
     if u64::from(w) * u64::from(h) > MAX_BENCH_PIXELS {
         return Err(Error::Settings(format!(

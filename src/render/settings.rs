@@ -125,6 +125,17 @@ pub const MAX_RAYS_PER_PIXEL: u32 = 1 << 16;
 /// rays) is 1.7e10; a hundred times that is a typo.
 pub const MAX_CAMERA_RAYS: u64 = 2_000_000_000_000;
 
+/// More worker threads than this per core only adds switching: the render is CPU-bound.
+pub const MAX_THREADS_PER_CORE: usize = 4;
+
+/// The most threads a render may ask for on this machine.
+pub fn max_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    cores
+        .saturating_mul(MAX_THREADS_PER_CORE)
+        .max(MAX_THREADS_PER_CORE)
+}
+
 /// Settings merged with the camera: everything concrete.
 #[derive(Clone, Debug)]
 pub(crate) struct Plan {
@@ -196,6 +207,15 @@ impl RenderSettings {
         }
         if let Some(0) = self.threads {
             return Err(Error::Settings("thread count must be at least 1".into()));
+        }
+        if let Some(n) = self.threads
+            && n > max_threads()
+        {
+            return Err(Error::Settings(format!(
+                "thread count must be at most {} ({MAX_THREADS_PER_CORE} per core on this \
+                 machine), found {n}",
+                max_threads()
+            )));
         }
         if self.max_depth > MAX_DEPTH_LIMIT {
             return Err(Error::Settings(format!(
@@ -312,5 +332,21 @@ mod tests {
                 .to_string()
                 .contains("width")
         );
+        let many = RenderSettings {
+            threads: Some(100_000),
+            ..Default::default()
+        };
+        let e = many.resolve(&camera()).unwrap_err().to_string();
+        assert!(e.contains("at most") && e.contains("100000"), "{e}");
+        let most = RenderSettings {
+            threads: Some(max_threads()),
+            ..Default::default()
+        };
+        assert!(most.resolve(&camera()).is_ok());
+        let deep = RenderSettings {
+            max_depth: MAX_DEPTH_LIMIT + 1,
+            ..Default::default()
+        };
+        assert!(deep.resolve(&camera()).is_err());
     }
 }
