@@ -16,6 +16,7 @@
 //! every other scene file is the 2014 dialect. [`SceneDialect`] is where more slot in.
 
 pub mod cmr;
+pub mod mtl;
 pub mod mtlx;
 pub mod obj;
 pub mod objx;
