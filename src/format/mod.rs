@@ -17,10 +17,12 @@
 
 pub mod cmr;
 pub mod image_file;
+pub mod mtl;
 pub mod mtlx;
 pub mod obj;
 pub mod objx;
 mod text;
+pub mod wavefront;
 
 use std::path::Path;
 
@@ -99,6 +101,9 @@ pub fn load(path: &Path) -> Result<SceneFile> {
 
 /// Reads any scene file in the given dialect.
 pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
+    if dialect == SceneDialect::WavefrontObj {
+        return wavefront::load(path);
+    }
     let scene = load_scene_as(path, dialect)?;
     Ok(SceneFile {
         dialect,
@@ -146,7 +151,7 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 pub fn load_scene_as(path: &Path, dialect: SceneDialect) -> Result<Scene> {
     match dialect {
         SceneDialect::Objx2014 => objx::load(path),
-        SceneDialect::WavefrontObj => obj::load(path),
+        SceneDialect::WavefrontObj => Ok(wavefront::load(path)?.scene),
     }
 }
 

@@ -1,0 +1,952 @@
+//! The OBJ statement reader: one pass over the lines, then the checks and fix-ups that
+//! need the whole file (forward references, deferred polygons, material names,
+//! smoothing normals).
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::path::{Path, PathBuf};
+
+use super::lines::{self, Line, Lines, Token, Tokens, decode_name, parse_integer, shown};
+use super::smooth::smooth_normals;
+use super::triangulate::{Method, Triangulator};
+use super::{GroupKind, ObjFile, ObjGroup, ObjTriangle, Warning};
+use crate::format::mtl;
+use crate::math::Vec3;
+use crate::{Error, Result};
+
+/// Past this many, warnings are counted in one last warning instead of kept: a file of
+/// a million bad faces should not hold a million messages.
+const MAX_WARNINGS: usize = 1000;
+
+/// Gives the bytes of the material library at a path.
+pub type ReadLibrary<'r> = &'r mut dyn FnMut(&Path) -> Result<Vec<u8>>;
+
+pub struct Options<'r> {
+    /// Where material libraries come from; `None` ignores `mtllib`.
+    pub read_library: Option<ReadLibrary<'r>>,
+    /// Whether to make normals for smoothing groups.
+    pub smooth: bool,
+}
+
+pub fn read(text: &[u8], path: &Path, options: Options) -> Result<ObjFile> {
+    let text = lines::without_bom(text);
+    let mut reader = Reader {
+        path,
+        folder: path.parent().unwrap_or(Path::new("")).to_path_buf(),
+        options,
+        obj: ObjFile::default(),
+        suppressed_warnings: 0,
+        corners: Vec::new(),
+        polygon: Vec::new(),
+        local: Vec::new(),
+        triangulator: Triangulator::default(),
+        forward: Default::default(),
+        deferred: Vec::new(),
+        deferred_corners: Vec::new(),
+        smoothing: 0,
+        material: None,
+        material_names: Vec::new(),
+        material_ids: HashMap::new(),
+        usemtl_lines: Vec::new(),
+        material_index: HashMap::new(),
+        libraries_read: HashSet::new(),
+        run: Run {
+            name: String::new(),
+            kind: GroupKind::Group,
+            first: 0,
+        },
+        skipped_first_line: BTreeMap::new(),
+        mixed_face_warned: [false; 2],
+    };
+    let mut lines = Lines::new(&text);
+    while let Some(line) = lines.next_line() {
+        reader.statement(&line)?;
+    }
+    reader.finish()
+}
+
+/// The kinds of index a face corner holds.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Position,
+    Texcoord,
+    Normal,
+}
+
+impl Kind {
+    fn noun(self) -> &'static str {
+        match self {
+            Kind::Position => "vertex",
+            Kind::Texcoord => "texture coordinate",
+            Kind::Normal => "normal",
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Corner {
+    v: u32,
+    vt: Option<u32>,
+    vn: Option<u32>,
+}
+
+/// A positive index beyond what was read when it was used: checked at the end.
+struct Forward {
+    index: u32,
+    line: usize,
+    column: usize,
+}
+
+/// A polygon naming positions defined further down: triangulated at the end into the
+/// slots reserved for it, so triangles stay in file order.
+struct Deferred {
+    first_triangle: usize,
+    corners: std::ops::Range<usize>,
+    line: usize,
+}
+
+/// The `o`/`g` run in force.
+struct Run {
+    name: String,
+    kind: GroupKind,
+    first: usize,
+}
+
+struct Reader<'p, 'r> {
+    path: &'p Path,
+    folder: PathBuf,
+    options: Options<'r>,
+    obj: ObjFile,
+    suppressed_warnings: usize,
+    corners: Vec<Corner>,
+    polygon: Vec<Vec3>,
+    local: Vec<[u32; 3]>,
+    triangulator: Triangulator,
+    forward: [Vec<Forward>; 3],
+    deferred: Vec<Deferred>,
+    deferred_corners: Vec<Corner>,
+    smoothing: u32,
+    /// The `usemtl` in force, as an index into `material_names`.
+    material: Option<u32>,
+    material_names: Vec<String>,
+    material_ids: HashMap<String, u32>,
+    usemtl_lines: Vec<(u32, usize)>,
+    /// Material name → index in `obj.materials`.
+    material_index: HashMap<String, u32>,
+    libraries_read: HashSet<PathBuf>,
+    run: Run,
+    skipped_first_line: BTreeMap<String, usize>,
+    /// Whether a face mixing corners with and without vt (0) or vn (1) was reported.
+    mixed_face_warned: [bool; 2],
+}
+
+/// Statements Prism knows and skips, counted under their own name; anything else is
+/// counted as `unknown`.
+const SKIPPED_KEYWORDS: &[&str] = &[
+    "l",
+    "p",
+    "curv",
+    "curv2",
+    "surf",
+    "t",
+    "vp",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "mg",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "lod",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
+    "maplib",
+    "usemap",
+    "call",
+    "csh",
+    "vw",
+];
+
+impl Reader<'_, '_> {
+    fn error(&self, line: &Line, offset: usize, message: impl Into<String>) -> Error {
+        let (number, column) = line.place(offset);
+        Error::parse_at(self.path, number, column, message)
+    }
+
+    fn warn(&mut self, line: usize, message: impl Into<String>) {
+        let path = self.path.to_path_buf();
+        push_warning(
+            &mut self.obj.warnings,
+            &mut self.suppressed_warnings,
+            path,
+            line,
+            message,
+        );
+    }
+
+    fn statement(&mut self, line: &Line) -> Result<()> {
+        let mut tokens = line.tokens();
+        let Some(keyword) = tokens.next() else {
+            return Ok(());
+        };
+        match keyword.bytes {
+            b"v" => self.position(line, tokens),
+            b"vt" => self.texcoord(line, tokens),
+            b"vn" => self.normal(line, tokens),
+            b"f" | b"fo" => self.face(line, tokens),
+            b"o" => self.start_run(GroupKind::Object, tokens),
+            b"g" => self.start_run(GroupKind::Group, tokens),
+            b"s" => self.smoothing_group(line, keyword, tokens),
+            b"usemtl" => {
+                self.use_material(line, keyword);
+                Ok(())
+            }
+            b"mtllib" => self.material_libraries(line, keyword),
+            other => {
+                let kind = match std::str::from_utf8(other) {
+                    Ok(k) if SKIPPED_KEYWORDS.contains(&k) => k,
+                    _ => "unknown",
+                };
+                *self.obj.skipped.entry(kind.to_owned()).or_insert(0) += 1;
+                if kind == "unknown" && !self.skipped_first_line.contains_key(kind) {
+                    self.warn(
+                        line.number,
+                        format!(
+                            "unknown statement {} skipped (the count of unknown statements \
+                             is in the summary)",
+                            shown(other)
+                        ),
+                    );
+                }
+                self.skipped_first_line
+                    .entry(kind.to_owned())
+                    .or_insert(line.number);
+                Ok(())
+            }
+        }
+    }
+
+    /// The next token as a finite f32, or an error naming `what` was expected there.
+    fn number(&self, line: &Line, token: Token, what: &str) -> Result<f32> {
+        number(self.path, line, token, what)
+    }
+
+    fn position(&mut self, line: &Line, tokens: Tokens) -> Result<()> {
+        const WHAT: [&str; 6] = [
+            "the x coordinate",
+            "the y coordinate",
+            "the z coordinate",
+            "w (or the red of a vertex colour)",
+            "the green of the vertex colour",
+            "the blue of the vertex colour",
+        ];
+        let mut values = [0.0f32; 6];
+        let mut count = 0;
+        let mut end = tokens.clone();
+        for token in tokens {
+            if count == values.len() {
+                return Err(self.error(
+                    line,
+                    token.start,
+                    format!(
+                        "expected x y z, x y z w or x y z r g b after v, found a 7th \
+                         value {}",
+                        shown(token.bytes)
+                    ),
+                ));
+            }
+            values[count] = self.number(line, token, WHAT[count])?;
+            count += 1;
+            end.next();
+        }
+        match count {
+            3 | 4 | 6 => {}
+            0..=2 => {
+                return Err(self.error(
+                    line,
+                    end.offset(),
+                    format!(
+                        "expected 3 coordinates after v (v x y z), {} is missing",
+                        WHAT[count]
+                    ),
+                ));
+            }
+            _ => {
+                return Err(self.error(
+                    line,
+                    end.offset(),
+                    "expected x y z, x y z w or x y z r g b after v, found 5 values: \
+                     the blue of the vertex colour is missing",
+                ));
+            }
+        }
+        let colors = &mut self.obj.colors;
+        if count == 6 {
+            if colors.is_empty() {
+                colors.resize(self.obj.positions.len(), Vec3::ONE);
+            }
+            colors.push(Vec3::new(values[3], values[4], values[5]));
+        } else if !colors.is_empty() {
+            colors.push(Vec3::ONE);
+        }
+        self.obj
+            .positions
+            .push(Vec3::new(values[0], values[1], values[2]));
+        Ok(())
+    }
+
+    fn texcoord(&mut self, line: &Line, mut tokens: Tokens) -> Result<()> {
+        let mut uv = [0.0f32; 2];
+        let mut count = 0;
+        for token in tokens.by_ref() {
+            match count {
+                0 => uv[0] = self.number(line, token, "u")?,
+                1 => uv[1] = self.number(line, token, "v")?,
+                2 => {
+                    self.number(line, token, "w")?;
+                }
+                _ => {
+                    return Err(self.error(
+                        line,
+                        token.start,
+                        format!(
+                            "expected at most 3 values after vt (vt u v w), found a 4th {}",
+                            shown(token.bytes)
+                        ),
+                    ));
+                }
+            }
+            count += 1;
+        }
+        if count == 0 {
+            return Err(self.error(
+                line,
+                tokens.offset(),
+                "expected a texture coordinate after vt (vt u [v [w]]), found the end of \
+                 the line",
+            ));
+        }
+        self.obj.texcoords.push(uv);
+        Ok(())
+    }
+
+    fn normal(&mut self, line: &Line, mut tokens: Tokens) -> Result<()> {
+        let mut n = [0.0f32; 3];
+        for (slot, axis) in n.iter_mut().zip(["x", "y", "z"]) {
+            let Some(token) = tokens.next() else {
+                return Err(self.error(
+                    line,
+                    tokens.offset(),
+                    format!("expected 3 values after vn (vn x y z), the {axis} is missing"),
+                ));
+            };
+            *slot = self.number(line, token, &format!("the normal's {axis}"))?;
+        }
+        if let Some(extra) = tokens.next() {
+            return Err(self.error(
+                line,
+                extra.start,
+                format!(
+                    "expected 3 values after vn (vn x y z), found a 4th {}",
+                    shown(extra.bytes)
+                ),
+            ));
+        }
+        self.obj.normals.push(Vec3::from_array(n));
+        Ok(())
+    }
+
+    /// The 0-based index a face corner names, from its digits `text` at byte `start`.
+    fn index(
+        &mut self,
+        line: &Line,
+        token: Token,
+        text: &[u8],
+        start: usize,
+        kind: Kind,
+    ) -> Result<u32> {
+        let defined = match kind {
+            Kind::Position => self.obj.positions.len(),
+            Kind::Texcoord => self.obj.texcoords.len(),
+            Kind::Normal => self.obj.normals.len(),
+        };
+        let noun = kind.noun();
+        let Some(value) = parse_integer(text) else {
+            return Err(self.error(
+                line,
+                start,
+                format!(
+                    "expected a {noun} index in the face corner {} (i, i/t, i//n or i/t/n)",
+                    shown(token.bytes)
+                ),
+            ));
+        };
+        let resolved = match value {
+            0 => {
+                return Err(self.error(
+                    line,
+                    start,
+                    format!("{noun} index 0 does not exist: indices start at 1"),
+                ));
+            }
+            v if v > 0 => v - 1,
+            v => defined as i64 + v,
+        };
+        if resolved < 0 {
+            return Err(self.error(
+                line,
+                start,
+                format!(
+                    "{noun} index {} does not exist: -1 is the last of the {defined} read so far",
+                    shown(text)
+                ),
+            ));
+        }
+        let Ok(index) = u32::try_from(resolved) else {
+            return Err(self.error(
+                line,
+                start,
+                format!("{noun} index {} is too large", shown(text)),
+            ));
+        };
+        if index as usize >= defined {
+            let (number, column) = line.place(start);
+            self.forward[kind as usize].push(Forward {
+                index,
+                line: number,
+                column,
+            });
+        }
+        Ok(index)
+    }
+
+    fn face(&mut self, line: &Line, tokens: Tokens) -> Result<()> {
+        let mut corners = std::mem::take(&mut self.corners);
+        corners.clear();
+        let result = self.face_corners(line, tokens, &mut corners);
+        let result = result.and_then(|()| self.add_face(line, &corners));
+        self.corners = corners;
+        result
+    }
+
+    fn face_corners(
+        &mut self,
+        line: &Line,
+        tokens: Tokens,
+        corners: &mut Vec<Corner>,
+    ) -> Result<()> {
+        for token in tokens {
+            // Up to three parts split by `/`: (text, byte offset in the line).
+            let mut parts: [Option<(&[u8], usize)>; 3] = [None; 3];
+            let mut start = 0;
+            for (k, part) in token.bytes.split(|&b| b == b'/').enumerate() {
+                if k == 3 {
+                    return Err(self.error(
+                        line,
+                        token.start + start - 1,
+                        format!(
+                            "expected a face corner i, i/t, i//n or i/t/n, found {}",
+                            shown(token.bytes)
+                        ),
+                    ));
+                }
+                parts[k] = Some((part, token.start + start));
+                start += part.len() + 1;
+            }
+            let [v_part, vt_part, vn_part] = parts;
+            let (v_text, v_start) = v_part.unwrap_or((&[], token.start));
+            let v = self.index(line, token, v_text, v_start, Kind::Position)?;
+            let mut optional = |part: Option<(&[u8], usize)>, kind| match part {
+                Some((text, at)) if !text.is_empty() => {
+                    self.index(line, token, text, at, kind).map(Some)
+                }
+                _ => Ok(None),
+            };
+            let vt = optional(vt_part, Kind::Texcoord)?;
+            let vn = optional(vn_part, Kind::Normal)?;
+            corners.push(Corner { v, vt, vn });
+        }
+        Ok(())
+    }
+
+    fn add_face(&mut self, line: &Line, corners: &[Corner]) -> Result<()> {
+        let n = corners.len();
+        if n < 3 {
+            self.warn(
+                line.number,
+                format!("a face needs at least 3 vertices, found {n}: the face is dropped"),
+            );
+            return Ok(());
+        }
+        let all_vt = corners.iter().all(|c| c.vt.is_some());
+        let all_vn = corners.iter().all(|c| c.vn.is_some());
+        for (k, (all, any, what)) in [
+            (
+                all_vt,
+                corners.iter().any(|c| c.vt.is_some()),
+                "texture coordinates",
+            ),
+            (all_vn, corners.iter().any(|c| c.vn.is_some()), "normals"),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if any && !all && !self.mixed_face_warned[k] {
+                self.mixed_face_warned[k] = true;
+                self.warn(
+                    line.number,
+                    format!(
+                        "a face gives {what} for some corners only: it gets none (this is \
+                         reported for the first such face only)"
+                    ),
+                );
+            }
+        }
+        let template = ObjTriangle {
+            v: [0; 3],
+            vt: all_vt.then_some([0; 3]),
+            vn: all_vn.then_some([0; 3]),
+            material: self.material,
+            smoothing: self.smoothing,
+        };
+        let first = self.obj.triangles.len();
+        if first + n - 2 > crate::accel::MAX_SHAPES {
+            return Err(Error::parse(
+                self.path,
+                line.number,
+                format!(
+                    "more than {} triangles are not supported",
+                    crate::accel::MAX_SHAPES
+                ),
+            ));
+        }
+        if n == 3 {
+            self.obj
+                .triangles
+                .push(triangle_of(&template, corners, [0, 1, 2]));
+        } else if corners
+            .iter()
+            .all(|c| (c.v as usize) < self.obj.positions.len())
+        {
+            self.obj.triangles.resize(first + n - 2, template);
+            self.split_polygon(corners, first, line.number);
+        } else {
+            self.obj.triangles.resize(first + n - 2, template);
+            let start = self.deferred_corners.len();
+            self.deferred_corners.extend_from_slice(corners);
+            self.deferred.push(Deferred {
+                first_triangle: first,
+                corners: start..self.deferred_corners.len(),
+                line: line.number,
+            });
+        }
+        Ok(())
+    }
+
+    /// Triangulates a polygon whose positions are all known into the `n - 2` slots from
+    /// `first`, which hold its material and smoothing group already.
+    fn split_polygon(&mut self, corners: &[Corner], first: usize, line: usize) {
+        self.polygon.clear();
+        self.polygon
+            .extend(corners.iter().map(|c| self.obj.positions[c.v as usize]));
+        self.local.clear();
+        let method = self
+            .triangulator
+            .triangulate(&self.polygon, &mut self.local);
+        for (slot, local) in self.obj.triangles[first..].iter_mut().zip(&self.local) {
+            *slot = triangle_of(slot, corners, *local);
+        }
+        if method == Method::FanFallback {
+            self.warn(
+                line,
+                format!(
+                    "a concave polygon of {} vertices crosses itself or is too large to \
+                     clip: it is split as a fan, which may cover area outside it",
+                    corners.len()
+                ),
+            );
+        }
+    }
+
+    fn start_run(&mut self, kind: GroupKind, tokens: Tokens) -> Result<()> {
+        self.close_run();
+        let mut name = String::new();
+        for token in tokens {
+            if !name.is_empty() {
+                name.push(' ');
+            }
+            name.push_str(&decode_name(token.bytes));
+        }
+        self.run = Run {
+            name,
+            kind,
+            first: self.obj.triangles.len(),
+        };
+        Ok(())
+    }
+
+    fn close_run(&mut self) {
+        let end = self.obj.triangles.len();
+        if end > self.run.first {
+            self.obj.groups.push(ObjGroup {
+                name: std::mem::take(&mut self.run.name),
+                kind: self.run.kind,
+                triangles: self.run.first..end,
+            });
+        }
+    }
+
+    fn smoothing_group(&mut self, line: &Line, keyword: Token, mut tokens: Tokens) -> Result<()> {
+        let expected = "expected a smoothing group after s (a number, 0 or off)";
+        let Some(token) = tokens.next() else {
+            return Err(self.error(
+                line,
+                keyword.start + 1,
+                format!("{expected}, found the end of the line"),
+            ));
+        };
+        self.smoothing = if token.bytes.eq_ignore_ascii_case(b"off") {
+            0
+        } else {
+            match parse_integer(token.bytes).and_then(|n| u32::try_from(n).ok()) {
+                Some(n) => n,
+                None => {
+                    return Err(self.error(
+                        line,
+                        token.start,
+                        format!("{expected}, found {}", shown(token.bytes)),
+                    ));
+                }
+            }
+        };
+        Ok(())
+    }
+
+    fn use_material(&mut self, line: &Line, keyword: Token) {
+        let name = line.rest_from(keyword.start + keyword.bytes.len());
+        if name.is_empty() {
+            self.warn(
+                line.number,
+                "usemtl without a name: the faces that follow get the default material",
+            );
+            self.material = None;
+            return;
+        }
+        let name = decode_name(name);
+        let next_id = self.material_names.len() as u32;
+        let id = *self.material_ids.entry(name.clone()).or_insert(next_id);
+        if id == next_id {
+            self.material_names.push(name);
+        }
+        self.material = Some(id);
+        self.usemtl_lines.push((id, line.number));
+    }
+
+    fn material_libraries(&mut self, line: &Line, keyword: Token) -> Result<()> {
+        let rest = line.rest_from(keyword.start + keyword.bytes.len());
+        if rest.is_empty() {
+            self.warn(line.number, "mtllib without a file name");
+        }
+        for name in library_names(rest) {
+            self.read_library(&name, line.number)?;
+        }
+        Ok(())
+    }
+
+    fn read_library(&mut self, name: &[u8], line: usize) -> Result<()> {
+        let Some(read) = self.options.read_library.as_mut() else {
+            return Ok(());
+        };
+        let path = self.folder.join(decode_name(name));
+        if !self.libraries_read.insert(path.clone()) {
+            return Ok(());
+        }
+        let bytes = match read(&path) {
+            Ok(bytes) => bytes,
+            Err(e) => {
+                self.warn(
+                    line,
+                    format!("material library skipped, its materials are unknown: {e}"),
+                );
+                return Ok(());
+            }
+        };
+        let library = mtl::parse(&bytes, &path)?;
+        for warning in library.warnings {
+            push_warning(
+                &mut self.obj.warnings,
+                &mut self.suppressed_warnings,
+                warning.path,
+                warning.line,
+                warning.message,
+            );
+        }
+        for (kind, count) in library.skipped {
+            *self.obj.skipped.entry(format!("mtl:{kind}")).or_insert(0) += count;
+        }
+        for material in library.materials {
+            if let Some(&first) = self.material_index.get(&material.name) {
+                let first = &self.obj.materials[first as usize];
+                let message = format!(
+                    "material {} is defined again: the first definition ({}:{}) is kept",
+                    shown(material.name.as_bytes()),
+                    first.path.display(),
+                    first.line
+                );
+                push_warning(
+                    &mut self.obj.warnings,
+                    &mut self.suppressed_warnings,
+                    material.path.clone(),
+                    material.line,
+                    message,
+                );
+                continue;
+            }
+            let index = self.obj.materials.len() as u32;
+            self.material_index.insert(material.name.clone(), index);
+            self.obj.materials.push(material);
+        }
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<ObjFile> {
+        // Positions named before they were defined must exist by now.
+        let positions = self.obj.positions.len();
+        if let Some(f) = self.forward[Kind::Position as usize]
+            .iter()
+            .find(|f| f.index as usize >= positions)
+        {
+            return Err(Error::parse_at(
+                self.path,
+                f.line,
+                f.column,
+                format!(
+                    "vertex {} does not exist: the file defines {positions}",
+                    f.index as u64 + 1
+                ),
+            ));
+        }
+        // Missing texture coordinates and normals only cost the face its vt or vn, as
+        // in the other readers (files that name normals they never wrote exist).
+        for kind in [Kind::Texcoord, Kind::Normal] {
+            let defined = match kind {
+                Kind::Texcoord => self.obj.texcoords.len(),
+                _ => self.obj.normals.len(),
+            };
+            let Some(f) = self.forward[kind as usize]
+                .iter()
+                .find(|f| f.index as usize >= defined)
+            else {
+                continue;
+            };
+            let (line, index) = (f.line, f.index);
+            let noun = kind.noun();
+            self.warn(
+                line,
+                format!(
+                    "{noun} {} does not exist (the file defines {defined}): faces naming \
+                     missing {noun}s get none (reported for the first only)",
+                    index as u64 + 1
+                ),
+            );
+            for t in &mut self.obj.triangles {
+                let field = if kind == Kind::Texcoord {
+                    &mut t.vt
+                } else {
+                    &mut t.vn
+                };
+                if field.is_some_and(|ids| ids.iter().any(|&i| i as usize >= defined)) {
+                    *field = None;
+                }
+            }
+            for c in &mut self.deferred_corners {
+                let field = if kind == Kind::Texcoord {
+                    &mut c.vt
+                } else {
+                    &mut c.vn
+                };
+                if field.is_some_and(|i| i as usize >= defined) {
+                    *field = None;
+                }
+            }
+        }
+        let deferred = std::mem::take(&mut self.deferred);
+        let deferred_corners = std::mem::take(&mut self.deferred_corners);
+        for polygon in deferred {
+            let corners = &deferred_corners[polygon.corners];
+            let slots = &mut self.obj.triangles[polygon.first_triangle..][..corners.len() - 2];
+            // Corners whose vt or vn went missing above take the whole face's away.
+            for slot in slots.iter_mut() {
+                if corners.iter().any(|c| c.vt.is_none()) {
+                    slot.vt = None;
+                }
+                if corners.iter().any(|c| c.vn.is_none()) {
+                    slot.vn = None;
+                }
+            }
+            self.split_polygon(corners, polygon.first_triangle, polygon.line);
+        }
+        self.close_run();
+        self.resolve_materials();
+        if self.options.smooth {
+            smooth_normals(
+                &self.obj.positions,
+                &mut self.obj.triangles,
+                &mut self.obj.normals,
+            );
+        }
+        for (kind, &line) in &self.skipped_first_line {
+            let count = self.obj.skipped[kind];
+            let message = match kind.as_str() {
+                "unknown" => format!("{count} unknown statements skipped"),
+                _ => format!("{count} `{kind}` statements skipped: Prism renders only faces"),
+            };
+            let path = self.path.to_path_buf();
+            push_warning(
+                &mut self.obj.warnings,
+                &mut self.suppressed_warnings,
+                path,
+                line,
+                message,
+            );
+        }
+        if self.suppressed_warnings > 0 {
+            let last = Warning {
+                path: self.path.to_path_buf(),
+                line: 0,
+                message: format!("and {} more warnings", self.suppressed_warnings),
+            };
+            self.obj.warnings.push(last);
+        }
+        Ok(self.obj)
+    }
+
+    /// Turns the `usemtl` names on the triangles into material indices; an unknown
+    /// name gives a warning at each `usemtl` naming it and no material.
+    fn resolve_materials(&mut self) {
+        let resolved: Vec<Option<u32>> = self
+            .material_names
+            .iter()
+            .map(|name| self.material_index.get(name).copied())
+            .collect();
+        for (id, line) in std::mem::take(&mut self.usemtl_lines) {
+            if resolved[id as usize].is_none() {
+                let message = format!(
+                    "usemtl names material {}, which no material library defines: its \
+                     faces get the default material",
+                    shown(self.material_names[id as usize].as_bytes())
+                );
+                self.warn(line, message);
+            }
+        }
+        for t in &mut self.obj.triangles {
+            t.material = t.material.and_then(|id| resolved[id as usize]);
+        }
+    }
+}
+
+fn push_warning(
+    warnings: &mut Vec<Warning>,
+    suppressed: &mut usize,
+    path: PathBuf,
+    line: usize,
+    message: impl Into<String>,
+) {
+    if warnings.len() < MAX_WARNINGS {
+        warnings.push(Warning {
+            path,
+            line,
+            message: message.into(),
+        });
+    } else {
+        *suppressed += 1;
+    }
+}
+
+/// A token as a finite number that fits in an f32, or an error at its column.
+pub(in crate::format) fn number(path: &Path, line: &Line, token: Token, what: &str) -> Result<f32> {
+    let error = |message: String| {
+        let (number, column) = line.place(token.start);
+        Error::parse_at(path, number, column, message)
+    };
+    let Some(value) = lines::parse_f64(token.bytes) else {
+        let kind = if lines::names_non_finite(token.bytes) {
+            "a finite number"
+        } else {
+            "a number"
+        };
+        return Err(error(format!(
+            "expected {kind} for {what}, found {}",
+            shown(token.bytes)
+        )));
+    };
+    if value.abs() > f32::MAX as f64 {
+        return Err(error(format!(
+            "expected a finite number of magnitude at most {:e} for {what}, found {}",
+            f32::MAX,
+            shown(token.bytes)
+        )));
+    }
+    Ok(value as f32)
+}
+
+fn triangle_of(template: &ObjTriangle, corners: &[Corner], local: [u32; 3]) -> ObjTriangle {
+    let c = local.map(|i| corners[i as usize]);
+    ObjTriangle {
+        v: c.map(|c| c.v),
+        vt: template.vt.map(|_| c.map(|c| c.vt.unwrap_or(0))),
+        vn: template.vn.map(|_| c.map(|c| c.vn.unwrap_or(0))),
+        ..*template
+    }
+}
+
+/// The file names of an `mtllib` line: separated by white space, with `\ ` standing for
+/// a space inside a name.
+fn library_names(rest: &[u8]) -> Vec<Vec<u8>> {
+    let mut names = Vec::new();
+    let mut name = Vec::new();
+    let mut bytes = rest.iter().copied().peekable();
+    while let Some(b) = bytes.next() {
+        if b == b'\\' && bytes.peek() == Some(&b' ') {
+            name.push(b' ');
+            bytes.next();
+        } else if lines::is_space(b) {
+            if !name.is_empty() {
+                names.push(std::mem::take(&mut name));
+            }
+        } else {
+            name.push(b);
+        }
+    }
+    if !name.is_empty() {
+        names.push(name);
+    }
+    names
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn library_names_split_on_unescaped_spaces() {
+        let names = library_names(br"a.mtl  my\ lib\ 2.mtl	c\d.mtl");
+        assert_eq!(
+            names,
+            [
+                b"a.mtl".to_vec(),
+                b"my lib 2.mtl".to_vec(),
+                br"c\d.mtl".to_vec()
+            ]
+        );
+    }
+}

@@ -1,0 +1,332 @@
+//! A Wavefront OBJ file (with its MTL libraries) as a Prism scene: triangles, their
+//! normals, texture coordinates and colours, materials in both shading models, images,
+//! and every emissive material as an area light (SPEC 4.1-4.2; docs/formats.md).
+
+use super::image_file::{Encoding, read_texture};
+use super::mtl::{MtlMaterial, TextureMap};
+use super::obj::{ObjFile, load_obj};
+use super::{SceneDialect, SceneFile, SourceCounts};
+use crate::math::Vec3;
+use crate::scene::{
+    Albedo, Group, ImageTexture, Light, Material, MeshAttributes, Scene, Shape, Surface,
+    TextureSlot, Triangle,
+};
+use crate::{Error, Result};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Reads an OBJ file as a scene.
+pub fn load(path: &Path) -> Result<SceneFile> {
+    let obj = load_obj(path)?;
+    from_obj(obj, path)
+}
+
+/// Builds the scene of a parsed OBJ file; textures are read from disk.
+pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
+    let mut warnings: Vec<String> = obj.warnings.iter().map(|w| w.to_string()).collect();
+    let counts = SourceCounts {
+        vertices: obj.positions.len(),
+        normals: obj.normals.len(),
+        texcoords: obj.texcoords.len(),
+    };
+    let mut scene = Scene::default();
+    if obj.triangles.len() > u32::MAX as usize / 2 {
+        return Err(Error::file(path, "more triangles than Prism can index"));
+    }
+
+    // Materials in library order, then the default for faces without one.
+    let mut images = ImageCache::default();
+    for m in &obj.materials {
+        let (material, surface) = convert_material(m, &mut images, &mut warnings);
+        scene.materials.push(material);
+        scene.surfaces.push(surface);
+    }
+    let default_material = scene.materials.len() as u32;
+    if obj.triangles.iter().any(|t| t.material.is_none()) {
+        scene.materials.push(Material::default_white());
+        scene.surfaces.push(Surface::default());
+    }
+
+    // Triangles, and the attributes they carry.
+    let n = obj.triangles.len();
+    scene.shapes.reserve_exact(n);
+    scene.material_of.reserve_exact(n);
+    let mut mesh = MeshAttributes {
+        first_shape: 0,
+        len: n as u32,
+        normals: obj.normals,
+        texcoords: obj.texcoords,
+        ..MeshAttributes::default()
+    };
+    let any_vn = obj.triangles.iter().any(|t| t.vn.is_some());
+    let any_vt = obj.triangles.iter().any(|t| t.vt.is_some());
+    let has_colors = !obj.colors.is_empty();
+    for t in &obj.triangles {
+        let v = t.v.map(|i| obj.positions[i as usize]);
+        let tri = Triangle { v };
+        if any_vn {
+            // Faces without normals keep their flat one: a normal of their own.
+            let vn = t.vn.unwrap_or_else(|| {
+                let i = mesh.normals.len() as u32;
+                mesh.normals.push(Shape::Triangle(tri).normal(v[0]));
+                [i; 3]
+            });
+            mesh.normal_indices.push(vn);
+        }
+        if any_vt {
+            let vt = t.vt.unwrap_or_else(|| {
+                let i = mesh.texcoords.len() as u32;
+                mesh.texcoords.push([0.0, 0.0]);
+                [i; 3]
+            });
+            mesh.texcoord_indices.push(vt);
+        }
+        if has_colors {
+            mesh.color_indices.push(t.v);
+        }
+        scene.push_shape(Shape::Triangle(tri), t.material.unwrap_or(default_material));
+    }
+    if !any_vn {
+        mesh.normals.clear();
+    }
+    if !any_vt {
+        mesh.texcoords.clear();
+    }
+    if has_colors {
+        mesh.colors = obj.colors;
+    }
+    mesh.check()
+        .map_err(|e| Error::file(path, format!("inconsistent mesh: {e}")))?;
+    if !(mesh.normals.is_empty() && mesh.texcoords.is_empty() && mesh.colors.is_empty()) {
+        scene.meshes.push(mesh);
+    }
+
+    // Named objects and groups; one group per name, in order of first appearance.
+    let mut group_of: HashMap<String, usize> = HashMap::new();
+    for g in &obj.groups {
+        if g.triangles.is_empty() || g.name.is_empty() {
+            continue;
+        }
+        let index = *group_of.entry(g.name.clone()).or_insert_with(|| {
+            scene.groups.push(Group {
+                name: g.name.clone(),
+                ..Group::default()
+            });
+            scene.groups.len() - 1
+        });
+        scene.groups[index]
+            .shapes
+            .extend(g.triangles.clone().map(|i| i as u32));
+    }
+    for g in &mut scene.groups {
+        g.shapes.sort_unstable();
+        g.shapes.dedup();
+    }
+
+    // Every emissive material's triangles form one area light.
+    let mut emissive: Vec<Vec<u32>> = vec![Vec::new(); scene.materials.len()];
+    for (i, &m) in scene.material_of.iter().enumerate() {
+        if scene.surfaces[m as usize].emission.max_element() > 0.0 {
+            emissive[m as usize].push(i as u32);
+        }
+    }
+    for (m, shapes) in emissive.iter().enumerate() {
+        if shapes.is_empty() {
+            continue;
+        }
+        match Light::mesh(&scene.shapes, shapes) {
+            Some(mut light) => {
+                light.samples = DEFAULT_AREA_SAMPLES;
+                scene.lights.push(light);
+            }
+            None => warnings.push(format!(
+                "{}: material `{}` emits light but its faces have no area",
+                path.display(),
+                scene.materials[m].name
+            )),
+        }
+    }
+    scene.images = images.images;
+    Ok(SceneFile {
+        dialect: SceneDialect::WavefrontObj,
+        scene,
+        camera: None,
+        settings: Default::default(),
+        warnings,
+        counts,
+    })
+}
+
+/// Shadow rays per shading point toward an emissive mesh: enough for a soft shadow
+/// without visible banding at one camera ray per pixel.
+pub const DEFAULT_AREA_SAMPLES: u32 = 16;
+
+/// Images by (file, encoding), read once however many materials name them.
+#[derive(Default)]
+struct ImageCache {
+    images: Vec<ImageTexture>,
+    index: HashMap<(PathBuf, bool, u8), u32>,
+}
+
+impl ImageCache {
+    fn slot(
+        &mut self,
+        map: &TextureMap,
+        encoding: Encoding,
+        material: &MtlMaterial,
+        warnings: &mut Vec<String>,
+    ) -> Option<TextureSlot> {
+        let key = (map.path.clone(), map.clamp, encoding as u8);
+        let image = match self.index.get(&key) {
+            Some(&i) => i,
+            None => match read_texture(&map.path, encoding) {
+                Ok(texture) => {
+                    let i = self.images.len() as u32;
+                    self.images.push(texture);
+                    self.index.insert(key, i);
+                    i
+                }
+                Err(why) => {
+                    warnings.push(format!(
+                        "{}:{}: cannot read texture `{}` of material `{}` ({why}); it is left out",
+                        material.path.display(),
+                        material.line,
+                        map.path.display(),
+                        material.name
+                    ));
+                    return None;
+                }
+            },
+        };
+        Some(TextureSlot {
+            image,
+            scale: [map.scale[0], map.scale[1]],
+            offset: [map.offset[0], map.offset[1]],
+            clamp: map.clamp,
+        })
+    }
+}
+
+/// An MTL material in both shading models (SPEC 4.2).
+fn convert_material(
+    m: &MtlMaterial,
+    images: &mut ImageCache,
+    warnings: &mut Vec<String>,
+) -> (Material, Surface) {
+    let kd = m.kd.unwrap_or(Vec3::splat(0.8));
+    let ks = m.ks.unwrap_or(Vec3::ZERO);
+    let ka = m.ka.unwrap_or(Vec3::ZERO);
+    let ke = m.ke.unwrap_or(Vec3::ZERO);
+    let ns = m.ns.unwrap_or(10.0).clamp(0.0, 1e4);
+    let ior = m.ni.filter(|&n| n > 0.0).unwrap_or(1.0);
+    let d = m.d.unwrap_or(1.0).clamp(0.0, 1.0);
+    let illum = m.illum.unwrap_or(2);
+    let tf = m.tf;
+
+    let mut s = Surface {
+        albedo: Albedo::Color(kd),
+        ambient: ka,
+        specular: ks,
+        shininess: ns,
+        emission: ke,
+        ior,
+        ..Surface::default()
+    };
+    match illum {
+        0 => s.lit = false,
+        1 | 10 => s.specular = Vec3::ZERO,
+        2 => {}
+        3 | 8 => s.reflection = ks,
+        5 => {
+            s.reflection = nonzero_or_white(ks);
+            s.fresnel = true;
+        }
+        4 | 6 | 9 => {
+            s.reflection = ks;
+            s.transmission = tf.unwrap_or(Vec3::ONE);
+        }
+        7 => {
+            s.reflection = nonzero_or_white(ks);
+            s.transmission = tf.unwrap_or(Vec3::ONE);
+            s.fresnel = true;
+        }
+        other => warnings.push(format!(
+            "{}:{}: illum {other} of material `{}` is not one of 0-10; read as 2",
+            m.path.display(),
+            m.line,
+            m.name
+        )),
+    }
+    // Dissolve on an otherwise opaque material: light passes straight through.
+    if d < 1.0 && !s.is_transmissive() {
+        s.transmission = Vec3::splat(1.0 - d);
+        s.ior = 1.0;
+        s.diffuse = d;
+        s.specular *= d;
+    }
+    if let Some(map) = &m.map_kd
+        && let Some(slot) = images.slot(map, Encoding::Srgb, m, warnings)
+    {
+        s.albedo = Albedo::Image {
+            slot,
+            tint: Vec3::ONE,
+        };
+    }
+    if let Some(map) = &m.map_d {
+        s.alpha_map = images.slot(map, Encoding::Mask, m, warnings);
+    }
+    for (key, map) in [
+        ("map_Ks", &m.map_ks),
+        ("map_Ka", &m.map_ka),
+        ("map_Ke", &m.map_ke),
+        ("bump", &m.bump),
+        ("norm", &m.norm),
+        ("refl", &m.refl),
+    ] {
+        if map.is_some() {
+            warnings.push(format!(
+                "{}:{}: {key} of material `{}` is read but not applied",
+                m.path.display(),
+                m.line,
+                m.name
+            ));
+        }
+    }
+
+    // The classic reading: display colour, the 2014 factors.
+    let material = Material {
+        name: m.name.clone(),
+        color: linear_to_display(kd),
+        ambient: 0.2,
+        diffuse: 0.8,
+        specular: ks.max_element().clamp(0.0, 1.0),
+        shininess: ns.max(1.0),
+        ior,
+        reflect: s.reflection.max_element().clamp(0.0, 1.0),
+        refract: s.transmission.max_element().clamp(0.0, 1.0),
+        transparent: s.is_transmissive(),
+        texture: None,
+    };
+    (material, s)
+}
+
+/// A Fresnel surface's reflection tint: white when the file gives none (a glass with
+/// `Ks 0` still reflects what Fresnel says).
+fn nonzero_or_white(c: Vec3) -> Vec3 {
+    if c.max_element() > 0.0 { c } else { Vec3::ONE }
+}
+
+/// Linear colour to the 0..1 display values the classic model shows.
+fn linear_to_display(c: Vec3) -> Vec3 {
+    Vec3::from_array(c.to_array().map(|v| {
+        let v = v.clamp(0.0, 1.0);
+        if v <= 0.003_130_8 {
+            v * 12.92
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        }
+    }))
+}
+
+#[cfg(test)]
+mod tests;

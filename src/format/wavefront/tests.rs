@@ -1,0 +1,150 @@
+use super::*;
+use crate::scene::{Background, LightKind};
+
+/// Writes `files` (name, contents) into a fresh folder and loads `scene.obj` from it.
+fn load_files(files: &[(&str, &[u8])]) -> (tempfile::TempDir, SceneFile) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, bytes) in files {
+        std::fs::write(dir.path().join(name), bytes).unwrap();
+    }
+    let file = load(&dir.path().join("scene.obj")).unwrap();
+    (dir, file)
+}
+
+const QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+                    vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+                    vn 0 0 1\n";
+
+#[test]
+fn illum_models_map_to_the_whitted_terms() {
+    let mtl = "newmtl matte\nKd 0.5 0.25 1\nillum 1\n\
+               newmtl plastic\nKd 0.1 0.2 0.3\nKs 0.4 0.4 0.4\nNs 50\n\
+               newmtl mirror\nKd 0 0 0\nKs 0.9 0.8 0.7\nillum 3\n\
+               newmtl glass\nKd 0 0 0\nKs 0 0 0\nNi 1.5\nTf 1 0.9 0.8\nillum 7\n\
+               newmtl flat\nKd 1 1 1\nillum 0\n\
+               newmtl lamp\nKd 0 0 0\nKe 10 9 8\n\
+               newmtl veil\nKd 1 1 1\nd 0.25\n";
+    let mut obj = String::from("mtllib s.mtl\n");
+    obj += QUAD;
+    for name in [
+        "matte", "plastic", "mirror", "glass", "flat", "lamp", "veil",
+    ] {
+        obj += &format!("usemtl {name}\nf 1 2 3\n");
+    }
+    let (_dir, file) = load_files(&[("scene.obj", obj.as_bytes()), ("s.mtl", mtl.as_bytes())]);
+    let s = &file.scene;
+    assert_eq!(
+        s.materials.len(),
+        7,
+        "no default material: every face has one"
+    );
+    let surface = |i: usize| &s.surfaces[i];
+    assert_eq!(surface(0).albedo, Albedo::Color(Vec3::new(0.5, 0.25, 1.0)));
+    assert_eq!(surface(0).specular, Vec3::ZERO);
+    assert_eq!(surface(1).specular, Vec3::splat(0.4));
+    assert_eq!(surface(1).shininess, 50.0);
+    assert_eq!(surface(1).reflection, Vec3::ZERO);
+    assert_eq!(surface(2).reflection, Vec3::new(0.9, 0.8, 0.7));
+    assert!(!surface(2).fresnel);
+    let glass = surface(3);
+    assert!(glass.fresnel);
+    assert_eq!(glass.ior, 1.5);
+    assert_eq!(glass.transmission, Vec3::new(1.0, 0.9, 0.8));
+    assert_eq!(
+        glass.reflection,
+        Vec3::ONE,
+        "Ks 0 with Fresnel reflects white"
+    );
+    assert!(!surface(4).lit);
+    assert_eq!(surface(5).emission, Vec3::new(10.0, 9.0, 8.0));
+    assert_eq!(surface(6).transmission, Vec3::splat(0.75));
+    assert_eq!(surface(6).diffuse, 0.25);
+    // The emissive face is an area light of area 1/2.
+    assert_eq!(s.lights.len(), 1);
+    let LightKind::Mesh { shapes, area, .. } = &s.lights[0].kind else {
+        panic!("{:?}", s.lights[0]);
+    };
+    assert_eq!((shapes.as_slice(), *area), (&[5u32][..], 0.5));
+    assert_eq!(s.background, Background::Black);
+}
+
+#[test]
+fn normals_texture_coordinates_and_colours_reach_the_mesh() {
+    let obj = format!("{QUAD}v 2 0 0 1 0 0\nf 1/1/1 2/2/1 3/3/1\nf 1 3 4\n");
+    let (_dir, file) = load_files(&[("scene.obj", obj.as_bytes())]);
+    let s = &file.scene;
+    assert_eq!(s.shapes.len(), 2);
+    assert_eq!(s.meshes.len(), 1);
+    let (mesh, i) = s.mesh_of(0).unwrap();
+    assert_eq!(i, 0);
+    assert_eq!(mesh.texcoord(0, [0.0, 1.0, 0.0]), Some([1.0, 0.0]));
+    assert_eq!(mesh.normal(0, [0.2, 0.3, 0.5]), Some(Vec3::Z));
+    // The face without normals keeps its own flat normal; its corners are white.
+    assert_eq!(mesh.normal(1, [0.2, 0.3, 0.5]), Some(Vec3::Z));
+    assert_eq!(mesh.color(1, [1.0, 0.0, 0.0]), Some(Vec3::ONE));
+    assert_eq!((file.counts.vertices, file.counts.texcoords), (5, 4));
+    // A face with no material wears the default.
+    assert_eq!(s.materials.len(), 1);
+}
+
+#[test]
+fn texture_maps_load_with_their_options_and_missing_ones_warn() {
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbImage::from_raw(2, 1, vec![255, 0, 0, 0, 0, 255])
+        .unwrap()
+        .save(dir.path().join("red blue.png"))
+        .unwrap();
+    let mtl = "newmtl a\nKd 1 1 1\nmap_Kd -s 2 3 -o 0.5 0 -clamp on red blue.png\n\
+               newmtl b\nKd 0.5 0.5 0.5\nmap_Kd missing.png\n";
+    std::fs::write(dir.path().join("s.mtl"), mtl).unwrap();
+    let obj = format!("mtllib s.mtl\n{QUAD}usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1 3 4\n");
+    std::fs::write(dir.path().join("scene.obj"), obj).unwrap();
+    let file = load(&dir.path().join("scene.obj")).unwrap();
+    let s = &file.scene;
+    assert_eq!(s.images.len(), 1);
+    let Albedo::Image { slot, .. } = &s.surfaces[0].albedo else {
+        panic!("{:?}", s.surfaces[0].albedo);
+    };
+    assert_eq!(slot.scale, [2.0, 3.0]);
+    assert_eq!(slot.offset, [0.5, 0.0]);
+    assert!(slot.clamp);
+    // The left texel is red, decoded from sRGB (255 -> 1).
+    assert_eq!(s.images[0].texel(0, 0).x, 1.0);
+    assert_eq!(s.surfaces[1].albedo, Albedo::Color(Vec3::splat(0.5)));
+    assert!(
+        file.warnings
+            .iter()
+            .any(|w| w.contains("s.mtl:4:") && w.contains("missing.png")),
+        "{:?}",
+        file.warnings
+    );
+}
+
+#[test]
+fn groups_become_scene_groups() {
+    let obj = format!("{QUAD}o table\nf 1 2 3\ng legs top\nf 1 3 4\no table\nf 2 3 4\n");
+    let (_dir, file) = load_files(&[("scene.obj", obj.as_bytes())]);
+    let names: Vec<_> = file.scene.groups.iter().map(|g| g.name.as_str()).collect();
+    assert!(names.contains(&"table"), "{names:?}");
+    let table = file.scene.group("table").unwrap();
+    assert!(table.shapes.contains(&0));
+}
+
+#[test]
+fn the_cornell_box_has_its_ceiling_light_as_an_area_light() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/models/cornell-box/CornellBox-Original.obj");
+    if !path.exists() {
+        println!("skipped: {} is absent", path.display());
+        return;
+    }
+    let file = load(&path).unwrap();
+    let s = &file.scene;
+    assert_eq!(s.lights.len(), 1);
+    let LightKind::Mesh { shapes, area, .. } = &s.lights[0].kind else {
+        panic!("{:?}", s.lights[0]);
+    };
+    assert_eq!(shapes.len(), 2);
+    // The light is 0.47 x 0.38 in the file.
+    assert!((area - 0.47 * 0.38).abs() < 1e-3, "{area}");
+}
