@@ -1,0 +1,189 @@
+//! End to end: standard OBJ files render as their authors meant them, `prism info`
+//! reports them, and bad files fail cleanly.
+
+mod common;
+
+use common::prism;
+use std::path::Path;
+
+/// A lone triangle at +x (facing +z), white, under a light on the +z side.
+const RIGHT_TRIANGLE: &str = "v 0.5 -0.5 0\nv 1.5 -0.5 0\nv 1 0.5 0\nf 1 2 3\n";
+
+fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn luminance_by_half(path: &Path) -> (u64, u64) {
+    let img = image::open(path).unwrap().to_rgb8();
+    let (w, _) = img.dimensions();
+    let (mut left, mut right) = (0u64, 0u64);
+    for (x, _, p) in img.enumerate_pixels() {
+        let l = p.0.iter().map(|&c| u64::from(c)).sum::<u64>();
+        if x < w / 2 { left += l } else { right += l }
+    }
+    (left, right)
+}
+
+#[test]
+fn a_triangle_at_plus_x_seen_from_plus_z_is_on_the_right() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "t.obj", RIGHT_TRIANGLE);
+    let out = dir.path().join("t.png");
+    let status = prism()
+        .args(["render"])
+        .arg(&obj)
+        .arg(&out)
+        .args(["--look-from", "0,0,5", "--look-at", "0,0,0", "--fov", "60"])
+        .args(["--width", "64", "--height", "32", "--quiet"])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let (left, right) = luminance_by_half(&out);
+    // The background is grey on both sides; the lit triangle adds to the right only.
+    assert!(right > left + 64 * 10, "left {left}, right {right}");
+}
+
+#[test]
+fn a_model_without_camera_renders_with_the_default_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "t.obj", RIGHT_TRIANGLE);
+    let out = dir.path().join("t.png");
+    let status = prism()
+        .arg("render")
+        .arg(&obj)
+        .arg(&out)
+        .args(["--width", "48", "--quiet"])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let img = image::open(&out).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (48, 27));
+    // The model is framed: its pixels differ from the background's.
+    let corner = *img.get_pixel(0, 0);
+    let center = *img.get_pixel(24, 13);
+    assert_ne!(corner, center);
+}
+
+#[test]
+fn info_prints_the_counts_as_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(
+        dir.path(),
+        "q.obj",
+        "mtllib nowhere.mtl\no quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\n\
+         vt 0 0\nf 1/1/1 2/1/1 3/1/1 4/1/1\nl 1 2\n",
+    );
+    let out = prism()
+        .arg("info")
+        .arg(&obj)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["dialect"], "obj");
+    assert_eq!(json["vertices"], 4);
+    assert_eq!(json["normals"], 1);
+    assert_eq!(json["texcoords"], 1);
+    assert_eq!(json["triangles"], 2);
+    assert_eq!(json["objects"], 1);
+    assert_eq!(json["lights"], 0);
+    assert_eq!(
+        json["bounds"],
+        serde_json::json!([[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]])
+    );
+    let warnings = json["warnings"].as_array().unwrap();
+    // The missing library and the skipped line statement.
+    assert!(warnings.len() >= 2, "{warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("q.obj:1:")),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn malformed_numbers_are_file_line_column_errors_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(
+        dir.path(),
+        "bad.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 zero\nf 1 2 3\n",
+    );
+    let out = dir.path().join("bad.png");
+    let result = prism().arg("render").arg(&obj).arg(&out).output().unwrap();
+    assert_eq!(result.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("bad.obj:3:7:"), "{stderr}");
+    assert!(!out.exists());
+    let info = prism().arg("info").arg(&obj).output().unwrap();
+    assert_eq!(info.status.code(), Some(2));
+}
+
+#[test]
+fn linear_outputs_hold_radiance_and_agree_with_the_developed_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "t.obj", RIGHT_TRIANGLE);
+    let common = [
+        "--look-from",
+        "0,0,5",
+        "--look-at",
+        "0,0,0",
+        "--width",
+        "16",
+        "--height",
+        "8",
+    ];
+    for ext in ["exr", "hdr", "png"] {
+        let out = dir.path().join(format!("t.{ext}"));
+        let status = prism()
+            .arg("render")
+            .arg(&obj)
+            .arg(&out)
+            .args(common)
+            .arg("--quiet")
+            .status()
+            .unwrap();
+        assert!(status.success(), "{ext}");
+    }
+    let exr = prism::film::read_linear_image(&dir.path().join("t.exr")).unwrap();
+    let hdr = prism::film::read_linear_image(&dir.path().join("t.hdr")).unwrap();
+    let png = image::open(dir.path().join("t.png")).unwrap().to_rgb8();
+    assert_eq!((exr.width, exr.height), (16, 8));
+    let develop = prism::film::Develop::display();
+    for (i, (e, h)) in exr.pixels.iter().zip(&hdr.pixels).enumerate() {
+        for c in 0..3 {
+            // Half precision and RGBE's shared exponent.
+            assert!(
+                (e[c] - h[c]).abs() <= 0.01 * e[c].max(h[c]) + 1e-3,
+                "{e:?} {h:?}"
+            );
+            let expected = (develop.channel(e[c]) * 255.0).round();
+            let got = f32::from(png.as_raw()[i * 3 + c]);
+            assert!(
+                (expected - got).abs() <= 1.0,
+                "pixel {i}: {expected} vs {got}"
+            );
+        }
+    }
+}
+
+#[test]
+fn prism_alone_lists_its_commands() {
+    let out = prism().output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for command in ["render", "animate", "info", "bench", "convert"] {
+        assert!(
+            text.lines().any(|l| l.trim_start().starts_with(command)),
+            "{command} missing:\n{text}"
+        );
+    }
+}
