@@ -25,6 +25,9 @@ pub enum Error {
     /// Settings that cannot be rendered (resolution, sample counts, region...).
     #[error("{0}")]
     Settings(String),
+    /// The work was stopped on request (Ctrl-C, a cancelled Python call).
+    #[error("interrupted")]
+    Interrupted,
 }
 
 impl Error {

@@ -24,7 +24,7 @@ use crate::film::resample::{AxisWeights, resample_window};
 use crate::math::{Ray, Vec3};
 use crate::scene::{Camera, Scene};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// Sum of weighted colours: the colour of a pixel is `sum / weight`. Both shading models
@@ -96,6 +96,8 @@ const BAND_ROWS: u32 = 32;
 pub struct Renderer<'a> {
     scene: &'a Scene,
     plan: Plan,
+    /// Set from any thread (a signal handler, Python's Ctrl-C) to stop the render.
+    cancel: Option<&'a AtomicBool>,
 }
 
 impl<'a> Renderer<'a> {
@@ -106,7 +108,31 @@ impl<'a> Renderer<'a> {
         settings: RenderSettings,
     ) -> Result<Renderer<'a>> {
         let plan = settings.resolve(camera)?;
-        Ok(Renderer { scene, plan })
+        Ok(Renderer {
+            scene,
+            plan,
+            cancel: None,
+        })
+    }
+
+    /// Stops the render soon after `flag` is set: rows not yet started are skipped
+    /// and the render returns [`crate::Error::Interrupted`].
+    pub fn cancel_on(mut self, flag: &'a AtomicBool) -> Renderer<'a> {
+        self.cancel = Some(flag);
+        self
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+
+    /// The result of a render, unless it was cancelled while running.
+    fn finished(&self, out: (Image, RenderStats)) -> Result<(Image, RenderStats)> {
+        if self.cancelled() {
+            Err(crate::Error::Interrupted)
+        } else {
+            Ok(out)
+        }
     }
 
     /// The camera after the settings' overrides.
@@ -153,10 +179,11 @@ impl<'a> Renderer<'a> {
     /// number of supersampled rows finished, from any thread.
     pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<(Image, RenderStats)> {
         let start = Instant::now();
-        Ok(self.pool()?.install(|| {
+        let out = self.pool()?.install(|| {
             let accel = Accel::build(self.plan.accel, &self.scene.shapes);
             self.render_in_pool(&accel, start, progress)
-        }))
+        });
+        self.finished(out)
     }
 
     /// Builds the intersector [`Renderer::render`] would, on the renderer's threads.
@@ -182,9 +209,10 @@ impl<'a> Renderer<'a> {
             )));
         }
         let start = Instant::now();
-        Ok(self
+        let out = self
             .pool()?
-            .install(|| self.render_in_pool(accel, start, progress)))
+            .install(|| self.render_in_pool(accel, start, progress));
+        self.finished(out)
     }
 
     fn pool(&self) -> Result<rayon::ThreadPool> {
@@ -245,6 +273,9 @@ impl<'a> Renderer<'a> {
                 band.par_chunks_mut(row_len)
                     .enumerate()
                     .for_each(|(i, row)| {
+                        if self.cancelled() {
+                            return;
+                        }
                         let y = lo + i as u32;
                         let mut count = RayCount::default();
                         for (j, out) in row.iter_mut().enumerate() {
@@ -293,5 +324,44 @@ impl<'a> Renderer<'a> {
             integrator.trace_camera_ray(ray, sampler, &mut acc, count)
         });
         acc.mean()
+    }
+}
+
+#[cfg(test)]
+mod cancel_tests {
+    use super::*;
+    use crate::scene::{Material, Shape, Sphere};
+
+    #[test]
+    fn a_cancelled_render_stops_and_says_so() {
+        let mut scene = Scene {
+            materials: vec![Material::default_white()],
+            ..Scene::default()
+        };
+        scene.push_shape(
+            Shape::Sphere(Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            }),
+            0,
+        );
+        let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 64, 64);
+        let flag = AtomicBool::new(false);
+        let rows = AtomicU64::new(0);
+        let renderer = Renderer::new(&scene, &camera, RenderSettings::default())
+            .unwrap()
+            .cancel_on(&flag);
+        // Cancelled after the first row: the rest are skipped.
+        let result = renderer.render(&|n| {
+            rows.fetch_add(n, Ordering::Relaxed);
+            flag.store(true, Ordering::Relaxed);
+        });
+        assert!(matches!(result, Err(crate::Error::Interrupted)));
+        // Rows already running when the flag went up finish; no new one starts.
+        let threads = rayon::current_num_threads() as u64;
+        assert!(rows.into_inner() <= 2 * threads + 2);
+        // Not cancelled: the same renderer's output.
+        flag.store(false, Ordering::Relaxed);
+        assert!(renderer.render(&|_| {}).is_ok());
     }
 }
