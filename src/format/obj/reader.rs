@@ -251,7 +251,7 @@ impl Reader<'_, '_> {
         ];
         let mut values = [0.0f32; 6];
         let mut count = 0;
-        let mut end = tokens.clone();
+        let mut end = tokens.offset();
         for token in tokens {
             if count == values.len() {
                 return Err(self.error(
@@ -266,14 +266,14 @@ impl Reader<'_, '_> {
             }
             values[count] = self.number(line, token, WHAT[count])?;
             count += 1;
-            end.next();
+            end = token.start + token.bytes.len();
         }
         match count {
             3 | 4 | 6 => {}
             0..=2 => {
                 return Err(self.error(
                     line,
-                    end.offset(),
+                    end,
                     format!(
                         "expected 3 coordinates after v (v x y z), {} is missing",
                         WHAT[count]
@@ -283,7 +283,7 @@ impl Reader<'_, '_> {
             _ => {
                 return Err(self.error(
                     line,
-                    end.offset(),
+                    end,
                     "expected x y z, x y z w or x y z r g b after v, found 5 values: \
                      the blue of the vertex colour is missing",
                 ));
@@ -366,7 +366,34 @@ impl Reader<'_, '_> {
     }
 
     /// The 0-based index a face corner names, from its digits `text` at byte `start`.
+    #[inline]
     fn index(
+        &mut self,
+        line: &Line,
+        token: Token,
+        text: &[u8],
+        start: usize,
+        kind: Kind,
+    ) -> Result<u32> {
+        // The common case: a few digits naming something already read.
+        let defined = match kind {
+            Kind::Position => self.obj.positions.len(),
+            Kind::Texcoord => self.obj.texcoords.len(),
+            Kind::Normal => self.obj.normals.len(),
+        };
+        if !text.is_empty() && text.len() <= 9 && text.iter().all(u8::is_ascii_digit) {
+            let value = text
+                .iter()
+                .fold(0usize, |n, &d| n * 10 + (d - b'0') as usize);
+            if value >= 1 && value <= defined {
+                return Ok(value as u32 - 1);
+            }
+        }
+        self.index_slow(line, token, text, start, kind)
+    }
+
+    #[cold]
+    fn index_slow(
         &mut self,
         line: &Line,
         token: Token,
