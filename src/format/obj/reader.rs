@@ -93,7 +93,6 @@ struct Corner {
 struct Forward {
     index: u32,
     line: usize,
-    column: usize,
 }
 
 /// A polygon naming positions defined further down: triangulated at the end into the
@@ -446,11 +445,10 @@ impl Reader<'_, '_> {
             ));
         };
         if index as usize >= defined {
-            let (number, column) = line.place(start);
+            let (number, _) = line.place(start);
             self.forward[kind as usize].push(Forward {
                 index,
                 line: number,
-                column,
             });
         }
         Ok(index)
@@ -752,10 +750,10 @@ impl Reader<'_, '_> {
             .iter()
             .find(|f| f.index as usize >= positions)
         {
-            return Err(Error::parse_at(
+            // `file:line:` as before: `prism convert`'s callers match this text.
+            return Err(Error::parse(
                 self.path,
                 f.line,
-                f.column,
                 format!(
                     "vertex {} does not exist: the file defines {positions}",
                     f.index as u64 + 1
