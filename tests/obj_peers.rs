@@ -760,7 +760,7 @@ fn tobj_models() {
         ),
         (
             "invalid_index.obj",
-            Fails(":12:7: vertex 7 does not exist: the file defines 6"),
+            Fails(":12: vertex 7 does not exist: the file defines 6"),
         ),
         (
             "lines.obj",

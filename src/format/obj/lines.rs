@@ -133,19 +133,28 @@ impl<'a> Lines<'a> {
         if self.rest.is_empty() {
             return None;
         }
-        let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
-            Some(i) => (&self.rest[..i], &self.rest[i + 1..]),
-            None => (self.rest, &self.rest[..0]),
+        // One scan finds the line end or the comment, whichever comes first.
+        let stop = find_newline_or_hash(self.rest);
+        let (content, commented, after) = match stop {
+            Some(i) if self.rest[i] == b'#' => {
+                let end = self.rest[i..]
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .map_or(self.rest.len(), |j| i + j);
+                (&self.rest[..i], true, end)
+            }
+            Some(i) => (&self.rest[..i], false, i),
+            None => (self.rest, false, self.rest.len()),
         };
-        self.rest = rest;
+        self.rest = self.rest.get(after + 1..).unwrap_or(&[]);
         self.next_number += 1;
-        let line = line.strip_suffix(b"\r").unwrap_or(line);
-        Some(match line.iter().position(|&b| b == b'#') {
-            Some(hash) => (&line[..hash], false),
-            None => match line.strip_suffix(b"\\") {
-                Some(head) => (head, true),
-                None => (line, false),
-            },
+        if commented {
+            return Some((content, false));
+        }
+        let line = content.strip_suffix(b"\r").unwrap_or(content);
+        Some(match line.strip_suffix(b"\\") {
+            Some(head) => (head, true),
+            None => (line, false),
         })
     }
 
@@ -255,6 +264,26 @@ impl<'l> Tokens<'l> {
     pub fn offset(&self) -> usize {
         self.pos
     }
+}
+
+/// The first `\n` or `#` in `bytes`, eight bytes at a time.
+fn find_newline_or_hash(bytes: &[u8]) -> Option<usize> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    let has_zero = |x: u64| x.wrapping_sub(ONES) & !x & HIGHS;
+    let mut chunks = bytes.chunks_exact(8);
+    let mut offset = 0;
+    for chunk in &mut chunks {
+        let word = u64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
+        if has_zero(word ^ (ONES * b'\n' as u64)) | has_zero(word ^ (ONES * b'#' as u64)) != 0 {
+            break;
+        }
+        offset += 8;
+    }
+    bytes[offset..]
+        .iter()
+        .position(|&b| b == b'\n' || b == b'#')
+        .map(|i| offset + i)
 }
 
 /// A decimal number as `strtod` reads it (`1`, `-2.5`, `.5`, `5.`, `+1e-001`), as an

@@ -93,7 +93,6 @@ struct Corner {
 struct Forward {
     index: u32,
     line: usize,
-    column: usize,
 }
 
 /// A polygon naming positions defined further down: triangulated at the end into the
@@ -251,7 +250,7 @@ impl Reader<'_, '_> {
         ];
         let mut values = [0.0f32; 6];
         let mut count = 0;
-        let mut end = tokens.clone();
+        let mut end = tokens.offset();
         for token in tokens {
             if count == values.len() {
                 return Err(self.error(
@@ -266,14 +265,14 @@ impl Reader<'_, '_> {
             }
             values[count] = self.number(line, token, WHAT[count])?;
             count += 1;
-            end.next();
+            end = token.start + token.bytes.len();
         }
         match count {
             3 | 4 | 6 => {}
             0..=2 => {
                 return Err(self.error(
                     line,
-                    end.offset(),
+                    end,
                     format!(
                         "expected 3 coordinates after v (v x y z), {} is missing",
                         WHAT[count]
@@ -283,7 +282,7 @@ impl Reader<'_, '_> {
             _ => {
                 return Err(self.error(
                     line,
-                    end.offset(),
+                    end,
                     "expected x y z, x y z w or x y z r g b after v, found 5 values: \
                      the blue of the vertex colour is missing",
                 ));
@@ -366,7 +365,34 @@ impl Reader<'_, '_> {
     }
 
     /// The 0-based index a face corner names, from its digits `text` at byte `start`.
+    #[inline]
     fn index(
+        &mut self,
+        line: &Line,
+        token: Token,
+        text: &[u8],
+        start: usize,
+        kind: Kind,
+    ) -> Result<u32> {
+        // The common case: a few digits naming something already read.
+        let defined = match kind {
+            Kind::Position => self.obj.positions.len(),
+            Kind::Texcoord => self.obj.texcoords.len(),
+            Kind::Normal => self.obj.normals.len(),
+        };
+        if !text.is_empty() && text.len() <= 9 && text.iter().all(u8::is_ascii_digit) {
+            let value = text
+                .iter()
+                .fold(0usize, |n, &d| n * 10 + (d - b'0') as usize);
+            if value >= 1 && value <= defined {
+                return Ok(value as u32 - 1);
+            }
+        }
+        self.index_slow(line, token, text, start, kind)
+    }
+
+    #[cold]
+    fn index_slow(
         &mut self,
         line: &Line,
         token: Token,
@@ -419,11 +445,10 @@ impl Reader<'_, '_> {
             ));
         };
         if index as usize >= defined {
-            let (number, column) = line.place(start);
+            let (number, _) = line.place(start);
             self.forward[kind as usize].push(Forward {
                 index,
                 line: number,
-                column,
             });
         }
         Ok(index)
@@ -725,10 +750,10 @@ impl Reader<'_, '_> {
             .iter()
             .find(|f| f.index as usize >= positions)
         {
-            return Err(Error::parse_at(
+            // `file:line:` as before: `prism convert`'s callers match this text.
+            return Err(Error::parse(
                 self.path,
                 f.line,
-                f.column,
                 format!(
                     "vertex {} does not exist: the file defines {positions}",
                     f.index as u64 + 1

@@ -240,11 +240,11 @@ fn errors_name_file_line_and_column() {
         ),
         (
             "v 0 0 0\nf 1 2 3\n",
-            "dir/m.obj:2:5: vertex 2 does not exist: the file defines 1",
+            "dir/m.obj:2: vertex 2 does not exist: the file defines 1",
         ),
         (
             "f 1 2 \\\n 3 4\nv 0 0 0\nv 0 0 0\nv 0 0 0\n",
-            "dir/m.obj:2:4: vertex 4 does not exist: the file defines 3",
+            "dir/m.obj:2: vertex 4 does not exist: the file defines 3",
         ),
         (
             "vt\n",
