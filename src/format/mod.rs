@@ -19,6 +19,7 @@ pub mod cmr;
 pub mod mtlx;
 pub mod obj;
 pub mod objx;
+pub mod scene_file;
 mod text;
 
 use std::path::Path;
@@ -75,6 +76,7 @@ impl SceneDialect {
         match self {
             SceneDialect::Objx2014 => "objx",
             SceneDialect::WavefrontObj => "obj",
+            SceneDialect::PrismScene => "toml",
         }
     }
 }
@@ -86,6 +88,9 @@ pub fn load(path: &Path) -> Result<SceneFile> {
 
 /// Reads any scene file in the given dialect.
 pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
+    if dialect == SceneDialect::PrismScene {
+        return scene_file::load(path);
+    }
     let scene = load_scene_as(path, dialect)?;
     Ok(SceneFile {
         dialect,
@@ -108,6 +113,8 @@ pub enum SceneDialect {
     Objx2014,
     /// Standard Wavefront OBJ: its triangles (see [`obj`]).
     WavefrontObj,
+    /// Prism's own scene file, TOML (see [`scene_file`]).
+    PrismScene,
 }
 
 impl SceneDialect {
@@ -116,6 +123,8 @@ impl SceneDialect {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
         if ext.eq_ignore_ascii_case("obj") {
             SceneDialect::WavefrontObj
+        } else if ext.eq_ignore_ascii_case("toml") {
+            SceneDialect::PrismScene
         } else {
             SceneDialect::Objx2014
         }
@@ -133,6 +142,7 @@ pub fn load_scene_as(path: &Path, dialect: SceneDialect) -> Result<Scene> {
     match dialect {
         SceneDialect::Objx2014 => objx::load(path),
         SceneDialect::WavefrontObj => obj::load(path),
+        SceneDialect::PrismScene => scene_file::load(path).map(|f| f.scene),
     }
 }
 
