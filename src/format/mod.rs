@@ -12,8 +12,9 @@
 //! Relative paths inside a file (`mtllib`, textures) are resolved against the folder of
 //! the file that names them, never the working directory.
 //!
-//! Dialects: the extension `.obj` is standard Wavefront OBJ (geometry only for now);
-//! every other scene file is the 2014 dialect. [`SceneDialect`] is where more slot in.
+//! Dialects, by extension: `.obj` is standard Wavefront OBJ with its MTL libraries
+//! ([`wavefront`]), `.toml` a Prism scene file ([`scene_file`]), anything else the 2014
+//! dialect. [`SceneDialect`] is where more slot in.
 
 pub mod cmr;
 pub mod image_file;
@@ -21,6 +22,7 @@ pub mod mtl;
 pub mod mtlx;
 pub mod obj;
 pub mod objx;
+pub mod scene_file;
 mod text;
 pub mod wavefront;
 
@@ -90,6 +92,7 @@ impl SceneDialect {
         match self {
             SceneDialect::Objx2014 => "objx",
             SceneDialect::WavefrontObj => "obj",
+            SceneDialect::PrismScene => "toml",
         }
     }
 }
@@ -101,8 +104,10 @@ pub fn load(path: &Path) -> Result<SceneFile> {
 
 /// Reads any scene file in the given dialect.
 pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
-    if dialect == SceneDialect::WavefrontObj {
-        return wavefront::load(path);
+    match dialect {
+        SceneDialect::WavefrontObj => return wavefront::load(path),
+        SceneDialect::PrismScene => return scene_file::load(path),
+        SceneDialect::Objx2014 => {}
     }
     let scene = load_scene_as(path, dialect)?;
     Ok(SceneFile {
@@ -127,6 +132,8 @@ pub enum SceneDialect {
     Objx2014,
     /// Standard Wavefront OBJ: its triangles (see [`obj`]).
     WavefrontObj,
+    /// Prism's own scene file, TOML (see [`scene_file`]).
+    PrismScene,
 }
 
 impl SceneDialect {
@@ -135,6 +142,8 @@ impl SceneDialect {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
         if ext.eq_ignore_ascii_case("obj") {
             SceneDialect::WavefrontObj
+        } else if ext.eq_ignore_ascii_case("toml") {
+            SceneDialect::PrismScene
         } else {
             SceneDialect::Objx2014
         }
@@ -152,6 +161,7 @@ pub fn load_scene_as(path: &Path, dialect: SceneDialect) -> Result<Scene> {
     match dialect {
         SceneDialect::Objx2014 => objx::load(path),
         SceneDialect::WavefrontObj => Ok(wavefront::load(path)?.scene),
+        SceneDialect::PrismScene => scene_file::load(path).map(|f| f.scene),
     }
 }
 

@@ -265,7 +265,11 @@ impl<'a> Whitted<'a> {
                 Vec3::new(c.x, c.y, c.z) * *tint
             }
             Albedo::Checker { a, b, scale } => {
-                let q = (sp.p / scale.max(f32::MIN_POSITIVE)).floor();
+                // Read just inside the surface: a plane lying on a cube face (a floor
+                // at y = 0) would otherwise flip cells with the rounding of each hit.
+                let scale = scale.max(f32::MIN_POSITIVE);
+                let inside = sp.p - sp.ng * (scale * 1e-3);
+                let q = (inside / scale).floor();
                 let parity = (q.x + q.y + q.z).rem_euclid(2.0);
                 if parity < 0.5 { *a } else { *b }
             }

@@ -392,11 +392,19 @@ fn checker_alternates_in_world_cubes() {
         ..Surface::default()
     };
     let s = scene(vec![(floor(0.0, 10.0), checker)], vec![], Background::Black);
-    // y = 0 is the bottom face of the cube row y in [0, 1).
-    assert_eq!(radiance_of(&s, down_at(0.5, 0.5)), a);
-    assert_eq!(radiance_of(&s, down_at(1.5, 0.5)), b);
-    assert_eq!(radiance_of(&s, down_at(-0.5, 0.5)), b);
-    assert_eq!(radiance_of(&s, down_at(-0.5, -0.5)), a);
+    // The floor lies on the cube face y = 0; it is read just below (inside it, against
+    // its normal), in the row y in [-1, 0), whatever the rounding of each hit.
+    assert_eq!(radiance_of(&s, down_at(0.5, 0.5)), b);
+    assert_eq!(radiance_of(&s, down_at(1.5, 0.5)), a);
+    assert_eq!(radiance_of(&s, down_at(-0.5, 0.5)), a);
+    assert_eq!(radiance_of(&s, down_at(-0.5, -0.5)), b);
+    // Rays hitting at slightly different heights of the same cell agree.
+    for i in 0..200 {
+        let x = 0.01 + i as f32 * 0.00491;
+        let dir = Vec3::new(0.3, -1.0, 0.2);
+        let ray = Ray::new(Vec3::new(x, 0.0, 0.37) - dir * 5.3, dir);
+        assert_eq!(radiance_of(&s, ray), b, "{x}");
+    }
 }
 
 #[test]

@@ -1,0 +1,565 @@
+//! Puts the parsed files together into one [`Scene`]: materials first (so objects may
+//! name materials defined anywhere), then objects and lights in file order, then the
+//! planes (sized by the rest), the camera and the tracks.
+
+use super::images::ImageCache;
+use super::include::Document;
+use super::materials::{self, BuiltMaterial, DEFAULT_COLOR, linear_to_srgb};
+use super::objects::{self, Geometry, place, placement_error};
+use super::raw::{MaterialRef, RawObject, RawTrack};
+use super::source::{Source, regular_file};
+use super::transform::Transform;
+use super::{camera, lights, settings, tracks};
+use crate::Result;
+use crate::format::FileSettings;
+use crate::math::{Aabb, Vec3};
+use crate::scene::{
+    Albedo, Camera, Group, Light, LightKind, Material, Rectangle, Scene, Shape, Surface,
+};
+use std::collections::HashMap;
+use toml::Spanned;
+
+/// A plane is a square this many times the diagonal of everything else in the scene
+/// (shapes and the camera's eye) on a side. From anywhere inside the scene its edge then
+/// lies within about half a degree of the true horizon, while hits on it stay far from
+/// f32's limits (a relative error of 1e-5 of the scene's size at the edge).
+pub const PLANE_SCALE: f32 = 100.0;
+
+/// What a name in the group namespace belongs to.
+#[derive(Clone, Copy, PartialEq)]
+enum Named {
+    Object,
+    Light,
+}
+
+#[derive(Default)]
+struct Builder {
+    scene: Scene,
+    /// Material name to index, with where it was defined.
+    materials: HashMap<String, (u32, String)>,
+    default_material: Option<u32>,
+    names: HashMap<String, Named>,
+    /// Placeholder shapes of planes: index, point and unit normal.
+    planes: Vec<(usize, Vec3, Vec3)>,
+    images: ImageCache,
+    warnings: Vec<String>,
+}
+
+pub type Built = (Scene, Option<Camera>, FileSettings, Vec<String>);
+
+pub fn build(documents: &[Document]) -> Result<Built> {
+    let mut b = Builder::default();
+    for doc in documents {
+        for m in &doc.raw.material {
+            b.named_material(&doc.source, m)?;
+        }
+    }
+    for doc in documents {
+        for (i, o) in doc.raw.object.iter().enumerate() {
+            b.object(&doc.source, o, i)?;
+        }
+        for l in &doc.raw.light {
+            b.light(&doc.source, l)?;
+        }
+    }
+    let main = documents.last().expect("the main file is always read");
+    let (source, raw) = (&main.source, &main.raw);
+    let settings = match &raw.render {
+        Some(r) => settings::render(source, r.get_ref())?,
+        None => FileSettings::default(),
+    };
+    let eye = raw
+        .camera
+        .as_ref()
+        .and_then(|c| c.get_ref().from.as_ref())
+        .map(|f| f.get_ref().vec3());
+    b.size_planes(eye);
+    if let Some(a) = &raw.ambient {
+        b.scene.ambient = settings::ambient(source, a.get_ref())?;
+    }
+    if let Some(bg) = &raw.background {
+        b.scene.background = settings::background(source, bg, &mut b.scene.images, &mut b.images)?;
+    }
+    let camera = match &raw.camera {
+        None => None,
+        Some(c) => Some(camera::build(source, c, &settings, |name| {
+            b.object_center(name)
+        })?),
+    };
+    b.check_tracks(source, &raw.track)?;
+    Ok((b.scene, camera, settings, b.warnings))
+}
+
+impl Builder {
+    fn push_material(&mut self, built: BuiltMaterial) -> u32 {
+        self.scene.materials.push(built.material);
+        self.scene.surfaces.push(built.surface);
+        self.scene.materials.len() as u32 - 1
+    }
+
+    fn named_material(
+        &mut self,
+        source: &Source,
+        m: &Spanned<super::raw::RawMaterial>,
+    ) -> Result<()> {
+        let name = m
+            .get_ref()
+            .name
+            .as_ref()
+            .ok_or_else(|| source.error(m, "a [[material]] needs `name`"))?;
+        let (line, column) = source.line_column(name.span().start);
+        let here = format!("{}:{line}:{column}", source.path.display());
+        if let Some((_, first)) = self.materials.get(name.get_ref()) {
+            return Err(source.error(
+                name,
+                format!(
+                    "material \"{}\" is defined twice (first at {first})",
+                    name.get_ref()
+                ),
+            ));
+        }
+        let built = materials::build(
+            source,
+            m.get_ref(),
+            name.get_ref().clone(),
+            &mut self.scene.images,
+            &mut self.images,
+        )?;
+        let index = self.push_material(built);
+        self.materials.insert(name.get_ref().clone(), (index, here));
+        Ok(())
+    }
+
+    fn default_material(&mut self) -> u32 {
+        if let Some(i) = self.default_material {
+            return i;
+        }
+        let surface = Surface {
+            albedo: Albedo::Color(DEFAULT_COLOR),
+            ambient: DEFAULT_COLOR,
+            shininess: materials::DEFAULT_SHININESS,
+            ..Surface::default()
+        };
+        let material = Material {
+            name: "default".into(),
+            color: linear_to_srgb(DEFAULT_COLOR),
+            ..Material::default_white()
+        };
+        let i = self.push_material(BuiltMaterial { material, surface });
+        self.default_material = Some(i);
+        i
+    }
+
+    /// The material an object wears: `None` for a mesh that keeps its file's own.
+    fn object_material(
+        &mut self,
+        source: &Source,
+        o: &RawObject,
+        label: &str,
+    ) -> Result<Option<u32>> {
+        let Some(m) = &o.material else {
+            return Ok((o.kind.get_ref() != "mesh").then(|| self.default_material()));
+        };
+        match m.get_ref() {
+            MaterialRef::Name(name) => match self.materials.get(name) {
+                Some((i, _)) => Ok(Some(*i)),
+                None => {
+                    let mut known: Vec<&str> = self.materials.keys().map(String::as_str).collect();
+                    known.sort_unstable();
+                    known.truncate(12);
+                    Err(source.error(
+                        m,
+                        format!(
+                            "unknown material \"{name}\": expected one of the [[material]] names ({})",
+                            if known.is_empty() { "there are none".to_string() } else { known.join(", ") }
+                        ),
+                    ))
+                }
+            },
+            MaterialRef::Inline(raw) => {
+                let built = materials::build(
+                    source,
+                    raw,
+                    label.to_string(),
+                    &mut self.scene.images,
+                    &mut self.images,
+                )?;
+                Ok(Some(self.push_material(built)))
+            }
+        }
+    }
+
+    fn claim_name(&mut self, source: &Source, name: &Spanned<String>, what: Named) -> Result<()> {
+        if name.get_ref().is_empty() {
+            return Err(source.error(name, "expected a name that is not empty"));
+        }
+        if self.names.insert(name.get_ref().clone(), what).is_some() {
+            return Err(source.error(
+                name,
+                format!(
+                    "the name \"{}\" is already taken: objects and lights share one namespace",
+                    name.get_ref()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn object(&mut self, source: &Source, at: &Spanned<RawObject>, index: usize) -> Result<()> {
+        let o = at.get_ref();
+        if let Some(name) = &o.name {
+            self.claim_name(source, name, Named::Object)?;
+        }
+        let label = match &o.name {
+            Some(n) => n.get_ref().clone(),
+            None => {
+                let (line, _) = source.line_column(at.span().start);
+                format!("{} object {} (line {line})", o.kind.get_ref(), index + 1)
+            }
+        };
+        let transform = Transform::new(source, o)?;
+        let geometry = objects::geometry(source, o)?;
+        let material = self.object_material(source, o, &label)?;
+        let emissive = |b: &Builder, m: u32| b.scene.surfaces[m as usize].emission != Vec3::ZERO;
+        let glowing = material.is_some_and(|m| emissive(self, m));
+        let first = self.scene.shapes.len();
+        let first_light = self.scene.lights.len();
+        // A mesh file's own emissive materials come with their lights; planes are seen
+        // glowing but light nothing (they are far too large to sample).
+        let make_emitters = match geometry {
+            Geometry::Mesh(_) => material.is_some(),
+            Geometry::Plane { .. } => false,
+            Geometry::Local(_) => true,
+        };
+        match geometry {
+            Geometry::Local(local) => {
+                let material = material.expect("primitives always wear a material");
+                let placed = place(&local, &transform, glowing)
+                    .map_err(|m| placement_error(source, o, m))?;
+                if let Some(mut attributes) = placed.attributes {
+                    attributes.first_shape = first as u32;
+                    self.scene.meshes.push(attributes);
+                }
+                for shape in placed.shapes {
+                    self.scene.push_shape(shape, material);
+                }
+            }
+            Geometry::Plane { point, normal } => {
+                let p = transform.point(point);
+                let n =
+                    transform.normal(Vec3::new(normal.x as f32, normal.y as f32, normal.z as f32));
+                self.planes.push((first, p, n));
+                let placeholder = Shape::Rectangle(Rectangle { v: [p; 4] });
+                self.scene
+                    .push_shape(placeholder, material.expect("planes wear a material"));
+            }
+            Geometry::Mesh(file) => self.merge_mesh(source, o, &file, &transform, material)?,
+        }
+        let samples = match &o.samples {
+            None => lights::DEFAULT_AREA_SAMPLES,
+            Some(n) if (1..=lights::MAX_AREA_SAMPLES).contains(n.get_ref()) => *n.get_ref(),
+            Some(n) => {
+                return Err(source.error(
+                    n,
+                    format!(
+                        "expected samples between 1 and {}, found {}",
+                        lights::MAX_AREA_SAMPLES,
+                        n.get_ref()
+                    ),
+                ));
+            }
+        };
+        if make_emitters {
+            self.emitters(first, samples);
+        }
+        if let Some(n) = &o.samples
+            && self.scene.lights.len() == first_light
+        {
+            return Err(source.error(
+                n,
+                "`samples` applies to glowing objects (a material with `emission`) only",
+            ));
+        }
+        if let Some(name) = &o.name {
+            self.scene.groups.push(Group {
+                name: name.get_ref().clone(),
+                shapes: (first as u32..self.scene.shapes.len() as u32).collect(),
+                lights: (first_light as u32..self.scene.lights.len() as u32).collect(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Area lights for the glowing shapes from `first` on: a sphere light per sphere,
+    /// a mesh light per run of triangles with one emissive material.
+    fn emitters(&mut self, first: usize, samples: u32) {
+        let end = self.scene.shapes.len();
+        let mut i = first;
+        while i < end {
+            let m = self.scene.material_of[i];
+            let emission = self.scene.surfaces[m as usize].emission;
+            if emission == Vec3::ZERO {
+                i += 1;
+                continue;
+            }
+            match self.scene.shapes[i] {
+                Shape::Sphere(s) => {
+                    self.scene.lights.push(Light {
+                        position: s.center,
+                        color: emission,
+                        intensity: 1.0,
+                        kind: LightKind::Sphere { radius: s.radius },
+                        falloff: Default::default(),
+                        samples,
+                    });
+                    i += 1;
+                }
+                Shape::Rectangle(_) => i += 1,
+                Shape::Triangle(_) => {
+                    let run_end = (i..end)
+                        .find(|&j| {
+                            self.scene.material_of[j] != m
+                                || !matches!(self.scene.shapes[j], Shape::Triangle(_))
+                        })
+                        .unwrap_or(end);
+                    if let Some(light) = mesh_light(&self.scene, i, run_end, emission, samples) {
+                        self.scene.lights.push(light);
+                    }
+                    i = run_end;
+                }
+            }
+        }
+    }
+
+    fn merge_mesh(
+        &mut self,
+        source: &Source,
+        o: &RawObject,
+        file: &Spanned<String>,
+        t: &Transform,
+        material: Option<u32>,
+    ) -> Result<()> {
+        let path = source.resolve(file.get_ref());
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        if !["obj", "objx", "ply"].contains(&ext.as_str()) {
+            return Err(source.error(
+                file,
+                format!(
+                    "expected a mesh file .obj, .ply or .objx, found {}",
+                    path.display()
+                ),
+            ));
+        }
+        regular_file(source, file, &path)?;
+        let loaded = crate::format::load_scene(&path)?;
+        merge(&mut self.scene, loaded, t, material).map_err(|m| placement_error(source, o, m))
+    }
+
+    fn light(&mut self, source: &Source, at: &Spanned<super::raw::RawLight>) -> Result<()> {
+        let raw = at.get_ref();
+        if let Some(name) = &raw.name {
+            self.claim_name(source, name, Named::Light)?;
+        }
+        let light = lights::build(source, raw)?;
+        self.scene.lights.push(light);
+        if let Some(name) = &raw.name {
+            self.scene.groups.push(Group {
+                name: name.get_ref().clone(),
+                shapes: Vec::new(),
+                lights: vec![self.scene.lights.len() as u32 - 1],
+            });
+        }
+        Ok(())
+    }
+
+    /// Replaces each plane's placeholder by a square [`PLANE_SCALE`] times the size
+    /// of the rest of the scene.
+    fn size_planes(&mut self, eye: Option<Vec3>) {
+        let is_plane: Vec<usize> = self.planes.iter().map(|p| p.0).collect();
+        let mut bounds = self
+            .scene
+            .shapes
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !is_plane.contains(i))
+            .fold(Aabb::EMPTY, |b, (_, s)| b.union(s.bounds()));
+        if let Some(eye) = eye {
+            bounds = bounds.grow(eye);
+        }
+        let size = if bounds.is_empty() {
+            1.0
+        } else {
+            bounds.extent().length().max(1.0)
+        };
+        let half = 0.5 * PLANE_SCALE * size;
+        for &(i, p, n) in &self.planes {
+            let t1 = n.any_orthonormal_vector();
+            let t2 = n.cross(t1);
+            let (a, b) = (t1 * half, t2 * half);
+            self.scene.shapes[i] = Shape::Rectangle(Rectangle {
+                v: [p - a - b, p + a - b, p + a + b, p - a + b],
+            });
+        }
+    }
+
+    fn object_center(&self, name: &str) -> Option<Vec3> {
+        if self.names.get(name) != Some(&Named::Object) {
+            return None;
+        }
+        let group = self.scene.group(name)?;
+        let bounds = group.shapes.iter().fold(Aabb::EMPTY, |b, &i| {
+            b.union(self.scene.shapes[i as usize].bounds())
+        });
+        (!bounds.is_empty()).then(|| bounds.center())
+    }
+
+    fn check_tracks(&self, source: &Source, raw: &[Spanned<RawTrack>]) -> Result<()> {
+        let objects = |kind: Named| {
+            let mut v: Vec<&str> = self
+                .names
+                .iter()
+                .filter(|(_, k)| **k == kind)
+                .map(|(n, _)| n.as_str())
+                .collect();
+            v.sort_unstable();
+            v
+        };
+        let targets = tracks::Names {
+            objects: objects(Named::Object),
+            lights: objects(Named::Light),
+            materials: self.materials.keys().map(String::as_str).collect(),
+        };
+        for t in raw {
+            tracks::check(source, t, &targets)?;
+        }
+        Ok(())
+    }
+}
+
+/// The emitting triangles `first..end` as one area light, sampled in proportion to area.
+fn mesh_light(
+    scene: &Scene,
+    first: usize,
+    end: usize,
+    emission: Vec3,
+    samples: u32,
+) -> Option<Light> {
+    let shapes: Vec<u32> = (first as u32..end as u32).collect();
+    let mut light = Light::mesh(&scene.shapes, &shapes)?;
+    let bounds = scene.shapes[first..end]
+        .iter()
+        .fold(Aabb::EMPTY, |b, s| b.union(s.bounds()));
+    light.position = bounds.center();
+    light.color = emission;
+    light.samples = samples;
+    Some(light)
+}
+
+/// Appends a scene read from a mesh file, placed by `t`: its shapes, meshes and lights,
+/// and (unless `material` overrides them) its materials with their textures and images.
+fn merge(
+    scene: &mut Scene,
+    loaded: Scene,
+    t: &Transform,
+    material: Option<u32>,
+) -> Result<(), String> {
+    let shape_base = scene.shapes.len() as u32;
+    let image_base = scene.images.len() as u32;
+    let texture_base = scene.textures.len() as u32;
+    let material_base = scene.materials.len() as u32;
+    let mirrors = t.mirrors();
+    let scale = t.uniform_scale();
+    let surfaces = loaded.resolved_surfaces();
+    if material.is_none() {
+        for (mut m, mut s) in loaded.materials.into_iter().zip(surfaces) {
+            m.texture = m.texture.map(|i| i + texture_base);
+            if let Albedo::Image { slot, .. } = &mut s.albedo {
+                slot.image += image_base;
+            }
+            for slot in [&mut s.alpha_map, &mut s.normal_map].into_iter().flatten() {
+                slot.image += image_base;
+            }
+            scene.materials.push(m);
+            scene.surfaces.push(s);
+        }
+        scene.textures.extend(loaded.textures);
+        scene.images.extend(loaded.images);
+    }
+    for (shape, m) in loaded.shapes.into_iter().zip(loaded.material_of) {
+        let placed = match shape {
+            Shape::Sphere(mut s) => {
+                let k = scale.ok_or(
+                    "the mesh file holds spheres, which cannot be scaled differently along \
+                     different axes: give one number to `scale`",
+                )?;
+                s.center = t.point_f32(s.center);
+                s.radius = (f64::from(s.radius) * k) as f32;
+                Shape::Sphere(s)
+            }
+            Shape::Triangle(mut tri) => {
+                tri.v = tri.v.map(|p| t.point_f32(p));
+                if mirrors {
+                    tri.v.swap(1, 2);
+                }
+                Shape::Triangle(tri)
+            }
+            Shape::Rectangle(mut r) => {
+                r.v = r.v.map(|p| t.point_f32(p));
+                if mirrors {
+                    r.v.swap(1, 3);
+                }
+                Shape::Rectangle(r)
+            }
+        };
+        scene.push_shape(placed, material.unwrap_or(m + material_base));
+    }
+    for mut mesh in loaded.meshes {
+        mesh.first_shape += shape_base;
+        for n in &mut mesh.normals {
+            *n = t.normal(*n);
+        }
+        if mirrors {
+            for idx in [
+                &mut mesh.normal_indices,
+                &mut mesh.texcoord_indices,
+                &mut mesh.color_indices,
+            ] {
+                for tri in idx.iter_mut() {
+                    tri.swap(1, 2);
+                }
+            }
+        }
+        scene.meshes.push(mesh);
+    }
+    let radius_scale = scale.unwrap_or_else(|| t.volume_scale()) as f32;
+    for mut light in loaded.lights {
+        light.position = t.point_f32(light.position);
+        match &mut light.kind {
+            LightKind::Point => {}
+            LightKind::Directional { direction } | LightKind::Spot { direction, .. } => {
+                *direction = t.vector(*direction).normalize_or_zero();
+            }
+            LightKind::Quad { u, v } => {
+                (*u, *v) = (t.vector(*u), t.vector(*v));
+            }
+            LightKind::Disk { normal, radius } => {
+                *normal = t.normal(*normal);
+                *radius *= radius_scale;
+            }
+            LightKind::Sphere { radius } => *radius *= radius_scale,
+            // Its triangles now wear the overriding material instead.
+            LightKind::Mesh { .. } if material.is_some() => continue,
+            LightKind::Mesh { shapes, .. } => {
+                for s in shapes.iter_mut() {
+                    *s += shape_base;
+                }
+            }
+        }
+        scene.lights.push(light);
+    }
+    Ok(())
+}

@@ -1,0 +1,151 @@
+//! `[camera]`: a look-at camera with an optional thin lens, or a 2014 `.cmr` file.
+
+use super::raw::RawCamera;
+use super::source::{Source, regular_file};
+use crate::Result;
+use crate::format::FileSettings;
+use crate::math::Vec3;
+use crate::scene::Camera;
+use toml::Spanned;
+
+/// Image size when `[render]` gives neither width nor height: 16:9.
+pub const DEFAULT_SIZE: (u32, u32) = (640, 360);
+/// Horizontal field of view when `fov` is not given, in degrees.
+pub const DEFAULT_FOV: f32 = 60.0;
+
+/// The camera's image size: `[render]`'s, the missing side following 16:9.
+pub fn image_size(settings: &FileSettings) -> (u32, u32) {
+    let aspect = |v: u32, num: u64, den: u64| ((u64::from(v) * num).div_ceil(den)).max(1) as u32;
+    match (settings.width, settings.height) {
+        (Some(w), Some(h)) => (w, h),
+        (Some(w), None) => (w, aspect(w, 9, 16)),
+        (None, Some(h)) => (aspect(h, 16, 9), h),
+        (None, None) => DEFAULT_SIZE,
+    }
+}
+
+/// `object_center(name)` is the centre of the bounds of the object called `name`.
+pub fn build(
+    source: &Source,
+    at: &Spanned<RawCamera>,
+    settings: &FileSettings,
+    object_center: impl Fn(&str) -> Option<Vec3>,
+) -> Result<Camera> {
+    let raw = at.get_ref();
+    if let Some(cmr) = &raw.cmr {
+        let other = [
+            raw.from.as_ref().map(Spanned::span),
+            raw.at.as_ref().map(Spanned::span),
+            raw.up.as_ref().map(Spanned::span),
+            raw.fov.as_ref().map(Spanned::span),
+            raw.fov_axis.as_ref().map(Spanned::span),
+            raw.aperture.as_ref().map(Spanned::span),
+            raw.focus_distance.as_ref().map(Spanned::span),
+            raw.focus_on.as_ref().map(Spanned::span),
+            raw.lens_samples.as_ref().map(Spanned::span),
+        ];
+        if let Some(span) = other.into_iter().flatten().next() {
+            return Err(source.error_at(
+                span,
+                "a camera given by `cmr` takes no other key: the .cmr file says everything",
+            ));
+        }
+        let path = source.resolve(cmr.get_ref());
+        regular_file(source, cmr, &path)?;
+        return crate::format::load_camera(&path);
+    }
+    let from = raw
+        .from
+        .as_ref()
+        .ok_or_else(|| source.error(at, "[camera] needs `from` (or `cmr`)"))?;
+    let look = raw
+        .at
+        .as_ref()
+        .ok_or_else(|| source.error(at, "[camera] needs `at` (or `cmr`)"))?;
+    let (eye, target) = (from.get_ref().vec3(), look.get_ref().vec3());
+    if eye == target {
+        return Err(source.error(
+            look,
+            "expected `at` away from `from`: the camera needs a direction",
+        ));
+    }
+    let up = match &raw.up {
+        None => Vec3::Y,
+        Some(u) => super::objects::unit(source, u, "up")
+            .map(|d| Vec3::new(d.x as f32, d.y as f32, d.z as f32))?,
+    };
+    let (width, height) = image_size(settings);
+    let fov = match &raw.fov {
+        None => DEFAULT_FOV,
+        Some(f) if f.get_ref().0 > 0.0 && f.get_ref().0 < 180.0 => f.get_ref().f32(),
+        Some(f) => {
+            return Err(source.error(
+                f,
+                format!(
+                    "expected fov between 0 and 180 degrees, found {}",
+                    f.get_ref().0
+                ),
+            ));
+        }
+    };
+    let horizontal_fov = match raw.fov_axis.as_ref().map(|a| (a, a.get_ref().as_str())) {
+        None | Some((_, "horizontal")) => fov,
+        Some((_, "vertical")) => {
+            let half = (fov * 0.5).to_radians().tan() * width as f32 / height as f32;
+            2.0 * half.atan().to_degrees()
+        }
+        Some((a, other)) => {
+            return Err(source.error(
+                a,
+                format!("expected fov_axis \"horizontal\" or \"vertical\", found \"{other}\""),
+            ));
+        }
+    };
+    let mut camera = Camera::look_at(eye, target, up, horizontal_fov, width, height);
+    let aperture = match &raw.aperture {
+        None => 0.0,
+        Some(a) if a.get_ref().0 >= 0.0 => a.get_ref().f32(),
+        Some(a) => {
+            return Err(source.error(
+                a,
+                format!("expected aperture >= 0, found {}", a.get_ref().0),
+            ));
+        }
+    };
+    let focus = match (&raw.focus_distance, &raw.focus_on) {
+        (Some(_), Some(on)) => {
+            return Err(source.error(on, "give `focus_distance` or `focus_on`, not both"));
+        }
+        (Some(d), None) => Spanned::new(d.span(), d.get_ref().f32()),
+        (None, Some(on)) => {
+            let centre = object_center(on.get_ref()).ok_or_else(|| {
+                source.error(on, format!("no object is called \"{}\"", on.get_ref()))
+            })?;
+            Spanned::new(on.span(), (centre - eye).length())
+        }
+        (None, None) => Spanned::new(look.span(), (target - eye).length()),
+    };
+    // The screen sits at distance 1 from the eye and the focal plane `focal_length`
+    // beyond it. A pinhole has no focus, so only a lens needs a reachable one.
+    if aperture > 0.0 && *focus.get_ref() < 1.0 {
+        return Err(source.error(
+            &focus,
+            format!(
+                "expected a focus distance of at least 1 (the screen's distance from the \
+                 eye), found {}",
+                focus.get_ref()
+            ),
+        ));
+    }
+    camera.focal_length = (focus.get_ref() - 1.0).max(0.0);
+    camera.aperture = aperture;
+    camera.rays_per_pixel = raw
+        .lens_samples
+        .as_ref()
+        .map(|n| *n.get_ref())
+        .or(settings.spp)
+        .unwrap_or(1)
+        .max(1);
+    camera.aa = settings.aa.unwrap_or(1);
+    Ok(camera)
+}
