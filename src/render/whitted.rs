@@ -99,19 +99,20 @@ impl<'a> Whitted<'a> {
         };
         let weight = weight * absorbed;
 
-        let mut l = s.emission;
+        // Emitters glow on the side their normal faces, as they light the scene.
+        let mut l = if entering { s.emission } else { Vec3::ZERO };
         let albedo = self.albedo(s, &sp, hit.shape) * sp.color;
         if !s.lit {
             return absorbed * (l + albedo);
         }
         l += s.ambient * self.scene.ambient;
         let v = -d;
-        let shadow_from = if entering { sp.shadow_origin } else { sp.p };
+        let shadow_from = sp.shadow_origin(ng);
         let kd = albedo * s.diffuse;
         for light in &self.scene.lights {
             self.for_each_sample(light, sp.p, sampler, |ls| {
                 let cos = n.dot(ls.dir);
-                if cos <= 0.0 || ng.dot(ls.dir) <= 0.0 {
+                if cos <= 0.0 {
                     return;
                 }
                 let mut shade = kd * cos;
@@ -341,7 +342,7 @@ impl<'a> Whitted<'a> {
                 for i in 0..n {
                     let (a, b) = sampler.square_sample(i, n);
                     let y = light.position + *u * (a - 0.5) + *v * (b - 0.5);
-                    if let Some(ls) = area_sample(p, y, normal, area / n as f32, power, false) {
+                    if let Some(ls) = area_sample(p, y, normal, area / n as f32, power) {
                         f(ls);
                     }
                 }
@@ -353,7 +354,7 @@ impl<'a> Whitted<'a> {
                 for i in 0..n {
                     let (a, b) = sampler.disk_sample(i, n);
                     let y = light.position + (t1 * a + t2 * b) * *radius;
-                    if let Some(ls) = area_sample(p, y, normal, area / n as f32, power, false) {
+                    if let Some(ls) = area_sample(p, y, normal, area / n as f32, power) {
                         f(ls);
                     }
                 }
@@ -405,7 +406,7 @@ impl<'a> Whitted<'a> {
                     let [v0, v1, v2] = tri.v;
                     let y = v0 * (1.0 - su) + v1 * (su * (1.0 - b)) + v2 * (su * b);
                     let le = self.surface(shape).emission * light.intensity;
-                    if let Some(ls) = area_sample(p, y, tri.normal(), area / n as f32, le, true) {
+                    if let Some(ls) = area_sample(p, y, tri.normal(), area / n as f32, le) {
                         f(ls);
                     }
                 }
@@ -416,16 +417,9 @@ impl<'a> Whitted<'a> {
 
 /// A sample at `y` on an emitter of radiance `le` with unit normal `normal`, standing
 /// for `area` of its surface: irradiance `le cos_l area / r^2` toward `p`. One-sided
-/// emitters light only the side their normal faces.
+/// emitters (all but spheres) light only the side their normal faces.
 #[inline]
-fn area_sample(
-    p: Vec3,
-    y: Vec3,
-    normal: Vec3,
-    area: f32,
-    le: Vec3,
-    two_sided: bool,
-) -> Option<LightSample> {
+fn area_sample(p: Vec3, y: Vec3, normal: Vec3, area: f32, le: Vec3) -> Option<LightSample> {
     let to = y - p;
     let d2 = to.length_squared();
     if d2 <= 0.0 || !d2.is_finite() {
@@ -433,10 +427,7 @@ fn area_sample(
     }
     let dist = d2.sqrt();
     let dir = to / dist;
-    let mut cos_l = -normal.dot(dir);
-    if two_sided {
-        cos_l = cos_l.abs();
-    }
+    let cos_l = -normal.dot(dir);
     if cos_l <= 0.0 {
         return None;
     }

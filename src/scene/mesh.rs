@@ -95,3 +95,104 @@ impl MeshAttributes {
         check("colour", &self.colors, &self.color_indices, self.len)
     }
 }
+
+/// Gives the triangles `shapes` of `scene` smooth vertex normals where their mesh has
+/// none: corners at the same position (bit for bit) share a vertex whose normal is the
+/// area-weighted mean of the faces around it. For scanned models (the Stanford bunny,
+/// spot) that carry no normals; creases are smoothed too.
+pub fn smooth_normals(scene: &mut super::Scene, shapes: std::ops::Range<u32>) {
+    use std::collections::HashMap;
+    let (first, len) = (shapes.start, shapes.end.saturating_sub(shapes.start));
+    if len == 0 || shapes.end as usize > scene.shapes.len() {
+        return;
+    }
+    let mut vertex_of: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut sums: Vec<Vec3> = Vec::new();
+    let mut indices: Vec<[u32; 3]> = Vec::with_capacity(len as usize);
+    for shape in &scene.shapes[shapes.start as usize..shapes.end as usize] {
+        let super::Shape::Triangle(t) = shape else {
+            // Not a triangle: a flat normal of its own.
+            let n = sums.len() as u32;
+            sums.push(shape.normal(Vec3::ZERO));
+            indices.push([n; 3]);
+            continue;
+        };
+        // Twice the area times the unit normal.
+        let face = (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]);
+        let face = if face.is_finite() { face } else { Vec3::ZERO };
+        let idx = t.v.map(|p| {
+            let key = p.to_array().map(f32::to_bits);
+            *vertex_of.entry(key).or_insert_with(|| {
+                sums.push(Vec3::ZERO);
+                sums.len() as u32 - 1
+            })
+        });
+        for &i in &idx {
+            sums[i as usize] += face;
+        }
+        indices.push(idx);
+    }
+    let normals: Vec<Vec3> = sums.iter().map(|n| n.normalize_or_zero()).collect();
+    match scene
+        .meshes
+        .iter_mut()
+        .find(|m| m.first_shape == first && m.len == len)
+    {
+        Some(mesh) if !mesh.normal_indices.is_empty() => {}
+        Some(mesh) => {
+            mesh.normals = normals;
+            mesh.normal_indices = indices;
+        }
+        None => {
+            let at = scene.meshes.partition_point(|m| m.first_shape < first);
+            scene.meshes.insert(
+                at,
+                MeshAttributes {
+                    first_shape: first,
+                    len,
+                    normals,
+                    normal_indices: indices,
+                    ..MeshAttributes::default()
+                },
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Scene, Shape, Triangle};
+
+    #[test]
+    fn shared_corners_get_the_area_weighted_mean_normal() {
+        // Two triangles folded along the x axis: one in the plane z = 0 (normal +z,
+        // area 1/2), one rising at 90 degrees (normal +y, area 1).
+        let mut scene = Scene {
+            materials: vec![Material::default_white()],
+            ..Scene::default()
+        };
+        let o = Vec3::ZERO;
+        let x = Vec3::X;
+        scene.push_shape(Shape::Triangle(Triangle { v: [o, x, Vec3::Y] }), 0);
+        scene.push_shape(
+            Shape::Triangle(Triangle {
+                v: [x, o, Vec3::new(0.0, 0.0, 2.0)],
+            }),
+            0,
+        );
+        smooth_normals(&mut scene, 0..2);
+        let (mesh, _) = scene.mesh_of(0).unwrap();
+        assert_eq!(
+            mesh.normals.len(),
+            4,
+            "two shared corners, two of their own"
+        );
+        let shared = mesh.normal(0, [1.0, 0.0, 0.0]).unwrap();
+        let expected = (Vec3::Z + Vec3::Y * 2.0).normalize();
+        assert!((shared - expected).length() < 1e-6, "{shared}");
+        // A corner of one face only keeps that face's normal.
+        assert_eq!(mesh.normal(0, [0.0, 0.0, 1.0]), Some(Vec3::Z));
+        assert!(mesh.check().is_ok());
+    }
+}

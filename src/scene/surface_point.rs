@@ -18,9 +18,22 @@ pub struct SurfacePoint {
     pub uv: [f32; 2],
     /// Interpolated vertex colour (white where the mesh has none).
     pub color: Vec3,
-    /// The point moved off the flat triangle toward the surface its vertex normals
-    /// describe, for the origins of shadow rays (see [`terminator_point`]).
-    pub shadow_origin: Vec3,
+    /// A mesh triangle's corners, vertex normals and the hit's barycentrics, for
+    /// [`SurfacePoint::shadow_origin`].
+    pub smooth: Option<([Vec3; 3], [Vec3; 3], [f32; 3])>,
+}
+
+impl SurfacePoint {
+    /// Where shadow rays toward the side `side` (the geometric normal turned toward
+    /// the incoming ray) start: on a smooth mesh, lifted off the flat triangle toward
+    /// the surface its vertex normals describe ([`terminator_point`]).
+    #[inline]
+    pub fn shadow_origin(&self, side: Vec3) -> Vec3 {
+        match self.smooth {
+            Some((v, n, b)) => terminator_point(v, n, b, self.p, side),
+            None => self.p,
+        }
+    }
 }
 
 impl Scene {
@@ -35,7 +48,7 @@ impl Scene {
             n: ng,
             uv: [0.0, 0.0],
             color: Vec3::ONE,
-            shadow_origin: p,
+            smooth: None,
         };
         match s {
             Shape::Triangle(tri) => {
@@ -47,7 +60,7 @@ impl Scene {
                         sp.n = if n.dot(ng) < 0.0 { -n } else { n };
                     }
                     if let Some(normals) = mesh.vertex_normals(i) {
-                        sp.shadow_origin = terminator_point(tri.v, normals, b, p);
+                        sp.smooth = Some((tri.v, normals, b));
                     }
                     if let Some(uv) = mesh.texcoord(i, b) {
                         sp.uv = uv;
@@ -97,8 +110,11 @@ pub fn barycentrics(v: [Vec3; 3], p: Vec3) -> [f32; 3] {
 /// the barycentrics. A shadow ray leaving from there does not graze the neighbouring
 /// flat triangles, so low-polygon smooth meshes have no black stair-steps where light
 /// turns away.
-pub fn terminator_point(v: [Vec3; 3], n: [Vec3; 3], b: [f32; 3], p: Vec3) -> Vec3 {
-    let ng = (v[1] - v[0]).cross(v[2] - v[0]);
+///
+/// `side` says which side of the triangle the point is seen from; vertex normals are
+/// turned to it, so a mesh wound either way is lifted toward its viewer.
+pub fn terminator_point(v: [Vec3; 3], n: [Vec3; 3], b: [f32; 3], p: Vec3, side: Vec3) -> Vec3 {
+    let ng = side;
     let mut lifted = Vec3::ZERO;
     for i in 0..3 {
         let ni = n[i].normalize_or_zero();
@@ -130,12 +146,15 @@ mod tests {
         // A flat triangle with its own normal at every vertex: nothing moves.
         let v = [Vec3::ZERO, Vec3::X, Vec3::Y];
         let p = Vec3::new(0.25, 0.25, 0.0);
-        assert_eq!(terminator_point(v, [Vec3::Z; 3], [0.5, 0.25, 0.25], p), p);
+        assert_eq!(
+            terminator_point(v, [Vec3::Z; 3], [0.5, 0.25, 0.25], p, Vec3::Z),
+            p
+        );
         // A triangle cut from the unit sphere, normals radial: the centroid rises
         // toward the sphere (but not past it).
         let v = [Vec3::X, Vec3::Y, Vec3::Z];
         let c = (v[0] + v[1] + v[2]) / 3.0;
-        let q = terminator_point(v, v, [1.0 / 3.0; 3], c);
+        let q = terminator_point(v, v, [1.0 / 3.0; 3], c, c);
         assert!(
             q.length() > c.length() + 0.1 && q.length() <= 1.0 + 1e-6,
             "{q}"

@@ -355,7 +355,11 @@ impl Builder {
             ));
         }
         regular_file(source, file, &path)?;
-        let loaded = crate::format::load_scene(&path)?;
+        let mut loaded = crate::format::load_scene(&path)?;
+        if o.smooth.as_ref().is_some_and(|s| *s.get_ref()) {
+            let n = loaded.shapes.len() as u32;
+            crate::scene::mesh::smooth_normals(&mut loaded, 0..n);
+        }
         merge(&mut self.scene, loaded, t, material).map_err(|m| placement_error(source, o, m))
     }
 

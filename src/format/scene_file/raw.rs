@@ -68,6 +68,8 @@ pub struct RawObject {
     pub axis: S<Vector>,
     pub height: S<Num>,
     pub capped: S<bool>,
+    /// Mesh files: smooth vertex normals where the file has none.
+    pub smooth: S<bool>,
     pub translate: S<Vector>,
     pub rotate: S<Rotations>,
     pub scale: S<Triple>,
@@ -99,6 +101,7 @@ impl RawObject {
         add("axis", self.axis.as_ref().map(Spanned::span));
         add("height", self.height.as_ref().map(Spanned::span));
         add("capped", self.capped.as_ref().map(Spanned::span));
+        add("smooth", self.smooth.as_ref().map(Spanned::span));
         out
     }
 }
