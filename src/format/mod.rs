@@ -19,6 +19,7 @@ pub mod cmr;
 pub mod mtlx;
 pub mod obj;
 pub mod objx;
+pub mod ply;
 mod text;
 
 use std::path::Path;
