@@ -187,3 +187,29 @@ fn prism_alone_lists_its_commands() {
         );
     }
 }
+
+#[test]
+fn fuzz_findings_are_refused_cleanly() {
+    // Each file under fuzz/findings once crashed or hung a reader; now each is a
+    // clean error (exit 2) or loads.
+    let dir = common::repo().join("fuzz/findings");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "md") {
+            continue;
+        }
+        seen += 1;
+        let out = prism().arg("info").arg(&path).output().unwrap();
+        let code = out.status.code();
+        assert!(
+            code == Some(0) || code == Some(2),
+            "{}: {:?}\n{}",
+            path.display(),
+            code,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    }
+    assert!(seen > 0, "no findings in {}", dir.display());
+}

@@ -13,8 +13,8 @@
 //! the file that names them, never the working directory.
 //!
 //! Dialects, by extension: `.obj` is standard Wavefront OBJ with its MTL libraries
-//! ([`wavefront`]), `.toml` a Prism scene file ([`scene_file`]), anything else the 2014
-//! dialect. [`SceneDialect`] is where more slot in.
+//! ([`wavefront`]), `.ply` a PLY mesh ([`ply`]), `.toml` a Prism scene file
+//! ([`scene_file`]), anything else the 2014 dialect. [`SceneDialect`] is where more slot in.
 
 pub mod cmr;
 pub mod image_file;
@@ -22,6 +22,8 @@ pub mod mtl;
 pub mod mtlx;
 pub mod obj;
 pub mod objx;
+pub mod ply;
+mod ply_scene;
 pub mod scene_file;
 mod text;
 pub mod wavefront;
@@ -93,6 +95,7 @@ impl SceneDialect {
             SceneDialect::Objx2014 => "objx",
             SceneDialect::WavefrontObj => "obj",
             SceneDialect::PrismScene => "toml",
+            SceneDialect::Ply => "ply",
         }
     }
 }
@@ -107,6 +110,7 @@ pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
     match dialect {
         SceneDialect::WavefrontObj => return wavefront::load(path),
         SceneDialect::PrismScene => return scene_file::load(path),
+        SceneDialect::Ply => return ply_scene::load(path),
         SceneDialect::Objx2014 => {}
     }
     let scene = load_scene_as(path, dialect)?;
@@ -134,6 +138,8 @@ pub enum SceneDialect {
     WavefrontObj,
     /// Prism's own scene file, TOML (see [`scene_file`]).
     PrismScene,
+    /// A PLY mesh (see [`ply`]).
+    Ply,
 }
 
 impl SceneDialect {
@@ -144,6 +150,8 @@ impl SceneDialect {
             SceneDialect::WavefrontObj
         } else if ext.eq_ignore_ascii_case("toml") {
             SceneDialect::PrismScene
+        } else if ext.eq_ignore_ascii_case("ply") {
+            SceneDialect::Ply
         } else {
             SceneDialect::Objx2014
         }
@@ -162,6 +170,7 @@ pub fn load_scene_as(path: &Path, dialect: SceneDialect) -> Result<Scene> {
         SceneDialect::Objx2014 => objx::load(path),
         SceneDialect::WavefrontObj => Ok(wavefront::load(path)?.scene),
         SceneDialect::PrismScene => scene_file::load(path).map(|f| f.scene),
+        SceneDialect::Ply => ply_scene::load(path).map(|f| f.scene),
     }
 }
 

@@ -6,6 +6,7 @@
 mod apng;
 mod colr;
 mod gif;
+#[cfg(feature = "h264")]
 mod mp4;
 
 use super::output::VideoFormat;
@@ -111,7 +112,16 @@ pub fn encode(
     let mut fps_played = fps;
     write_atomically(path, |out| {
         let mut encoder: Box<dyn Encoder + '_> = match format {
+            #[cfg(feature = "h264")]
             VideoFormat::Mp4 => Box::new(mp4::Mp4::new(&mut *out, path, width, height, fps)?),
+            #[cfg(not(feature = "h264"))]
+            VideoFormat::Mp4 => {
+                return Err(Error::file(
+                    path,
+                    "this Prism is built without H.264 (the `h264` feature): MP4 output is \
+                     not available",
+                ));
+            }
             VideoFormat::Gif => Box::new(gif::Gif::new(&mut *out, path, width, height, fps)?),
             VideoFormat::Apng => {
                 Box::new(apng::Apng::new(&mut *out, path, width, height, fps, count)?)

@@ -44,7 +44,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = integrator_parser())]
     pub integrator: Option<IntegratorKind>,
     /// Read the scene file as this dialect, whatever its extension.
-    #[arg(long, value_parser = ["objx", "obj", "toml"])]
+    #[arg(long, value_parser = ["objx", "obj", "ply", "toml"])]
     pub dialect: Option<String>,
     /// Image width in pixels; the field of view is kept (alone, the height follows the
     /// camera's aspect ratio).
@@ -199,6 +199,7 @@ fn dialect_of(name: &str) -> SceneDialect {
     match name {
         "objx" => SceneDialect::Objx2014,
         "toml" => SceneDialect::PrismScene,
+        "ply" => SceneDialect::Ply,
         _ => SceneDialect::WavefrontObj,
     }
 }

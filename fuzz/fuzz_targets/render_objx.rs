@@ -1,0 +1,41 @@
+//! The whole pipeline: an arbitrary 2014 scene, the example's materials (served from
+//! memory, with a texture from a folder of the harness's own) and a fixed camera,
+//! rendered at 8x8 with one ray per pixel on one thread.
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+use prism::format::{cmr, objx};
+use prism::render::{RenderSettings, Renderer};
+use std::sync::OnceLock;
+
+static FOLDER: OnceLock<tempfile::TempDir> = OnceLock::new();
+
+const MATERIALS: &str = include_str!("../../scenes/example/example.mtlx");
+const CAMERA: &str = include_str!("../../scenes/example/example.cmr");
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let folder = FOLDER.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        let checker = include_bytes!("../../scenes/example/checker.ppm");
+        std::fs::write(dir.path().join("checker.ppm"), checker).unwrap();
+        dir
+    });
+    let path = folder.path().join("scene.objx");
+    let Ok(scene) = objx::parse(text, &path, |_| Ok(MATERIALS.to_owned())) else {
+        return;
+    };
+    let camera = cmr::parse(CAMERA, &folder.path().join("camera.cmr")).unwrap();
+    let settings = RenderSettings {
+        width: Some(8),
+        height: Some(8),
+        aa: Some(1),
+        dof_rays: Some(1),
+        threads: Some(1),
+        ..RenderSettings::default()
+    };
+    let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+    let (image, _) = renderer.render(&|_| {}).unwrap();
+    assert_eq!((image.width, image.height), (8, 8));
+});
