@@ -69,3 +69,58 @@ fn example_scene_with_depth_of_field_and_lanczos() {
     ];
     check_golden("example-dof", &args);
 }
+
+/// A scene file of the repository rendered small with `prism render`, against its
+/// stored image. Scenes that read the models beside the repository skip without them.
+fn check_scene_golden(name: &str, scene: &str, size: (u32, u32)) {
+    let path = repo().join(scene);
+    let text = std::fs::read_to_string(&path).unwrap();
+    if text.contains("../shared/models") && !repo().join("../shared/models").is_dir() {
+        eprintln!("skipped: {scene} reads ../shared/models, which is absent");
+        return;
+    }
+    let (w, h) = (size.0.to_string(), size.1.to_string());
+    let args: Vec<&std::ffi::OsStr> = vec![
+        "render".as_ref(),
+        path.as_os_str(),
+        "--width".as_ref(),
+        w.as_ref(),
+        "--height".as_ref(),
+        h.as_ref(),
+    ];
+    check_golden(name, &args);
+}
+
+#[test]
+fn whitted_showcase() {
+    check_scene_golden("showcase", "scenes/showcase/showcase.toml", (128, 72));
+}
+
+#[test]
+fn smooth_low_polygon_sphere_has_no_terminator_steps() {
+    check_scene_golden("terminator", "tests/data/terminator/scene.toml", (64, 64));
+}
+
+#[test]
+fn cornell_box() {
+    check_scene_golden(
+        "cornell-box",
+        "scenes/cornell-box/cornell-box.toml",
+        (64, 64),
+    );
+}
+
+#[test]
+fn textured_spot() {
+    check_scene_golden("spot", "scenes/spot/spot.toml", (96, 54));
+}
+
+#[test]
+fn porcelain_bunny() {
+    check_scene_golden("bunny", "scenes/bunny/bunny.toml", (96, 54));
+}
+
+#[test]
+fn glass_dragon() {
+    check_scene_golden("dragon", "scenes/dragon/dragon.toml", (96, 54));
+}
