@@ -1,0 +1,230 @@
+"""Prism, a Whitted-style ray tracer, from Python.
+
+Load a scene file of any dialect Prism reads, render it to a NumPy array (or a region
+of it), write images in every format ``prism render`` writes, and render animations::
+
+    import prism
+    scene = prism.load_scene("scenes/example/example.objx")
+    camera = prism.Camera.from_file("scenes/example/example.cmr")
+    image = prism.render(scene, camera, width=480, aa=2)     # H x W x 3 float32
+    prism.write_image(image, "example.png", transfer="classic")
+
+The renderer is the library the command line uses, through the same option handling,
+so the same inputs give the same pixels as ``prism render``, bit for bit. Rendering
+releases the GIL, and Ctrl-C stops a render within a fraction of a second.
+``prism.distributed`` spreads frames and tiles over a Ray cluster.
+"""
+
+from os import PathLike
+from typing import Any, Callable, Dict, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _prism
+from ._prism import Animation, Camera, Scene
+from .errors import FileError, PrismError, SceneError, SettingsError
+
+__all__ = [
+    "Animation",
+    "Camera",
+    "FileError",
+    "PrismError",
+    "Scene",
+    "SceneError",
+    "SettingsError",
+    "animate",
+    "load_scene",
+    "render",
+    "show",
+    "write_image",
+]
+__version__ = _prism.__version__
+
+Path = Union[str, "PathLike[str]"]
+Progress = Union[None, bool, Callable[[int, int], Any]]
+
+
+def load_scene(path: Path, dialect: Optional[str] = None) -> Scene:
+    """Reads a scene file: ``.objx`` (the 2014 dialect, with its ``.mtlx`` and
+    textures), ``.obj`` (Wavefront) or ``.toml`` (Prism's scene file). ``dialect``
+    (``"objx"``, ``"obj"``, ``"toml"``) overrides the one the extension names.
+
+    Raises :class:`SceneError` (a ``ValueError``) with ``file``, ``line`` and
+    ``column`` for malformed content, :class:`FileError` for a missing file.
+    """
+    return _prism.load_scene(path, dialect)
+
+
+def _progress_callback(progress: Progress, unit: str) -> Tuple[Optional[Callable], Callable]:
+    """The callable for the Rust side and a function that closes what it opened:
+    ``True`` means a tqdm bar (when tqdm is installed)."""
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            return None, lambda: None
+        bar = tqdm(total=0, unit=unit)
+
+        def update(done: int, total: int) -> None:
+            bar.total = total
+            bar.n = done
+            bar.refresh()
+
+        return update, bar.close
+    if progress is None or progress is False:
+        return None, lambda: None
+    if not callable(progress):
+        raise TypeError("progress must be a callable(done, total), True or None")
+    return progress, lambda: None
+
+
+def render(
+    scene: Scene,
+    camera: Optional[Camera] = None,
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    aa: Optional[int] = None,
+    filter: Optional[str] = None,
+    region: Optional[Tuple[int, int, int, int]] = None,
+    seed: Optional[int] = None,
+    threads: Optional[int] = None,
+    integrator: Optional[str] = None,
+    progress: Progress = None,
+    srgb: bool = False,
+    **options: Any,
+) -> np.ndarray:
+    """Renders ``scene`` and returns the image as a NumPy array.
+
+    Each option overrides the scene file and the camera, as in ``prism render``:
+    ``width`` and ``height`` (the field of view is kept; ``width`` alone keeps the
+    aspect ratio), ``aa`` (K x K samples per pixel), ``filter`` (``nearest``,
+    ``bilinear``, ``area``, ``bicubic``, ``lanczos``), ``region=(x, y, w, h)`` (that
+    window of the full frame, identical to the same crop of a full render), ``seed``,
+    ``threads`` (the image does not depend on it), ``integrator`` (``classic`` or
+    ``whitted``), and the keywords ``dof_rays``, ``max_depth``, ``min_weight`` and
+    ``accel``. ``camera`` (:class:`Camera`) replaces the scene's own.
+
+    Returns an H x W x 3 ``float32`` array of linear values (0..1 for the classic
+    model, radiance for whitted), or with ``srgb=True`` the H x W x 3 ``uint8`` values
+    ``prism render`` writes to a PNG (the scene file's exposure and tone map; the sRGB
+    curve for whitted, the 2014 program's values for classic).
+
+    ``progress`` is a callable ``(done, total)`` (called from this thread) or ``True``
+    for a tqdm bar. The GIL is released while rendering; Ctrl-C raises
+    ``KeyboardInterrupt`` promptly.
+    """
+    opts: Dict[str, Any] = dict(
+        width=width,
+        height=height,
+        aa=aa,
+        filter=filter,
+        region=region,
+        seed=seed,
+        threads=threads,
+        integrator=integrator,
+        **options,
+    )
+    callback, close = _progress_callback(progress, "rows")
+    try:
+        data, w, h, dtype = _prism.render(scene, camera, opts, callback, srgb)
+    finally:
+        close()
+    return np.frombuffer(data, dtype=np.dtype(dtype)).reshape(h, w, 3)
+
+
+def plan(scene: Scene, camera: Optional[Camera] = None, **options: Any) -> Dict[str, Any]:
+    """What :func:`render` with these options would make, without rendering: the full
+    frame's ``width`` and ``height`` (before any region), the ``integrator``, and the
+    ``exposure``, ``tonemap`` and ``transfer`` ``prism render`` would develop it with."""
+    return _prism.plan(scene, camera, options)
+
+
+def _samples(array: Any) -> Tuple[bytes, int, int, str]:
+    a = np.asarray(array)
+    if a.ndim != 3 or a.shape[2] != 3:
+        raise ValueError(f"expected an H x W x 3 array, found shape {a.shape}")
+    if a.dtype == np.uint8:
+        dtype = "u1"
+    else:
+        a = a.astype("<f4", copy=False)
+        dtype = "<f4"
+    h, w = a.shape[:2]
+    return np.ascontiguousarray(a).tobytes(), w, h, dtype
+
+
+def write_image(
+    array: Any,
+    path: Path,
+    exposure: float = 0.0,
+    tonemap: str = "clamp",
+    transfer: str = "srgb",
+    png_bits: int = 8,
+    exr_precision: str = "half",
+) -> None:
+    """Writes an H x W x 3 array to ``path`` in the format its extension names:
+    png, bmp, jpg/jpeg, ppm, tga, exr, hdr. The file is written atomically.
+
+    Float arrays are linear values: EXR and HDR store them as they are; the 8- and
+    16-bit formats develop them with ``exposure`` (stops), ``tonemap`` (``clamp``,
+    ``reinhard``, ``aces``) and ``transfer`` (``srgb``, or ``classic``: no curve, as
+    ``prism render`` stores a 2014 scene's render). ``uint8`` arrays are written as
+    they are (divided by 255 in EXR and HDR).
+    """
+    data, w, h, dtype = _samples(array)
+    _prism.write_image(
+        data, w, h, dtype, path, exposure, tonemap, transfer, png_bits, exr_precision
+    )
+
+
+def animate(
+    path: Path,
+    output: Path,
+    frames: Optional[str] = None,
+    threads: Optional[int] = None,
+    keep_frames: bool = False,
+    progress: Progress = None,
+) -> Dict[str, Any]:
+    """Renders an animation file as ``prism animate ANIM OUTPUT [--frames A..B]``: to a
+    folder of numbered PNG frames, a ``%04d`` pattern, or a video (``.mp4``, ``.gif``,
+    ``.apng``) encoded once every frame exists. Each frame is written atomically; a
+    rerun skips the frames already written. ``progress`` counts frames.
+
+    Returns ``rendered`` (frames rendered now), ``skipped``, ``missing`` (frames of the
+    animation not rendered yet) and ``video`` (``frames``, ``bytes``, ``fps`` when a
+    video was written, else ``None``).
+    """
+    anim = Animation(path, threads)
+    start, end = anim.frame_range(frames)
+    todo = anim.prepare(output, start, end)
+    callback, close = _progress_callback(progress, "frames")
+    try:
+        rendered = anim.render_frames(output, todo, callback)
+    finally:
+        close()
+    result = dict(anim.finish(output, keep_frames))
+    result.update(rendered=rendered, skipped=(end - start) - len(todo))
+    return result
+
+
+def show(array: Any) -> Optional[bytes]:
+    """Displays an image in a notebook (IPython) as a PNG; float arrays are developed
+    with the sRGB curve. Returns the PNG file's bytes when IPython is not there (so a
+    script can save them), else ``None`` (so a cell ending with it shows one image)."""
+    a = np.asarray(array)
+    if a.dtype != np.uint8:
+        a = _develop_srgb(a)
+    data, w, h, _ = _samples(a)
+    png = _prism.encode_png(data, w, h)
+    try:
+        from IPython.display import Image, display
+    except ImportError:
+        return png
+    display(Image(data=png, format="png"))
+    return None
+
+
+def _develop_srgb(a: np.ndarray) -> np.ndarray:
+    """Linear values to 8-bit sRGB, for previews (files go through write_image)."""
+    v = np.clip(np.nan_to_num(a.astype(np.float64), nan=0.0, posinf=1.0), 0.0, 1.0)
+    v = np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1 / 2.4) - 0.055)
+    return np.round(v * 255.0).astype(np.uint8)

@@ -1,0 +1,64 @@
+//! The render options of `prism.render` (a dict of the keyword arguments that are not
+//! `None`) as the library's `StillOptions`: the same struct the command line fills, so
+//! a render from Python is the render `prism render` makes with the same options.
+
+use crate::camera::Camera;
+use prism::render::Region;
+use prism::still::StillOptions;
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// Options over the scene's own; unknown keys are a `TypeError`, as for a function.
+pub fn still_options(
+    camera: Option<&Camera>,
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<StillOptions> {
+    let mut o = StillOptions::default();
+    if let Some(camera) = camera {
+        camera.apply(&mut o);
+    }
+    let Some(options) = options else {
+        return Ok(o);
+    };
+    for (key, value) in options.iter() {
+        let key: String = key.extract()?;
+        if value.is_none() {
+            continue;
+        }
+        match key.as_str() {
+            "width" => o.width = Some(value.extract()?),
+            "height" => o.height = Some(value.extract()?),
+            "aa" => o.aa = Some(value.extract()?),
+            "dof_rays" => o.dof_rays = Some(value.extract()?),
+            "seed" => o.seed = Some(value.extract()?),
+            "threads" => o.threads = Some(value.extract()?),
+            "max_depth" => o.max_depth = Some(value.extract()?),
+            "min_weight" => o.min_weight = Some(value.extract()?),
+            "filter" => o.filter = Some(parse(&value)?),
+            "integrator" => o.integrator = Some(parse(&value)?),
+            "accel" => o.accel = parse(&value)?,
+            "region" => {
+                let (x, y, width, height): (u32, u32, u32, u32) = value.extract()?;
+                o.region = Some(Region {
+                    x,
+                    y,
+                    width,
+                    height,
+                });
+            }
+            _ => {
+                return Err(PyTypeError::new_err(format!(
+                    "unknown render option `{key}`"
+                )));
+            }
+        }
+    }
+    Ok(o)
+}
+
+/// A name the library parses (`"lanczos"`, `"whitted"`, `"bvh"`).
+fn parse<T: std::str::FromStr<Err = String>>(value: &Bound<'_, PyAny>) -> PyResult<T> {
+    let name: String = value.extract()?;
+    name.parse().map_err(PyValueError::new_err)
+}

@@ -1,0 +1,141 @@
+"""Rendering to arrays: shapes, dtypes, options, the command line's pixels bit for bit,
+progress, the GIL, and Ctrl-C."""
+
+import _thread
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import prism
+from conftest import SCENES, read_ppm, run_cli, same_bits
+
+EXAMPLE = SCENES / "example" / "example.objx"
+EXAMPLE_CMR = SCENES / "example" / "example.cmr"
+SHOWCASE = SCENES / "showcase" / "showcase.toml"
+
+
+@pytest.fixture(scope="module")
+def example():
+    return prism.load_scene(EXAMPLE), prism.Camera.from_file(EXAMPLE_CMR)
+
+
+def test_shapes_and_dtypes(example):
+    scene, camera = example
+    linear = prism.render(scene, camera, width=64)
+    assert linear.shape == (36, 64, 3) and linear.dtype == np.float32  # 16:9 kept
+    assert 0.0 <= linear.min() and linear.max() <= 1.0 and linear.max() > 0.1
+    display = prism.render(scene, camera, width=64, height=20, srgb=True)
+    assert display.shape == (20, 64, 3) and display.dtype == np.uint8
+    assert prism.plan(scene, camera, width=64)["height"] == 36
+
+
+@pytest.mark.parametrize("scene_path,camera,options", [
+    (EXAMPLE, EXAMPLE_CMR, dict(width=120, aa=2)),
+    (SHOWCASE, None, dict(width=96, height=54, seed=3)),
+])
+def test_pixels_equal_the_command_line(prism_bin, tmp_path, scene_path, camera, options):
+    cli_args = [scene_path] + ([camera] if camera else [])
+    flags = [x for k, v in options.items() for x in (f"--{k}", v)]
+    run_cli(prism_bin, "render", *cli_args, tmp_path / "cli.ppm", *flags)
+    run_cli(prism_bin, "render", *cli_args, tmp_path / "cli.png", *flags)
+    scene = prism.load_scene(scene_path)
+    cam = prism.Camera.from_file(camera) if camera else None
+    pixels = prism.render(scene, cam, srgb=True, **options)
+    assert same_bits(pixels, read_ppm(tmp_path / "cli.ppm"))
+    # Linear pixels written with the plan's development: the CLI's PNG, byte for byte.
+    plan = prism.plan(scene, cam, **options)
+    prism.write_image(prism.render(scene, cam, **options), tmp_path / "py.png",
+                      exposure=plan["exposure"], tonemap=plan["tonemap"],
+                      transfer=plan["transfer"])
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+
+
+def test_look_at_camera_equals_the_command_line(prism_bin, tmp_path):
+    run_cli(prism_bin, "render", SHOWCASE, tmp_path / "cli.ppm", "--look-from", "0,3,9",
+            "--look-at", "0,1,0", "--fov", "50", "--width", "80", "--height", "40")
+    camera = prism.Camera.look_at((0, 3, 9), (0, 1, 0), fov=50, width=80, height=40)
+    pixels = prism.render(prism.load_scene(SHOWCASE), camera, srgb=True)
+    assert same_bits(pixels, read_ppm(tmp_path / "cli.ppm"))
+    assert "look_at" in repr(camera)
+    with pytest.raises(ValueError):
+        prism.Camera.look_at((1, 1, 1), (1, 1, 1))
+
+
+def test_a_region_is_a_crop_of_the_full_frame(example):
+    scene, camera = example
+    full = prism.render(scene, camera, width=96, aa=2, filter="lanczos")
+    part = prism.render(scene, camera, width=96, aa=2, filter="lanczos", region=(10, 7, 30, 20))
+    assert same_bits(part, np.ascontiguousarray(full[7:27, 10:40]))
+
+
+def test_bad_options_raise(example):
+    scene, camera = example
+    with pytest.raises(prism.SettingsError):
+        prism.render(scene, camera, width=64, region=(60, 0, 10, 10))
+    with pytest.raises(ValueError, match="unknown filter"):
+        prism.render(scene, camera, width=64, filter="gauss")
+    with pytest.raises(TypeError, match="unknown render option"):
+        prism.render(scene, camera, colour=3)
+
+
+def test_progress_is_reported_up_to_the_total(example):
+    scene, camera = example
+    calls = []
+    prism.render(scene, camera, width=64, progress=lambda done, total: calls.append((done, total)))
+    assert calls and calls[-1][0] == calls[-1][1] > 0
+    assert [d for d, _ in calls] == sorted(d for d, _ in calls)
+    prism.render(scene, camera, width=32, progress=True)  # a tqdm bar
+    with pytest.raises(TypeError):
+        prism.render(scene, camera, width=32, progress=3)
+
+
+def test_an_exception_in_the_progress_callback_stops_the_render(example):
+    scene, camera = example
+
+    def fail(done, total):
+        raise RuntimeError("stop")
+
+    with pytest.raises(RuntimeError, match="stop"):
+        prism.render(scene, camera, width=2000, aa=4, progress=fail)
+
+
+def big_render():
+    return prism.load_scene(SHOWCASE), dict(width=3840, height=2160, aa=4)
+
+
+def test_the_gil_is_released_while_rendering():
+    scene, options = big_render()
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(1)
+            time.sleep(0.01)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    threading.Timer(0.5, _thread.interrupt_main).start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            prism.render(scene, **options)
+    finally:
+        stop.set()
+        counter.join()
+    assert len(ticks) >= 20  # the other thread ran all along
+
+
+def test_ctrl_c_stops_a_render_promptly():
+    scene, options = big_render()
+    fired = []
+
+    def interrupt():
+        fired.append(time.monotonic())
+        _thread.interrupt_main()
+
+    threading.Timer(0.3, interrupt).start()
+    with pytest.raises(KeyboardInterrupt):
+        prism.render(scene, **options)
+    assert time.monotonic() - fired[0] < 2.0

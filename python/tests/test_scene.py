@@ -1,0 +1,85 @@
+"""Loading scenes of every dialect, their info, and errors with file, line, column."""
+
+import json
+import subprocess
+
+import pytest
+
+import prism
+from conftest import SCENES
+
+OBJ = """# a unit quad and a triangle
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0 0 1
+f 1 2 3 4
+f 1 2 5
+"""
+
+
+@pytest.fixture
+def obj_file(tmp_path):
+    path = tmp_path / "quad.obj"
+    path.write_text(OBJ)
+    return path
+
+
+def test_every_dialect_loads_with_its_info(obj_file):
+    objx = prism.load_scene(SCENES / "example" / "example.objx")
+    toml = prism.load_scene(SCENES / "showcase" / "showcase.toml")
+    obj = prism.load_scene(obj_file)
+    assert [s.dialect for s in (objx, toml, obj)] == ["objx", "toml", "obj"]
+    info = objx.info()
+    assert (info["spheres"], info["rectangles"], info["light_kinds"]) == (2, 3, ["point"])
+    assert obj.info()["triangles"] == 3 and obj.info()["vertices"] == 5
+    assert toml.info()["lights"] >= 1
+    assert "example.objx" in repr(objx)
+
+
+def test_dialect_overrides_the_extension(tmp_path):
+    path = tmp_path / "quad.txt"
+    path.write_text(OBJ)
+    assert prism.load_scene(path, dialect="obj").info()["triangles"] == 3
+    with pytest.raises(ValueError, match="unknown dialect"):
+        prism.load_scene(path, dialect="stl")
+
+
+def test_info_is_prism_info_json(prism_bin):
+    scene = SCENES / "showcase" / "showcase.toml"
+    out = subprocess.run([str(prism_bin), "info", "--json", str(scene)],
+                         check=True, capture_output=True, text=True).stdout
+    assert prism.load_scene(scene).info() == json.loads(out)
+
+
+def test_scene_shows_itself_in_notebooks():
+    html = prism.load_scene(SCENES / "example" / "example.objx")._repr_html_()
+    assert html.startswith("<table>") and "objx" in html and "point" in html
+
+
+def test_a_parse_error_names_file_and_line(tmp_path):
+    path = tmp_path / "bad.objx"
+    path.write_text("v 0 0 0\nv 1 0 0\nf 0 -2\n")
+    with pytest.raises(prism.SceneError) as caught:
+        prism.load_scene(path)
+    err = caught.value
+    assert isinstance(err, ValueError) and isinstance(err, prism.PrismError)
+    assert (err.file, err.line, err.column) == (str(path), 3, None)
+    assert str(err).startswith(f"{path}:3:")
+
+
+def test_a_toml_error_names_line_and_column(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text('[render]\nwidth = 64\n  colour = 3\n')
+    with pytest.raises(prism.SceneError) as caught:
+        prism.load_scene(path)
+    err = caught.value
+    assert (err.file, err.line, err.column) == (str(path), 3, 3)
+
+
+def test_a_missing_file_is_a_file_error(tmp_path):
+    with pytest.raises(prism.FileError) as caught:
+        prism.load_scene(tmp_path / "none.objx")
+    assert isinstance(caught.value, OSError)
+    assert caught.value.file == str(tmp_path / "none.objx")
