@@ -22,12 +22,13 @@ fn dialect_named(name: &str) -> PyResult<SceneDialect> {
         SceneDialect::Objx2014,
         SceneDialect::WavefrontObj,
         SceneDialect::PrismScene,
+        SceneDialect::Ply,
     ]
     .into_iter()
     .find(|d| d.name() == name)
     .ok_or_else(|| {
         PyValueError::new_err(format!(
-            "unknown dialect `{name}`: expected objx, obj or toml"
+            "unknown dialect `{name}`: expected objx, obj, ply or toml"
         ))
     })
 }
