@@ -3,13 +3,14 @@
 
 use super::source::{Source, regular_file};
 use crate::Result;
-use crate::scene::{ImageTexture, Texels};
+use crate::format::image_file::{Encoding, read_texture};
+use crate::scene::ImageTexture;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use toml::Spanned;
 
 /// Largest image accepted: 64 Mi pixels (8192 x 8192), 256 MiB as 8-bit RGBA.
-pub const MAX_IMAGE_PIXELS: u64 = 1 << 26;
+pub const MAX_IMAGE_PIXELS: u64 = crate::format::image_file::MAX_TEXTURE_PIXELS;
 
 /// The images read so far, each once per (file, encoding) however many materials name it.
 #[derive(Default)]
@@ -40,53 +41,16 @@ impl ImageCache {
     }
 }
 
-/// Reads an 8-bit image (PNG, JPEG, BMP, TGA, PNM) as RGBA.
+/// Reads an image: 8-bit files (PNG, JPEG, BMP, TGA, PNM) as RGBA, HDR and EXR as
+/// linear floats (environment maps), through `format::image_file` and its limits.
 pub fn load(source: &Source, at: &Spanned<String>, srgb: bool) -> Result<ImageTexture> {
     let path = source.resolve(at.get_ref());
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    if ext == "hdr" || ext == "exr" {
-        return Err(source.error(
-            at,
-            format!(
-                "{}: HDR and EXR images are not supported yet; use PNG, JPEG, BMP, TGA or PNM",
-                path.display()
-            ),
-        ));
-    }
     regular_file(source, at, &path)?;
-    let fail = |m: String| source.error(at, format!("cannot load image {}: {m}", path.display()));
-    let open = || {
-        image::ImageReader::open(&path)
-            .and_then(|r| r.with_guessed_format())
-            .map_err(|e| fail(e.to_string()))
+    let encoding = if srgb {
+        Encoding::Srgb
+    } else {
+        Encoding::Linear
     };
-    let (width, height) = open()?.into_dimensions().map_err(|e| fail(e.to_string()))?;
-    let pixels = u64::from(width) * u64::from(height);
-    if pixels == 0 || pixels > MAX_IMAGE_PIXELS {
-        return Err(fail(format!(
-            "{width} x {height} pixels: expected between 1 and {MAX_IMAGE_PIXELS}"
-        )));
-    }
-    let mut reader = open()?;
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(width);
-    limits.max_image_height = Some(height);
-    // Room for the decoder's own buffer at 16 bits per channel plus our RGBA copy.
-    limits.max_alloc = Some(pixels * 16);
-    reader.limits(limits);
-    let decoded = reader.decode().map_err(|e| fail(e.to_string()))?;
-    let rgba = decoded.to_rgba8();
-    Ok(ImageTexture {
-        name: path.display().to_string(),
-        width,
-        height,
-        texels: Texels::Rgba8 {
-            texels: rgba.pixels().map(|p| p.0).collect(),
-            srgb,
-        },
-    })
+    read_texture(&path, encoding)
+        .map_err(|m| source.error(at, format!("cannot load image {}: {m}", path.display())))
 }

@@ -334,15 +334,35 @@ fn images_larger_than_the_limit_are_refused_from_their_header() {
     assert_eq!(
         e,
         format!(
-            "DIR/scene.toml:3:11: cannot load image DIR/huge.ppm: 10000 x 10000 pixels: \
-             expected between 1 and {MAX_IMAGE_PIXELS}"
+            "DIR/scene.toml:3:11: cannot load image DIR/huge.ppm: the image is 10000x10000 \
+             (100000000 pixels); textures may have at most {MAX_IMAGE_PIXELS} pixels"
         )
     );
-    let e = dir.error("[background]\nimage = \"sky.hdr\"\n");
-    assert!(
-        e.starts_with("DIR/scene.toml:2:9: DIR/sky.hdr: HDR and EXR images are not supported yet"),
-        "{e}"
-    );
+}
+
+#[test]
+fn hdr_environment_maps_are_read_as_linear_radiance() {
+    let dir = Folder::new();
+    // A 2 x 1 Radiance image: a bright texel (8 in red) and a dim one.
+    let image = prism_film_image(vec![[8.0, 0.5, 0.25], [0.125, 0.0, 1.0]]);
+    crate::film::write_image_with(
+        &image,
+        &dir.path("sky.hdr"),
+        &crate::film::OutputOptions::default(),
+    )
+    .unwrap();
+    let f = dir.load("[background]\nimage = \"sky.hdr\"\n");
+    let crate::scene::Background::Environment { image, .. } = f.scene.background else {
+        panic!("{:?}", f.scene.background);
+    };
+    let t = &f.scene.images[image as usize];
+    assert_eq!((t.width, t.height), (2, 1));
+    assert_eq!(t.texel(0, 0).x, 8.0);
+    assert_eq!(t.texel(1, 0).z, 1.0);
+}
+
+fn prism_film_image(pixels: Vec<[f32; 3]>) -> crate::film::Image {
+    crate::film::Image::new(pixels.len() as u32, 1, pixels)
 }
 
 #[test]
