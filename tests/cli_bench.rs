@@ -74,7 +74,8 @@ fn convert_writes_a_2014_scene_that_renders_like_the_obj() {
         let out = dir.path().join(name);
         let o = run(prism()
             .args([scene.to_path_buf(), example("example.cmr"), out.clone()])
-            .args(["--width", "48", "--aa", "1"]));
+            // The same model for both: an OBJ is whitted by default, a 2014 file classic.
+            .args(["--width", "48", "--aa", "1", "--integrator", "classic"]));
         assert!(o.status.success(), "{}", stderr(&o));
         load_rgb(&out)
     };
