@@ -476,11 +476,12 @@ impl Parser<'_> {
             for _ in 0..optional {
                 let mut look = tokens.clone();
                 let Some(token) = look.next() else { break };
-                let Some(value) = parse_f64(token.bytes) else {
+                if parse_f64(token.bytes).is_none() {
                     break;
-                };
+                }
                 tokens = look;
-                numbers[count] = number(self.path, line, token, &what).unwrap_or(value as f32);
+                // A number beyond f32 (or not finite) is an error, as anywhere else.
+                numbers[count] = number(self.path, line, token, &what)?;
                 written.push(String::from_utf8_lossy(token.bytes).into_owned());
                 count += 1;
             }
@@ -552,6 +553,18 @@ mod tests {
 
     fn error_of(text: &str) -> String {
         parse_str(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn texture_option_numbers_beyond_f32_are_errors() {
+        // Found by fuzzing: an optional second scale of 1e99 was taken as infinity.
+        let e = error_of("newmtl a\nmap_Kd -s 2 1e99 -o 0 tex.png\n");
+        assert!(e.starts_with("lib/m.mtl:2:13: "), "{e}");
+        let lib = parse_str("newmtl a\nmap_Kd -s 2 3 tex.png\n").unwrap();
+        assert_eq!(
+            lib.materials[0].map_kd.as_ref().unwrap().scale,
+            [2.0, 3.0, 1.0]
+        );
     }
 
     #[test]
