@@ -424,3 +424,43 @@ fn a_frame_folder_of_another_animation_is_not_resumed() {
     );
     assert_eq!(names(&out), ["frame_0000.png", "frame_0001.png"]);
 }
+
+#[test]
+fn a_scene_file_animates_itself_and_frame_0_is_its_still() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bounce.toml");
+    fs::write(
+        &scene,
+        "[camera]\nfrom = [0, 1, 5]\nat = [0, 0.5, 0]\nfov = 50\n\
+         [render]\nwidth = 32\nheight = 18\n\
+         [animation]\nframes = 3\nfps = 2\n\
+         [[material]]\nname = \"red\"\ncolor = [0.8, 0.1, 0.1]\n\
+         [[object]]\nname = \"ball\"\ntype = \"sphere\"\ncenter = [0, 0.5, 0]\nradius = 0.5\n\
+         material = \"red\"\n\
+         [[object]]\ntype = \"plane\"\n\
+         [[light]]\nname = \"sun\"\ntype = \"directional\"\ndirection = [-1, -2, -1]\n\
+         [[track]]\ntarget = \"object:ball\"\nmotion = \"translate\"\n\
+         keys = [[0, [0, 0, 0]], [1, [1, 0, 0]]]\n",
+    )
+    .unwrap();
+    let frames = dir.path().join("frames");
+    let o = animate(&scene, &frames, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        names(&frames),
+        ["frame_0000.png", "frame_0001.png", "frame_0002.png"]
+    );
+    let still = dir.path().join("still.png");
+    let o = run(prism().arg("render").arg(&scene).arg(&still).arg("--quiet"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let first = load_rgb(&frames.join("frame_0000.png"));
+    assert_eq!(first, load_rgb(&still), "frame 0 is the scene at rest");
+    // Half a second later the ball has moved half a unit to the right.
+    assert_ne!(first, load_rgb(&frames.join("frame_0001.png")));
+    // A scene file without [animation] says what is missing.
+    let plain = dir.path().join("plain.toml");
+    fs::write(&plain, "[[object]]\ntype = \"sphere\"\nradius = 1\n").unwrap();
+    let o = animate(&plain, &dir.path().join("p"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("[animation]"), "{}", stderr(&o));
+}

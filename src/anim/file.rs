@@ -153,6 +153,12 @@ pub fn load(path: &Path) -> Result<Animation> {
 /// Parses the text of the animation file at `path`; the scene and camera it names are
 /// read from disk, relative to `path`'s folder.
 pub fn parse(text: &str, path: &Path) -> Result<Animation> {
+    // A file naming no `scene` is a Prism scene file that animates itself.
+    if let Ok(table) = text.parse::<toml::Table>()
+        && !table.contains_key("scene")
+    {
+        return parse_scene_file(text, path);
+    }
     let lines = Lines { text, path };
     let raw: RawFile = toml::from_str(text).map_err(|e| {
         let line = e.span().map_or(1, |s| lines.line(s.start));
@@ -176,20 +182,8 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
     if let Some(start) = &raw.start {
         apply_start(&lines, start, &mut camera)?;
     }
-    let fps = match &raw.fps {
-        None => 24.0,
-        Some(f) => {
-            let v = *f.get_ref();
-            if !(MIN_FPS..=MAX_FPS).contains(&v) {
-                return Err(lines.error(
-                    f,
-                    format!("expected fps between {MIN_FPS} and {MAX_FPS}, found {v}"),
-                ));
-            }
-            v
-        }
-    };
-    let frames = frame_count(&lines, &raw, fps)?;
+    let fps = fps_of(&lines, raw.fps.as_ref())?;
+    let frames = frames_of(&lines, raw.frames.as_ref(), raw.duration.as_ref(), fps)?;
     let settings = render_settings(&lines, raw.render.as_ref())?;
     // Check the settings against the camera now, not after the first frame.
     Renderer::new(&scene, &camera, settings.clone()).map_err(|e| match (&raw.render, e) {
@@ -209,8 +203,82 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         fps,
         settings,
         tracks,
+        exposure: 0.0,
         fingerprint,
     })
+}
+
+/// The timing and tracks of a Prism scene file that animates (its `[animation]` and
+/// `[[track]]`s; the scene file's reader checks the rest).
+#[derive(Deserialize)]
+struct RawSceneAnimation {
+    animation: Option<Spanned<RawTiming>>,
+    #[serde(default)]
+    track: Vec<Spanned<RawTrack>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTiming {
+    frames: Option<Spanned<i64>>,
+    duration: Option<Spanned<f64>>,
+    fps: Option<Spanned<f64>>,
+}
+
+/// A Prism scene file as an animation: its scene, camera (or the default view) and
+/// render settings, `[animation]` timing and `[[track]]`s, whose `object:NAME` and
+/// `light:NAME` targets are the scene file's named objects and lights.
+fn parse_scene_file(text: &str, path: &Path) -> Result<Animation> {
+    let lines = Lines { text, path };
+    let file = crate::format::scene_file::parse(text, path)?;
+    let still = crate::still::resolve(file, &crate::still::StillOptions::default())?;
+    let raw: RawSceneAnimation = toml::from_str(text).map_err(|e| {
+        let line = e.span().map_or(1, |s| lines.line(s.start));
+        Error::parse(path, line, e.message().trim_end().replace('\n', "; "))
+    })?;
+    let Some(timing) = &raw.animation else {
+        return Err(Error::parse(
+            path,
+            1,
+            "expected an [animation] table (frames or duration, and fps) to animate this scene",
+        ));
+    };
+    let t = timing.get_ref();
+    let fps = fps_of(&lines, t.fps.as_ref())?;
+    let frames = frames_of(&lines, t.frames.as_ref(), t.duration.as_ref(), fps)?;
+    Renderer::new(&still.scene, &still.camera, still.settings.clone())?;
+    let tracks = raw
+        .track
+        .iter()
+        .map(|tr| track(&lines, tr, &still.scene))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Animation {
+        path: path.to_path_buf(),
+        scene: still.scene,
+        camera: still.camera,
+        frames,
+        fps,
+        settings: still.settings,
+        tracks,
+        exposure: still.exposure.unwrap_or(0.0),
+        fingerprint: fnv1a(FNV_OFFSET, text.as_bytes()),
+    })
+}
+
+fn fps_of(lines: &Lines, fps: Option<&Spanned<f64>>) -> Result<f64> {
+    match fps {
+        None => Ok(24.0),
+        Some(f) => {
+            let v = *f.get_ref();
+            if !(MIN_FPS..=MAX_FPS).contains(&v) {
+                return Err(lines.error(
+                    f,
+                    format!("expected fps between {MIN_FPS} and {MAX_FPS}, found {v}"),
+                ));
+            }
+            Ok(v)
+        }
+    }
 }
 
 fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) -> Result<()> {
@@ -259,8 +327,13 @@ fn apply_start(lines: &Lines, start: &Spanned<RawStart>, camera: &mut Camera) ->
     Ok(())
 }
 
-fn frame_count(lines: &Lines, raw: &RawFile, fps: f64) -> Result<u32> {
-    let (n, span): (f64, _) = match (&raw.frames, &raw.duration) {
+fn frames_of(
+    lines: &Lines,
+    frames: Option<&Spanned<i64>>,
+    duration: Option<&Spanned<f64>>,
+    fps: f64,
+) -> Result<u32> {
+    let (n, span): (f64, _) = match (frames, duration) {
         (Some(f), Some(_)) => {
             return Err(lines.error(f, "give frames or duration, not both"));
         }
@@ -324,9 +397,11 @@ fn render_settings(lines: &Lines, render: Option<&Spanned<RawRender>>) -> Result
 fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selection> {
     let name = at.get_ref();
     let unknown = |why: String| lines.error(at, format!("unknown target `{name}`: {why}"));
-    let (kind, what) = name
-        .split_once(':')
-        .ok_or_else(|| unknown("expected camera, shape:N, material:NAME or group:NAME".into()))?;
+    let (kind, what) = name.split_once(':').ok_or_else(|| {
+        unknown(
+            "expected camera, shape:N, material:NAME, group:NAME, object:NAME or light:NAME".into(),
+        )
+    })?;
     let (shapes, lights) = match kind {
         "shape" => {
             let i: u32 = what
@@ -349,7 +424,8 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
             }
             (shapes, vec![])
         }
-        "group" => {
+        // A scene file's named objects and lights are groups of that name.
+        "group" | "object" | "light" => {
             let g = scene
                 .group(what)
                 .ok_or_else(|| unknown(format!("the scene has no `g {what}` or `o {what}`")))?;
@@ -360,7 +436,8 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
         }
         _ => {
             return Err(unknown(
-                "expected camera, shape:N, material:NAME or group:NAME".into(),
+                "expected camera, shape:N, material:NAME, group:NAME, object:NAME or light:NAME"
+                    .into(),
             ));
         }
     };

@@ -5,7 +5,7 @@ use super::Animation;
 use super::output::{FramePattern, Output};
 use super::video::{self, VideoInfo};
 use crate::film::output::write_atomically;
-use crate::film::write_image;
+use crate::film::{Develop, OutputOptions, Transfer, write_image_with};
 use crate::{Error, Result};
 use std::io::Write;
 use std::ops::Range;
@@ -156,7 +156,7 @@ pub fn render_frames(
             &|rows| (observer.frame_start)(k, rows),
             observer.rows,
         )?;
-        write_image(&image, &path)?;
+        write_image_with(&image, &path, &frame_output(anim))?;
         report.rendered += 1;
         report.rays += stats.rays;
         (observer.frame_done)(k, false);
@@ -230,4 +230,21 @@ pub fn remove_frames(pattern: &FramePattern, frames: Range<u32>) {
     }
     let _ = std::fs::remove_file(pattern.dir.join(MANIFEST));
     let _ = std::fs::remove_dir(&pattern.dir);
+}
+
+/// How frames are stored: the classic model's values as the 2014 program wrote them,
+/// the whitted model's radiance developed for display (sRGB).
+fn frame_output(anim: &Animation) -> OutputOptions {
+    let transfer = match anim.settings.integrator {
+        crate::render::IntegratorKind::Classic => Transfer::Classic,
+        crate::render::IntegratorKind::Whitted => Transfer::Srgb,
+    };
+    OutputOptions {
+        develop: Develop {
+            exposure: anim.exposure,
+            transfer,
+            ..Develop::classic()
+        },
+        ..OutputOptions::classic()
+    }
 }

@@ -49,6 +49,8 @@ pub struct Animation {
     /// The file's `[render]` overrides; a caller may set threads and intersector.
     pub settings: RenderSettings,
     pub tracks: Vec<Track>,
+    /// Exposure of the frames in stops (a scene file's `[render] exposure`).
+    pub exposure: f32,
     /// FNV-1a 64 of the animation file's text and the scene and camera files' bytes:
     /// what the frames' pixels depend on (with the file's `[render]` settings). A frame
     /// folder records it, so frames of another animation are never resumed.

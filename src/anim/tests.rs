@@ -223,7 +223,7 @@ fn bad_input_is_an_error_with_file_and_line() {
         (
             "frames = 2\n[[track]]\ntarget = \"lamp\"\nmotion = \"translate\"\nkeys = [[0, [1, 2, 3]]]\n",
             5,
-            "expected camera, shape:N, material:NAME or group:NAME",
+            "expected camera, shape:N, material:NAME, group:NAME, object:NAME or light:NAME",
         ),
         (
             "frames = 2\n[[track]]\ntarget = \"camera\"\nmotion = \"rotate\"\naxis = [0, 0, 1]\n\

@@ -24,8 +24,22 @@ pub struct RawFile {
     pub ambient: S<RawAmbient>,
     pub background: S<RawBackground>,
     pub render: S<RawRender>,
+    /// Timing of `prism animate`: its types are checked here, its values read by
+    /// `anim::file` with the tracks.
+    #[allow(dead_code)]
+    pub animation: S<RawAnimation>,
     #[serde(default)]
     pub track: Vec<Spanned<RawTrack>>,
+}
+
+/// `[animation]`: `frames` or `duration` (seconds), and `fps` (default 24).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(dead_code)]
+pub struct RawAnimation {
+    pub frames: S<i64>,
+    pub duration: S<f64>,
+    pub fps: S<f64>,
 }
 
 #[derive(Deserialize)]
