@@ -464,3 +464,40 @@ fn a_scene_file_animates_itself_and_frame_0_is_its_still() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("[animation]"), "{}", stderr(&o));
 }
+
+#[test]
+fn animation_files_must_be_regular_and_errors_name_the_right_line_among_many_tracks() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = animate(dir.path(), &dir.path().join("out"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    #[cfg(unix)]
+    {
+        let fifo = dir.path().join("anim.fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let o = animate(&fifo, &dir.path().join("out"), &[]);
+            assert_eq!(o.status.code(), Some(2), "a FIFO must not block");
+        }
+    }
+    // 20 000 tracks, the last one naming nothing: the error has its line (line lookup
+    // was once quadratic in the file's size).
+    let track = "[[track]]\ntarget = \"camera\"\nmotion = \"translate\"\nkeys = [[0, [0, 0, 0]]]\n";
+    let mut body = format!("frames = 1\n{SMALL}");
+    for _ in 0..20_000 {
+        body.push_str(track);
+    }
+    body.push_str(
+        "[[track]]\ntarget = \"group:nowhere\"\nmotion = \"translate\"\nkeys = [[0, [0, 0, 0]]]\n",
+    );
+    let anim = write_anim(dir.path(), &body);
+    let o = animate(&anim, &dir.path().join("out"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    // scene, camera, frames, 4 lines of SMALL, 4 per track: the bad target's line.
+    let line = 2 + 1 + 4 + 20_000 * 4 + 2;
+    assert!(
+        stderr(&o).contains(&format!("anim.toml:{line}: unknown target")),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -123,19 +123,29 @@ enum RawValue {
     Vector([f64; 3]),
 }
 
-/// Byte offsets to 1-based line numbers.
+/// Byte offsets to 1-based line numbers, by binary search over the line starts (a file
+/// of 40 000 tracks asks once per track).
 struct Lines<'a> {
-    text: &'a str,
     path: &'a Path,
+    /// Byte offset of each line's first byte.
+    starts: Vec<usize>,
 }
 
-impl Lines<'_> {
+impl<'a> Lines<'a> {
+    fn new(text: &str, path: &'a Path) -> Lines<'a> {
+        let starts = std::iter::once(0)
+            .chain(
+                text.bytes()
+                    .enumerate()
+                    .filter(|&(_, b)| b == b'\n')
+                    .map(|(i, _)| i + 1),
+            )
+            .collect();
+        Lines { path, starts }
+    }
+
     fn line(&self, offset: usize) -> usize {
-        let end = offset.min(self.text.len());
-        1 + self.text.as_bytes()[..end]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count()
+        self.starts.partition_point(|&s| s <= offset).max(1)
     }
 
     fn error<T>(&self, at: &Spanned<T>, message: impl Into<String>) -> Error {
@@ -145,9 +155,31 @@ impl Lines<'_> {
 
 /// Reads an animation file and the scene and camera files it names.
 pub fn load(path: &Path) -> Result<Animation> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::file(path, format!("cannot read: {e}")))?;
-    parse(&text, path)
+    parse(&read_bounded(path)?, path)
+}
+
+/// Largest animation file read: far beyond any real one, small enough to hold.
+pub const MAX_FILE_BYTES: u64 = 64 << 20;
+
+/// Reads a regular file of at most [`MAX_FILE_BYTES`] as UTF-8: a FIFO or a device
+/// would block or never end, and a file that grows while read stops at the bound.
+fn read_bounded(path: &Path) -> Result<String> {
+    use std::io::Read as _;
+    let cannot = |e: &dyn std::fmt::Display| Error::file(path, format!("cannot read: {e}"));
+    let meta = std::fs::metadata(path).map_err(|e| cannot(&e))?;
+    if !meta.is_file() {
+        return Err(cannot(&"not a regular file"));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(|e| cannot(&e))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(cannot(&format!(
+            "the file is larger than {MAX_FILE_BYTES} bytes"
+        )));
+    }
+    String::from_utf8(bytes).map_err(|_| cannot(&"not UTF-8 text"))
 }
 
 /// Parses the text of the animation file at `path`; the scene and camera it names are
@@ -159,7 +191,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
     {
         return parse_scene_file(text, path);
     }
-    let lines = Lines { text, path };
+    let lines = Lines::new(text, path);
     let raw: RawFile = toml::from_str(text).map_err(|e| {
         let line = e.span().map_or(1, |s| lines.line(s.start));
         Error::parse(path, line, e.message().trim_end().replace('\n', "; "))
@@ -229,7 +261,7 @@ struct RawTiming {
 /// render settings, `[animation]` timing and `[[track]]`s, whose `object:NAME` and
 /// `light:NAME` targets are the scene file's named objects and lights.
 fn parse_scene_file(text: &str, path: &Path) -> Result<Animation> {
-    let lines = Lines { text, path };
+    let lines = Lines::new(text, path);
     let file = crate::format::scene_file::parse(text, path)?;
     let still = crate::still::resolve(file, &crate::still::StillOptions::default())?;
     let raw: RawSceneAnimation = toml::from_str(text).map_err(|e| {
