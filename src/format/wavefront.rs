@@ -275,12 +275,14 @@ fn convert_material(
     if let Some(map) = &m.map_d {
         s.alpha_map = images.slot(map, Encoding::Mask, m, warnings);
     }
+    if let Some(map) = &m.norm {
+        s.normal_map = images.slot(map, Encoding::Linear, m, warnings);
+    }
     for (key, map) in [
         ("map_Ks", &m.map_ks),
         ("map_Ka", &m.map_ka),
         ("map_Ke", &m.map_ke),
         ("bump", &m.bump),
-        ("norm", &m.norm),
         ("refl", &m.refl),
     ] {
         if map.is_some() {

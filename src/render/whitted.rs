@@ -84,6 +84,10 @@ impl<'a> Whitted<'a> {
         };
         let s = self.surface(hit.shape);
         let d = ray.dir;
+        let sp = match &s.normal_map {
+            Some(slot) => self.normal_mapped(sp, slot),
+            None => sp,
+        };
         // Inside/outside from the geometric normal; shading normals turned to the ray.
         let entering = d.dot(sp.ng) < 0.0;
         let (ng, n) = if entering {
@@ -186,6 +190,32 @@ impl<'a> Whitted<'a> {
             };
         }
         None
+    }
+
+    /// The shading normal bent by a tangent-space normal map (texel `2 c - 1` in the
+    /// frame of dP/du, N x dP/du and N). Kept as it was where the surface has no
+    /// tangent or the map would turn it past the geometric surface.
+    fn normal_mapped(
+        &self,
+        mut sp: SurfacePoint,
+        slot: &crate::scene::TextureSlot,
+    ) -> SurfacePoint {
+        let Some(dpdu) = sp.dpdu else {
+            return sp;
+        };
+        let n = sp.n;
+        let t = (dpdu - n * n.dot(dpdu)).normalize_or_zero();
+        if t == Vec3::ZERO {
+            return sp;
+        }
+        let b = n.cross(t);
+        let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
+        let m = Vec3::new(c.x, c.y, c.z) * 2.0 - Vec3::ONE;
+        let bent = (t * m.x + b * m.y + n * m.z).normalize_or_zero();
+        if bent.dot(sp.ng) > 0.0 {
+            sp.n = bent;
+        }
+        sp
     }
 
     #[inline]

@@ -21,6 +21,9 @@ pub struct SurfacePoint {
     /// A mesh triangle's corners, vertex normals and the hit's barycentrics, for
     /// [`SurfacePoint::shadow_origin`].
     pub smooth: Option<([Vec3; 3], [Vec3; 3], [f32; 3])>,
+    /// The direction in which the texture's u grows (unnormalised), where the surface
+    /// has texture coordinates: the tangent frame of normal maps.
+    pub dpdu: Option<Vec3>,
 }
 
 impl SurfacePoint {
@@ -49,6 +52,7 @@ impl Scene {
             uv: [0.0, 0.0],
             color: Vec3::ONE,
             smooth: None,
+            dpdu: None,
         };
         match s {
             Shape::Triangle(tri) => {
@@ -64,6 +68,9 @@ impl Scene {
                     }
                     if let Some(uv) = mesh.texcoord(i, b) {
                         sp.uv = uv;
+                        let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+                        let uvs = corners.map(|c| mesh.texcoord(i, c).unwrap_or([0.0; 2]));
+                        sp.dpdu = tangent(tri.v, uvs);
                     }
                     if let Some(c) = mesh.color(i, b) {
                         sp.color = c;
@@ -75,6 +82,7 @@ impl Scene {
                 let u = if c.len_x > 0.0 { c.x / c.len_x } else { 0.0 };
                 let v = if c.len_y > 0.0 { c.y / c.len_y } else { 0.0 };
                 sp.uv = [u, v];
+                sp.dpdu = Some(r.v[1] - r.v[0]);
             }
             Shape::Sphere(_) => {
                 // Latitude-longitude with +y up, u = 0 at -z... seam behind: a common
@@ -87,6 +95,20 @@ impl Scene {
         }
         sp
     }
+}
+
+/// dP/du of a triangle with texture coordinates `uv`: the solution of
+/// `dp = dpdu du + dpdv dv` over two edges; `None` for degenerate coordinates.
+pub fn tangent(v: [Vec3; 3], uv: [[f32; 2]; 3]) -> Option<Vec3> {
+    let (dp1, dp2) = (v[1] - v[0], v[2] - v[0]);
+    let (du1, dv1) = (uv[1][0] - uv[0][0], uv[1][1] - uv[0][1]);
+    let (du2, dv2) = (uv[2][0] - uv[0][0], uv[2][1] - uv[0][1]);
+    let det = du1 * dv2 - dv1 * du2;
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let t = (dp1 * dv2 - dp2 * dv1) / det;
+    t.is_finite().then_some(t)
 }
 
 /// Barycentric coordinates of `p` (on or near the triangle's plane) for `v0 v1 v2`.
@@ -139,6 +161,22 @@ mod tests {
             barycentrics(v, Vec3::new(0.25, 0.5, 0.0)),
             [0.25, 0.25, 0.5]
         );
+    }
+
+    #[test]
+    fn the_tangent_follows_u() {
+        let v = [
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 3.0, 0.0),
+        ];
+        // u along +x over 2 units, v along +y.
+        let t = tangent(v, [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+        assert_eq!(t, Vec3::new(2.0, 0.0, 0.0));
+        // u along +y instead.
+        let t = tangent(v, [[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]]).unwrap();
+        assert_eq!(t, Vec3::new(0.0, 3.0, 0.0));
+        assert_eq!(tangent(v, [[0.0, 0.0]; 3]), None);
     }
 
     #[test]

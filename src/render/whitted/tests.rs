@@ -444,3 +444,43 @@ fn recursion_stops_at_max_depth_between_parallel_mirrors() {
         assert_eq!(count.rays, u64::from(depth) + 1);
     }
 }
+
+#[test]
+fn a_normal_map_tilts_the_shading_normal_in_the_tangent_frame() {
+    use crate::scene::{ImageTexture, Texels, TextureSlot};
+    // One texel: the normal tilted 45 degrees toward the tangent (dP/du: +z on this
+    // floor), encoded as (n + 1) / 2.
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    let texel = [(h + 1.0) / 2.0, 0.5, (h + 1.0) / 2.0, 1.0];
+    let bumpy = Surface {
+        normal_map: Some(TextureSlot::new(0)),
+        ..matte(Vec3::ONE)
+    };
+    let lit_from = |dir: Vec3| {
+        let mut s = scene(
+            vec![(floor(0.0, 10.0), bumpy.clone())],
+            vec![Light {
+                kind: LightKind::Directional { direction: -dir },
+                ..Light::point(Vec3::ZERO, Vec3::ONE)
+            }],
+            Background::Black,
+        );
+        s.images.push(ImageTexture {
+            name: "n".into(),
+            width: 1,
+            height: 1,
+            texels: Texels::RgbaF32(vec![texel]),
+        });
+        radiance_of(&s, down_at(0.3, 0.3)).x
+    };
+    // Light from straight above meets the tilted normal at 45 degrees; light along the
+    // tilted normal meets it head on.
+    assert!(
+        (lit_from(Vec3::Y) - h).abs() < 1e-5,
+        "{}",
+        lit_from(Vec3::Y)
+    );
+    assert!((lit_from(Vec3::new(0.0, 1.0, 1.0).normalize()) - 1.0).abs() < 1e-5);
+    // Tilting away from the light (toward -z): darker than the flat floor would be.
+    assert!(lit_from(Vec3::new(0.0, 1.0, -1.0).normalize()) < 1e-5);
+}
