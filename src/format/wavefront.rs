@@ -37,7 +37,7 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
     // Materials in library order, then the default for faces without one.
     let mut images = ImageCache::default();
     for m in &obj.materials {
-        let (material, surface) = convert_material(m, &mut images, &mut warnings);
+        let (material, surface) = convert_material(m, &mut images, &mut warnings)?;
         scene.materials.push(material);
         scene.surfaces.push(surface);
     }
@@ -169,41 +169,53 @@ struct ImageCache {
 }
 
 impl ImageCache {
+    /// The slot of `map`, reading its image once. A missing file is a warning (the
+    /// material keeps its colour); a file that is there but cannot be used (too large,
+    /// truncated, not an image, not a regular file) is an error naming the MTL line.
     fn slot(
         &mut self,
         map: &TextureMap,
         encoding: Encoding,
         material: &MtlMaterial,
         warnings: &mut Vec<String>,
-    ) -> Option<TextureSlot> {
+    ) -> Result<Option<TextureSlot>> {
         let key = (map.path.clone(), map.clamp, encoding as u8);
         let image = match self.index.get(&key) {
             Some(&i) => i,
-            None => match read_texture(&map.path, encoding) {
-                Ok(texture) => {
-                    let i = self.images.len() as u32;
-                    self.images.push(texture);
-                    self.index.insert(key, i);
-                    i
-                }
-                Err(why) => {
-                    warnings.push(format!(
-                        "{}:{}: cannot read texture `{}` of material `{}` ({why}); it is left out",
-                        material.path.display(),
+            None if std::fs::symlink_metadata(&map.path).is_err() => {
+                warnings.push(format!(
+                    "{}:{}: texture `{}` of material `{}` is missing; it is left out",
+                    material.path.display(),
+                    material.line,
+                    map.path.display(),
+                    material.name
+                ));
+                return Ok(None);
+            }
+            None => {
+                let texture = read_texture(&map.path, encoding).map_err(|why| {
+                    Error::parse(
+                        &material.path,
                         material.line,
-                        map.path.display(),
-                        material.name
-                    ));
-                    return None;
-                }
-            },
+                        format!(
+                            "cannot read texture {} of material `{}`: {why}",
+                            map.path.display(),
+                            material.name
+                        ),
+                    )
+                })?;
+                let i = self.images.len() as u32;
+                self.images.push(texture);
+                self.index.insert(key, i);
+                i
+            }
         };
-        Some(TextureSlot {
+        Ok(Some(TextureSlot {
             image,
             scale: [map.scale[0], map.scale[1]],
             offset: [map.offset[0], map.offset[1]],
             clamp: map.clamp,
-        })
+        }))
     }
 }
 
@@ -212,7 +224,7 @@ fn convert_material(
     m: &MtlMaterial,
     images: &mut ImageCache,
     warnings: &mut Vec<String>,
-) -> (Material, Surface) {
+) -> Result<(Material, Surface)> {
     let kd = m.kd.unwrap_or(Vec3::splat(0.8));
     let ks = m.ks.unwrap_or(Vec3::ZERO);
     let ka = m.ka.unwrap_or(Vec3::ZERO);
@@ -265,7 +277,7 @@ fn convert_material(
         s.specular *= d;
     }
     if let Some(map) = &m.map_kd
-        && let Some(slot) = images.slot(map, Encoding::Srgb, m, warnings)
+        && let Some(slot) = images.slot(map, Encoding::Srgb, m, warnings)?
     {
         s.albedo = Albedo::Image {
             slot,
@@ -273,18 +285,21 @@ fn convert_material(
         };
     }
     if let Some(map) = &m.map_d {
-        s.alpha_map = images.slot(map, Encoding::Mask, m, warnings);
+        s.alpha_map = images.slot(map, Encoding::Mask, m, warnings)?;
     }
     if let Some(map) = &m.norm {
-        s.normal_map = images.slot(map, Encoding::Linear, m, warnings);
+        s.normal_map = images.slot(map, Encoding::Linear, m, warnings)?;
     }
-    for (key, map) in [
-        ("map_Ks", &m.map_ks),
-        ("map_Ka", &m.map_ka),
-        ("map_Ke", &m.map_ke),
-        ("bump", &m.bump),
-        ("refl", &m.refl),
+    for (map, slot) in [
+        (&m.map_ks, &mut s.specular_map),
+        (&m.map_ka, &mut s.ambient_map),
+        (&m.map_ke, &mut s.emission_map),
     ] {
+        if let Some(map) = map {
+            *slot = images.slot(map, Encoding::Srgb, m, warnings)?;
+        }
+    }
+    for (key, map) in [("bump", &m.bump), ("refl", &m.refl)] {
         if map.is_some() {
             warnings.push(format!(
                 "{}:{}: {key} of material `{}` is read but not applied",
@@ -309,7 +324,7 @@ fn convert_material(
         transparent: s.is_transmissive(),
         texture: None,
     };
-    (material, s)
+    Ok((material, s))
 }
 
 /// A Fresnel surface's reflection tint: white when the file gives none (a glass with

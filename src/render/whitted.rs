@@ -104,12 +104,17 @@ impl<'a> Whitted<'a> {
         let weight = weight * absorbed;
 
         // Emitters glow on the side their normal faces, as they light the scene.
-        let mut l = if entering { s.emission } else { Vec3::ZERO };
+        let mut l = if entering {
+            s.emission * self.map(&s.emission_map, &sp)
+        } else {
+            Vec3::ZERO
+        };
         let albedo = self.albedo(s, &sp, hit.shape) * sp.color;
         if !s.lit {
             return absorbed * (l + albedo);
         }
-        l += s.ambient * self.scene.ambient;
+        l += s.ambient * self.map(&s.ambient_map, &sp) * self.scene.ambient;
+        let ks = s.specular * self.map(&s.specular_map, &sp);
         let v = -d;
         let shadow_from = sp.shadow_origin(ng);
         let kd = albedo * s.diffuse;
@@ -120,8 +125,8 @@ impl<'a> Whitted<'a> {
                     return;
                 }
                 let mut shade = kd * cos;
-                if s.specular != Vec3::ZERO {
-                    shade += s.specular * highlight(s, n, ls.dir, v);
+                if ks != Vec3::ZERO {
+                    shade += ks * highlight(s, n, ls.dir, v);
                 }
                 if shade.max_element() <= 0.0 {
                     return;
@@ -190,6 +195,18 @@ impl<'a> Whitted<'a> {
             };
         }
         None
+    }
+
+    /// The colour of an optional map at the hit (white without one).
+    #[inline]
+    fn map(&self, slot: &Option<crate::scene::TextureSlot>, sp: &SurfacePoint) -> Vec3 {
+        match slot {
+            Some(slot) => {
+                let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
+                Vec3::new(c.x, c.y, c.z)
+            }
+            None => Vec3::ONE,
+        }
     }
 
     /// The shading normal bent by a tangent-space normal map (texel `2 c - 1` in the

@@ -79,6 +79,11 @@ pub struct Surface {
     pub alpha_map: Option<TextureSlot>,
     /// A tangent-space normal map (`norm`).
     pub normal_map: Option<TextureSlot>,
+    /// Images multiplying `specular`, `ambient` and `emission` (MTL `map_Ks`,
+    /// `map_Ka`, `map_Ke`; colour maps, decoded from sRGB).
+    pub specular_map: Option<TextureSlot>,
+    pub ambient_map: Option<TextureSlot>,
+    pub emission_map: Option<TextureSlot>,
 }
 
 /// The albedo of a surface.
@@ -151,6 +156,9 @@ impl Default for Surface {
             lit: true,
             alpha_map: None,
             normal_map: None,
+            specular_map: None,
+            ambient_map: None,
+            emission_map: None,
         }
     }
 }

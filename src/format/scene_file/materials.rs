@@ -118,6 +118,9 @@ pub fn build(
         lit: raw.lit.as_ref().is_none_or(|l| *l.get_ref()),
         alpha_map: None,
         normal_map,
+        specular_map: None,
+        ambient_map: None,
+        emission_map: None,
     };
     let material = classic(
         name,

@@ -95,17 +95,23 @@ fn texture_maps_load_with_their_options_and_missing_ones_warn() {
         .save(dir.path().join("red blue.png"))
         .unwrap();
     let mtl = "newmtl a\nKd 1 1 1\nmap_Kd -s 2 3 -o 0.5 0 -clamp on red blue.png\n\
+               map_Ks red blue.png\nmap_Ka red blue.png\nmap_Ke red blue.png\n\
                newmtl b\nKd 0.5 0.5 0.5\nmap_Kd missing.png\n";
     std::fs::write(dir.path().join("s.mtl"), mtl).unwrap();
     let obj = format!("mtllib s.mtl\n{QUAD}usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1 3 4\n");
     std::fs::write(dir.path().join("scene.obj"), obj).unwrap();
     let file = load(&dir.path().join("scene.obj")).unwrap();
     let s = &file.scene;
-    assert_eq!(s.images.len(), 1);
+    assert_eq!(s.images.len(), 2);
     let Albedo::Image { slot, .. } = &s.surfaces[0].albedo else {
         panic!("{:?}", s.surfaces[0].albedo);
     };
     assert_eq!(slot.scale, [2.0, 3.0]);
+    // The other colour maps share the image (no -clamp: a second entry).
+    let ks = s.surfaces[0].specular_map.unwrap();
+    assert_eq!(s.surfaces[0].ambient_map, Some(ks));
+    assert_eq!(s.surfaces[0].emission_map, Some(ks));
+    assert_eq!((ks.scale, ks.clamp), ([1.0, 1.0], false));
     assert_eq!(slot.offset, [0.5, 0.0]);
     assert!(slot.clamp);
     // The left texel is red, decoded from sRGB (255 -> 1).
@@ -114,10 +120,34 @@ fn texture_maps_load_with_their_options_and_missing_ones_warn() {
     assert!(
         file.warnings
             .iter()
-            .any(|w| w.contains("s.mtl:4:") && w.contains("missing.png")),
+            .any(|w| w.contains("s.mtl:7:") && w.contains("missing.png")),
         "{:?}",
         file.warnings
     );
+}
+
+#[test]
+fn a_texture_that_is_there_but_unusable_is_an_error_with_the_mtl_line() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("broken.png"),
+        b"\x89PNG\r\n\x1a\nnot really",
+    )
+    .unwrap();
+    std::fs::create_dir(dir.path().join("folder.png")).unwrap();
+    // The line of the material (its newmtl) that names the texture.
+    for (name, line) in [("broken.png", 1), ("folder.png", 1)] {
+        let mtl = format!("newmtl a\nmap_Kd {name}\n");
+        std::fs::write(dir.path().join("s.mtl"), mtl).unwrap();
+        let obj = format!("mtllib s.mtl\n{QUAD}usemtl a\nf 1 2 3\n");
+        std::fs::write(dir.path().join("scene.obj"), obj).unwrap();
+        let e = load(&dir.path().join("scene.obj")).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("s.mtl:{line}: cannot read texture")),
+            "{e}"
+        );
+        assert!(e.contains(name), "{e}");
+    }
 }
 
 #[test]
