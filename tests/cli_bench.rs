@@ -103,3 +103,24 @@ fn convert_refuses_a_bad_mesh_without_writing() {
     assert!(!objx.exists());
     assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
 }
+
+#[test]
+fn convert_refuses_to_overwrite_its_input_or_write_another_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("cube.obj");
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    fs::write(&obj, text).unwrap();
+    let o = run(prism().arg("convert").args([&obj, &obj]));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains(".objx"), "{}", stderr(&o));
+    // Named .objx, but the same file through a link.
+    let link = dir.path().join("cube.objx");
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(&obj, &link).unwrap();
+        let o = run(prism().arg("convert").args([&obj, &link]));
+        assert_eq!(o.status.code(), Some(2));
+        assert!(stderr(&o).contains("is the input file"), "{}", stderr(&o));
+    }
+    assert_eq!(fs::read_to_string(&obj).unwrap(), text);
+}

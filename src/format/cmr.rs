@@ -109,6 +109,18 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
         Ok(at(i).number_above(values[i].0, DESCRIPTIONS[i], 0.0, strict)? as f32)
     };
     let count = |i: usize| at(i).positive_integer(values[i].0, DESCRIPTIONS[i]);
+    // The image's sides, checked here so the message names this file and line.
+    let side = |i: usize| -> Result<u32> {
+        let v = count(i)?;
+        if v > crate::render::MAX_SIDE {
+            return Err(at(i).error(format!(
+                "expected {} of at most {}, found {v}",
+                DESCRIPTIONS[i],
+                crate::render::MAX_SIDE
+            )));
+        }
+        Ok(v)
+    };
 
     Ok(Camera {
         eye: Vec3::new(any(0)?, any(1)?, any(2)?),
@@ -116,8 +128,8 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
         phi_deg: any(4)?,
         medium_ior: above(5, true)?,
         screen_distance: above(6, true)?,
-        width: count(7)?,
-        height: count(8)?,
+        width: side(7)?,
+        height: side(8)?,
         retina_scale: above(9, true)?,
         focal_length: above(10, false)?,
         aperture: above(11, false)?,
@@ -130,6 +142,16 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_oversized_image_is_an_error_naming_the_camera_file() {
+        let text = "0 0 0 90 0 1 1 100000 2 0.5 1 0 1 1\n";
+        let e = parse(text, Path::new("c.cmr")).unwrap_err().to_string();
+        assert!(
+            e.starts_with("c.cmr:1: expected the image width of at most 65536, found 100000"),
+            "{e}"
+        );
+    }
     use proptest::prelude::*;
 
     const SEED0: &str = "#view point\n0 0 50\n#direction of view, angle theta and phi\n90 0\n\

@@ -259,6 +259,17 @@ mod tests {
     }
 
     #[test]
+    fn a_2014_texture_claiming_a_huge_image_is_refused_from_its_header() {
+        // A binary PPM header promising 60000 x 60000 pixels and holding none.
+        let root = tempfile::tempdir().unwrap();
+        std::fs::write(root.path().join("huge.ppm"), b"P6\n60000 60000\n255\n").unwrap();
+        let mtl = root.path().join("m.mtlx");
+        std::fs::write(&mtl, "newmtl a 0 0 0 1 1 1 1 1 0 0 0 huge.ppm\n").unwrap();
+        let e = mtlx::load(&mtl, &mut mtlx::MaterialLibrary::new()).unwrap_err();
+        assert!(e.to_string().contains("60000x60000"), "{e}");
+    }
+
+    #[test]
     fn unreadable_files_are_file_errors() {
         let e = load_scene(Path::new("/nonexistent/prism/s.objx")).unwrap_err();
         assert!(

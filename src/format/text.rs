@@ -6,6 +6,10 @@ use std::path::Path;
 
 use crate::{Error, Result};
 
+/// Largest 2014 scene, material or camera file: 1 GiB of text is tens of millions of
+/// shapes, beyond what anyone writes by hand or converts.
+pub const MAX_TEXT_BYTES: u64 = 1 << 30;
+
 /// Reads a whole file as UTF-8 text. Only regular files are read: a path naming a
 /// directory, a FIFO or a device such as `/dev/stdin` would otherwise fail late or block.
 pub(super) fn read_text(path: &Path) -> Result<String> {
@@ -14,7 +18,19 @@ pub(super) fn read_text(path: &Path) -> Result<String> {
     if !meta.is_file() {
         return Err(cannot_read(&"not a regular file"));
     }
-    let bytes = std::fs::read(path).map_err(|e| cannot_read(&e))?;
+    // Read with a bound: a sparse file or one that grows is refused, not swallowed.
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| {
+            use std::io::Read as _;
+            f.take(MAX_TEXT_BYTES + 1).read_to_end(&mut bytes)
+        })
+        .map_err(|e| cannot_read(&e))?;
+    if bytes.len() as u64 > MAX_TEXT_BYTES {
+        return Err(cannot_read(&format!(
+            "the file is larger than {MAX_TEXT_BYTES} bytes"
+        )));
+    }
     decode(&bytes, path).map(str::to_owned)
 }
 

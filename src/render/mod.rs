@@ -13,7 +13,8 @@ pub use classic::Classic;
 pub use sampler::PixelSampler;
 use settings::Plan;
 pub use settings::{
-    DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, IntegratorKind, MAX_DEPTH_LIMIT, Region, RenderSettings,
+    DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, IntegratorKind, MAX_DEPTH_LIMIT, MAX_SIDE, Region,
+    RenderSettings,
 };
 pub use whitted::Whitted;
 
