@@ -236,6 +236,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         settings,
         tracks,
         exposure: 0.0,
+        cancel: None,
         fingerprint,
     })
 }
@@ -293,6 +294,7 @@ fn parse_scene_file(text: &str, path: &Path) -> Result<Animation> {
         settings: still.settings,
         tracks,
         exposure: still.exposure.unwrap_or(0.0),
+        cancel: None,
         fingerprint: fnv1a(FNV_OFFSET, text.as_bytes()),
     })
 }

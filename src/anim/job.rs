@@ -138,6 +138,9 @@ pub fn render_frames(
     let mut posed = anim.scene.clone();
     let mut still = None;
     for k in frames {
+        if anim.cancelled() {
+            return Err(Error::Interrupted);
+        }
         let path = pattern.path_of(k);
         if path.is_file() {
             report.skipped += 1;
@@ -190,7 +193,13 @@ pub fn encode_frames(
         size,
         anim.fps,
         frames.len() as u32,
-        &mut |i| read_frame(&pattern.path_of(first + i), size),
+        &mut |i| {
+            // Stopping here drops the half-written video (it is a temporary file).
+            if anim.cancelled() {
+                return Err(Error::Interrupted);
+            }
+            read_frame(&pattern.path_of(first + i), size)
+        },
         progress,
     )?;
     Ok((info, start.elapsed().as_secs_f64()))

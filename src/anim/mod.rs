@@ -51,6 +51,9 @@ pub struct Animation {
     pub tracks: Vec<Track>,
     /// Exposure of the frames in stops (a scene file's `[render] exposure`).
     pub exposure: f32,
+    /// Set from any thread (a signal handler) to stop: the frame being rendered is
+    /// abandoned, none after it starts, and a video being encoded is not written.
+    pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
     /// FNV-1a 64 of the animation file's text and the scene and camera files' bytes:
     /// what the frames' pixels depend on (with the file's `[render]` settings). A frame
     /// folder records it, so frames of another animation are never resumed.
@@ -70,6 +73,13 @@ pub fn fnv1a(mut hash: u64, bytes: &[u8]) -> u64 {
 pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
 impl Animation {
+    /// Whether [`Animation::cancel`] was set.
+    pub fn cancelled(&self) -> bool {
+        self.cancel
+            .as_ref()
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    }
+
     /// Reads an animation file and the scene and camera files it names (relative to it).
     pub fn load(path: &Path) -> Result<Animation> {
         file::load(path)
@@ -141,7 +151,10 @@ impl Animation {
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<(Image, RenderStats)> {
         let camera = self.pose_into(frame, posed)?;
-        let renderer = Renderer::new(posed, &camera, self.settings.clone())?;
+        let mut renderer = Renderer::new(posed, &camera, self.settings.clone())?;
+        if let Some(flag) = &self.cancel {
+            renderer = renderer.cancel_on(flag);
+        }
         start(renderer.rows_to_trace());
         match still {
             Some(accel) => renderer.render_with(accel, progress),

@@ -37,12 +37,13 @@ pub struct AnimateArgs {
     pub stats: bool,
 }
 
-pub fn run(args: &AnimateArgs) -> prism::Result<()> {
+pub fn run(args: &AnimateArgs, interrupt: &crate::Interrupt) -> prism::Result<()> {
     // Refuse a bad output path before loading anything.
     let output = Output::from_path(&args.output)?;
     let mut anim = Animation::load(&args.animation)?;
     anim.settings.threads = args.threads;
     anim.settings.accel = args.accel;
+    anim.cancel = Some(std::sync::Arc::clone(&interrupt.stop));
     let frames = match &args.frames {
         Some(text) => parse_frame_range(text, anim.frames)?,
         None => 0..anim.frames,

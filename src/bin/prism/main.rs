@@ -15,6 +15,8 @@ use prism::accel::AccelKind;
 use render::RenderArgs;
 use std::io::IsTerminal;
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Prism renders scenes of the 2014 ray-tracer formats (.objx scene, .mtlx materials,
 /// .cmr camera) into images, Whitted style.
@@ -65,22 +67,59 @@ Commands:
 prism SCENE CAMERA OUTPUT is the 2014 program's command line (= prism render).
 ";
 
+/// Ctrl-C and SIGTERM: set by the signal handlers, read by the work, which stops,
+/// leaves no partial file, and exits 128 + the signal's number.
+pub(crate) struct Interrupt {
+    pub stop: Arc<AtomicBool>,
+    exit_code: Arc<AtomicUsize>,
+}
+
+impl Interrupt {
+    fn install() -> Interrupt {
+        let stop = Arc::new(AtomicBool::new(false));
+        let exit_code = Arc::new(AtomicUsize::new(0));
+        #[cfg(unix)]
+        for (signal, code) in [
+            (signal_hook::consts::SIGINT, 130),
+            (signal_hook::consts::SIGTERM, 143),
+        ] {
+            // Without the handlers a signal ends the process at once, which is still
+            // safe (outputs are written atomically); with them the work stops cleanly.
+            let _ = signal_hook::flag::register_usize(signal, Arc::clone(&exit_code), code);
+            let _ = signal_hook::flag::register(signal, Arc::clone(&stop));
+        }
+        Interrupt { stop, exit_code }
+    }
+
+    fn exit_code(&self) -> u8 {
+        match self.exit_code.load(Ordering::Relaxed) {
+            0 => 130,
+            code => code as u8,
+        }
+    }
+}
+
 fn main() -> ExitCode {
     if std::env::args_os().len() <= 1 {
         print!("{COMMANDS}");
         return ExitCode::SUCCESS;
     }
     let cli = Cli::parse();
+    let interrupt = Interrupt::install();
     let outcome = match cli.command {
-        Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Render(args)) => render::run(&args, &interrupt),
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Convert(args)) => convert::run(&args),
-        Some(Command::Animate(args)) => animate::run(&args),
+        Some(Command::Animate(args)) => animate::run(&args, &interrupt),
         Some(Command::Info(args)) => info::run(&args),
-        None => render::run(&cli.render),
+        None => render::run(&cli.render, &interrupt),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
+        Err(prism::Error::Interrupted) => {
+            eprintln!("interrupted: nothing was written");
+            ExitCode::from(interrupt.exit_code())
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)

@@ -100,7 +100,7 @@ pub struct RenderArgs {
     pub stats: bool,
 }
 
-pub fn run(args: &RenderArgs) -> prism::Result<()> {
+pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()> {
     let Some(scene_path) = &args.scene else {
         unreachable!("clap requires the scene");
     };
@@ -151,10 +151,14 @@ pub fn run(args: &RenderArgs) -> prism::Result<()> {
             eprintln!("warning: {w}");
         }
     }
-    let renderer = Renderer::new(&still.scene, &still.camera, still.settings.clone())?;
+    let renderer = Renderer::new(&still.scene, &still.camera, still.settings.clone())?
+        .cancel_on(&interrupt.stop);
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
     let (image, stats) = renderer.render(&|n| bar.inc(n))?;
     bar.finish_and_clear();
+    if interrupt.stop.load(std::sync::atomic::Ordering::Relaxed) {
+        return Err(prism::Error::Interrupted);
+    }
     let output_options = output_options(args, &still)?;
     write_image_with(&image, output, &output_options)?;
     if args.stats {
