@@ -213,3 +213,38 @@ fn fuzz_findings_are_refused_cleanly() {
     }
     assert!(seen > 0, "no findings in {}", dir.display());
 }
+
+#[cfg(target_os = "linux")]
+#[test]
+fn proc_files_named_by_a_scene_neither_block_nor_leak() {
+    // /proc/self/environ is a regular file of size 0 that reads as the environment;
+    // /proc/kmsg blocks until the kernel logs. Prism reads what their size says: nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(
+        dir.path(),
+        "p.obj",
+        "mtllib /proc/self/environ\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
+    );
+    let out = prism()
+        .arg("info")
+        .arg(&obj)
+        .env("PRISM_SECRET_FOR_TEST", "do-not-echo")
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let all = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!all.contains("do-not-echo"), "{all}");
+    if Path::new("/proc/kmsg").exists() {
+        let obj = write(
+            dir.path(),
+            "k.obj",
+            "mtllib /proc/kmsg\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        );
+        let out = prism().arg("info").arg(&obj).output().unwrap();
+        assert!(out.status.code().is_some(), "finished, without hanging");
+    }
+}

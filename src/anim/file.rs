@@ -164,21 +164,8 @@ pub const MAX_FILE_BYTES: u64 = 64 << 20;
 /// Reads a regular file of at most [`MAX_FILE_BYTES`] as UTF-8: a FIFO or a device
 /// would block or never end, and a file that grows while read stops at the bound.
 fn read_bounded(path: &Path) -> Result<String> {
-    use std::io::Read as _;
     let cannot = |e: &dyn std::fmt::Display| Error::file(path, format!("cannot read: {e}"));
-    let meta = std::fs::metadata(path).map_err(|e| cannot(&e))?;
-    if !meta.is_file() {
-        return Err(cannot(&"not a regular file"));
-    }
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
-        .map_err(|e| cannot(&e))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(cannot(&format!(
-            "the file is larger than {MAX_FILE_BYTES} bytes"
-        )));
-    }
+    let bytes = crate::format::file::read_regular(path, MAX_FILE_BYTES).map_err(|e| cannot(&e))?;
     String::from_utf8(bytes).map_err(|_| cannot(&"not UTF-8 text"))
 }
 

@@ -50,24 +50,10 @@ pub fn read_texture(path: &Path, encoding: Encoding) -> Result<ImageTexture, Str
             texels: Texels::RgbaF32(texels),
         });
     }
-    let reader = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|e| e.to_string())?;
-    let (width, height) = reader
-        .into_dimensions()
-        .map_err(|e| format!("cannot read the image header: {e}"))?;
-    check_size(width, height)?;
-    let mut reader = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
-        .map_err(|e| e.to_string())?;
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(width);
-    limits.max_image_height = Some(height);
-    limits.max_alloc = Some(MAX_TEXTURE_PIXELS * 16);
-    reader.limits(limits);
-    let decoded = reader.decode().map_err(|e| e.to_string())?;
+    let decoded = read_image(path)?;
     let has_alpha = decoded.color().has_alpha();
     let rgba = decoded.to_rgba8();
+    let (width, height) = rgba.dimensions();
     let mut texels: Vec<[u8; 4]> = rgba.pixels().map(|p| p.0).collect();
     if encoding == Encoding::Mask && !has_alpha {
         for t in &mut texels {
@@ -83,6 +69,31 @@ pub fn read_texture(path: &Path, encoding: Encoding) -> Result<ImageTexture, Str
             srgb: encoding == Encoding::Srgb,
         },
     })
+}
+
+/// Largest image file read: far beyond any texture within the pixel limit.
+pub const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
+
+/// Reads and decodes an 8-bit image file (the format from its content), refusing it
+/// from its header when it has more than [`MAX_TEXTURE_PIXELS`].
+pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
+    let bytes = super::file::read_regular(path, MAX_IMAGE_FILE_BYTES)?;
+    let open = || {
+        image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
+            .with_guessed_format()
+            .map_err(|e| e.to_string())
+    };
+    let (width, height) = open()?
+        .into_dimensions()
+        .map_err(|e| format!("cannot read the image header: {e}"))?;
+    check_size(width, height)?;
+    let mut reader = open()?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(width);
+    limits.max_image_height = Some(height);
+    limits.max_alloc = Some(MAX_TEXTURE_PIXELS * 16);
+    reader.limits(limits);
+    reader.decode().map_err(|e| e.to_string())
 }
 
 fn check_size(width: u32, height: u32) -> Result<(), String> {

@@ -17,6 +17,7 @@
 //! ([`scene_file`]), anything else the 2014 dialect. [`SceneDialect`] is where more slot in.
 
 pub mod cmr;
+pub mod file;
 pub mod image_file;
 pub mod mtl;
 pub mod mtlx;

@@ -158,35 +158,8 @@ impl MaterialLibrary {
 /// Decodes an image file into an 8-bit RGB texture. The format is taken from the
 /// content when it can be, so a PNG named `.jpg` still loads.
 fn decode_image(path: &Path, fill: FillMode) -> std::result::Result<Texture, String> {
-    // Only regular files: a FIFO or device would block or never end.
-    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
-        return Err("not a regular file".into());
-    }
-    let open = || {
-        image::ImageReader::open(path)
-            .and_then(|reader| reader.with_guessed_format())
-            .map_err(|e| e.to_string())
-    };
-    // The size from the header first: a few bytes may claim gigapixels.
-    let (w, h) = open()?
-        .into_dimensions()
-        .map_err(|e| format!("cannot read the image header: {e}"))?;
-    let pixels = u64::from(w) * u64::from(h);
-    let limit = super::image_file::MAX_TEXTURE_PIXELS;
-    if pixels > limit {
-        return Err(format!(
-            "the image is {w}x{h} ({pixels} pixels); textures may have at most {limit} pixels"
-        ));
-    }
-    let mut reader = open()?;
-    let mut limits = image::Limits::default();
-    limits.max_alloc = Some(limit * 16);
-    reader.limits(limits);
-    let image = reader.decode().map_err(|e| e.to_string())?.to_rgb8();
+    let image = super::image_file::read_image(path)?.to_rgb8();
     let (width, height) = image.dimensions();
-    if width == 0 || height == 0 {
-        return Err("the image is empty".into());
-    }
     let texels = image.pixels().map(|p| p.0).collect();
     Ok(Texture::new(width, height, texels, fill))
 }

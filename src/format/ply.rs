@@ -17,7 +17,6 @@ mod header;
 #[cfg(test)]
 mod tests;
 
-use std::io::Read;
 use std::path::Path;
 
 use body::{Field, Values};
@@ -54,29 +53,8 @@ pub fn load(path: &Path) -> Result<PlyMesh> {
 /// end, so only regular files are read, and never more than the bound (a file may
 /// grow between the check and the read).
 fn read_bytes(path: &Path) -> Result<Vec<u8>> {
-    let cannot_read = |e: &dyn std::fmt::Display| Error::file(path, format!("cannot read: {e}"));
-    let meta = std::fs::metadata(path).map_err(|e| cannot_read(&e))?;
-    if !meta.is_file() {
-        return Err(cannot_read(&"not a regular file"));
-    }
-    let too_big = |size: u64| {
-        Error::file(
-            path,
-            format!("expected a PLY file of at most {MAX_FILE_BYTES} bytes, found {size}"),
-        )
-    };
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(too_big(meta.len()));
-    }
-    let file = std::fs::File::open(path).map_err(|e| cannot_read(&e))?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| cannot_read(&e))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(too_big(bytes.len() as u64));
-    }
-    Ok(bytes)
+    super::file::read_regular(path, MAX_FILE_BYTES)
+        .map_err(|e| Error::file(path, format!("cannot read: {e}")))
 }
 
 /// Parses a PLY file held in memory; `path` names it in errors.

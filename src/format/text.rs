@@ -13,24 +13,8 @@ pub const MAX_TEXT_BYTES: u64 = 1 << 30;
 /// Reads a whole file as UTF-8 text. Only regular files are read: a path naming a
 /// directory, a FIFO or a device such as `/dev/stdin` would otherwise fail late or block.
 pub(super) fn read_text(path: &Path) -> Result<String> {
-    let cannot_read = |e: &dyn std::fmt::Display| Error::file(path, format!("cannot read: {e}"));
-    let meta = std::fs::metadata(path).map_err(|e| cannot_read(&e))?;
-    if !meta.is_file() {
-        return Err(cannot_read(&"not a regular file"));
-    }
-    // Read with a bound: a sparse file or one that grows is refused, not swallowed.
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|f| {
-            use std::io::Read as _;
-            f.take(MAX_TEXT_BYTES + 1).read_to_end(&mut bytes)
-        })
-        .map_err(|e| cannot_read(&e))?;
-    if bytes.len() as u64 > MAX_TEXT_BYTES {
-        return Err(cannot_read(&format!(
-            "the file is larger than {MAX_TEXT_BYTES} bytes"
-        )));
-    }
+    let bytes = super::file::read_regular(path, MAX_TEXT_BYTES)
+        .map_err(|e| Error::file(path, format!("cannot read: {e}")))?;
     decode(&bytes, path).map(str::to_owned)
 }
 

@@ -6,7 +6,6 @@
 //! they are kept, and no line is copied unless it continues onto the next one.
 
 use std::borrow::Cow;
-use std::io::Read;
 use std::path::Path;
 
 use crate::{Error, Result};
@@ -18,29 +17,8 @@ pub const MAX_FILE_BYTES: u64 = 2 << 30;
 /// Reads a whole regular file of at most `max` bytes. A directory, FIFO or device would
 /// fail late or block forever, so they are refused before opening.
 pub fn read_file(path: &Path, max: u64) -> Result<Vec<u8>> {
-    let cannot_read = |e: &dyn std::fmt::Display| Error::file(path, format!("cannot read: {e}"));
-    let meta = std::fs::metadata(path).map_err(|e| cannot_read(&e))?;
-    if !meta.is_file() {
-        return Err(cannot_read(&"not a regular file"));
-    }
-    if meta.len() > max {
-        return Err(cannot_read(&format!(
-            "the file has {} bytes, more than the {max} a model file may have",
-            meta.len()
-        )));
-    }
-    let file = std::fs::File::open(path).map_err(|e| cannot_read(&e))?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    // The file may grow between the check and the read: read one byte past the limit.
-    file.take(max + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| cannot_read(&e))?;
-    if bytes.len() as u64 > max {
-        return Err(cannot_read(&format!(
-            "the file grew past the {max} bytes a model file may have"
-        )));
-    }
-    Ok(bytes)
+    crate::format::file::read_regular(path, max)
+        .map_err(|e| Error::file(path, format!("cannot read: {e}")))
 }
 
 /// The text without a UTF-8 byte-order mark; UTF-16 text (with its mark, as some

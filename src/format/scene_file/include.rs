@@ -4,7 +4,6 @@
 use super::raw::RawFile;
 use super::source::{Source, regular_file};
 use crate::Result;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
@@ -35,22 +34,9 @@ pub fn read_all(text: String, path: &Path) -> Result<Vec<Document>> {
 
 /// Reads a scene file, refusing anything but a regular file of reasonable size.
 pub fn read_text(path: &Path) -> std::result::Result<String, String> {
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
-    let meta = file.metadata().map_err(|e| format!("cannot read: {e}"))?;
-    if !meta.is_file() {
-        return Err("cannot read: not a regular file".into());
-    }
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(format!(
-            "cannot read: {} bytes, more than the {MAX_FILE_BYTES} a scene file may have",
-            meta.len()
-        ));
-    }
-    let mut text = String::new();
-    file.take(MAX_FILE_BYTES)
-        .read_to_string(&mut text)
+    let bytes = crate::format::file::read_regular(path, MAX_FILE_BYTES)
         .map_err(|e| format!("cannot read: {e}"))?;
-    Ok(text)
+    String::from_utf8(bytes).map_err(|_| "cannot read: not UTF-8 text".to_string())
 }
 
 fn visit(source: Source, stack: &mut Vec<PathBuf>, out: &mut Vec<Document>) -> Result<()> {

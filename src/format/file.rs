@@ -1,0 +1,68 @@
+//! Reading the files a scene names, safely: only regular files, never more than they
+//! said they held when opened, and never more than a bound.
+//!
+//! Reading at most the size the file reports is what keeps `/proc` and `/sys` entries
+//! (regular files of size 0 whose reads block or never end, like `/proc/kmsg`) and files
+//! that grow while read from hanging Prism or filling its memory: such a file reads as
+//! what its size says, usually empty.
+
+use std::io::Read as _;
+use std::path::Path;
+
+/// The bytes of the regular file `path`, at most `max` of them. The error says why,
+/// without the path (callers name the file and where it was named).
+pub fn read_regular(path: &Path, max: u64) -> Result<Vec<u8>, String> {
+    // Before opening: opening a FIFO for reading blocks until someone writes to it.
+    let named = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if !named.is_file() {
+        return Err("not a regular file".into());
+    }
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    // Again on what was opened, in case the path changed in between.
+    let meta = file.metadata().map_err(|e| e.to_string())?;
+    if !meta.is_file() {
+        return Err("not a regular file".into());
+    }
+    let size = meta.len();
+    if size > max {
+        return Err(format!(
+            "the file has {size} bytes, more than the {max} Prism reads"
+        ));
+    }
+    let mut bytes = Vec::with_capacity(size as usize);
+    file.take(size)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    Ok(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regular_files_read_whole_and_others_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.txt");
+        std::fs::write(&p, b"hello").unwrap();
+        assert_eq!(read_regular(&p, 5).unwrap(), b"hello");
+        assert!(read_regular(&p, 4).unwrap_err().contains("5 bytes"));
+        assert_eq!(
+            read_regular(dir.path(), 100).unwrap_err(),
+            "not a regular file"
+        );
+        assert!(read_regular(&dir.path().join("none"), 100).is_err());
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn proc_entries_read_as_their_stated_size_without_blocking() {
+        // Size 0 by its metadata, though reading it would give the environment.
+        let environ = Path::new("/proc/self/environ");
+        if environ.is_file() {
+            assert_eq!(read_regular(environ, 1 << 20).unwrap(), b"");
+        }
+        // /dev/zero never ends: it is not a regular file.
+        assert!(read_regular(Path::new("/dev/zero"), 1 << 20).is_err());
+    }
+}
