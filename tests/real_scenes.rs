@@ -248,3 +248,32 @@ fn proc_files_named_by_a_scene_neither_block_nor_leak() {
         assert!(out.status.code().is_some(), "finished, without hanging");
     }
 }
+
+#[cfg(unix)]
+#[test]
+fn an_output_folder_that_cannot_be_written_is_refused_before_rendering() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let locked = dir.path().join("locked");
+    std::fs::create_dir(&locked).unwrap();
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
+    if std::fs::write(locked.join("probe"), b"").is_ok() {
+        println!("skipped: this user writes into read-only folders (root)");
+        return;
+    }
+    let obj = write(dir.path(), "t.obj", RIGHT_TRIANGLE);
+    let out = prism()
+        .arg("render")
+        .arg(&obj)
+        .arg(locked.join("t.png"))
+        // Enough work that failing afterwards would be noticed.
+        .args(["--width", "4000", "--aa", "4"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("cannot write into"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

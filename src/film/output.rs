@@ -130,7 +130,14 @@ fn target_dir(path: &Path) -> Result<&Path> {
 /// folder.
 pub fn check_output_path(path: &Path) -> Result<OutputFormat> {
     let format = OutputFormat::from_path(path)?;
-    target_dir(path)?;
+    let dir = target_dir(path)?;
+    // A folder that cannot take the file is found now, not after the render: the
+    // temporary file the writer would make, made and dropped at once.
+    tempfile::Builder::new()
+        .prefix(".prism-")
+        .suffix(".part")
+        .tempfile_in(dir)
+        .map_err(|e| Error::file(path, format!("cannot write into `{}`: {e}", dir.display())))?;
     Ok(format)
 }
 
