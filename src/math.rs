@@ -91,8 +91,9 @@ impl Aabb {
         self.max - self.min
     }
 
+    /// Halves first: the sum of two coordinates near ±f32::MAX would overflow.
     pub fn center(&self) -> Vec3 {
-        (self.min + self.max) * 0.5
+        self.min * 0.5 + self.max * 0.5
     }
 
     /// Closed-interval overlap: boxes that only touch overlap, and so do flat boxes

@@ -54,10 +54,14 @@ impl<'s> Octree<'s> {
             root
         };
         // Pad so no axis is flat and shapes on the outer faces lie strictly inside.
-        let pad = root.extent().max_element().max(1.0) * 1e-4;
+        // From half extents, and clamped, so a scene spanning ±f32::MAX keeps finite
+        // cells (an infinite root made every child's bounds NaN).
+        let half = (root.max * 0.5 - root.min * 0.5).max_element().max(0.5);
+        let pad = half * 2e-4;
+        let limit = Vec3::splat(f32::MAX);
         let root = Aabb {
-            min: root.min - Vec3::splat(pad),
-            max: root.max + Vec3::splat(pad),
+            min: (root.min - Vec3::splat(pad)).max(-limit),
+            max: (root.max + Vec3::splat(pad)).min(limit),
         };
         let mut tree = Octree {
             shapes,

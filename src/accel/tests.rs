@@ -81,8 +81,44 @@ fn aimed_rays(shapes: &[Shape], picks: &[(usize, [f32; 3], [f32; 3])]) -> Vec<Ra
         .collect()
 }
 
+/// `shape` with every coordinate (and radius) multiplied by `k`.
+fn scaled(shape: &Shape, k: f32) -> Shape {
+    match *shape {
+        Shape::Sphere(s) => Shape::Sphere(Sphere {
+            center: s.center * k,
+            radius: s.radius * k,
+        }),
+        Shape::Triangle(t) => Shape::Triangle(Triangle {
+            v: t.v.map(|p| p * k),
+        }),
+        Shape::Rectangle(r) => Shape::Rectangle(Rectangle {
+            v: r.v.map(|p| p * k),
+        }),
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
+    /// Coordinates up to about 1.8e38, where the scene's extent overflows f32: the
+    /// octree's cells must still be finite (they once became NaN and hid everything).
+    #[test]
+    fn intersectors_agree_at_extreme_magnitudes(
+        shapes in prop::collection::vec(shape_strategy(), 1..40),
+        picks in prop::collection::vec(
+            (0usize..1000, prop::array::uniform3(-80.0f32..80.0), prop::array::uniform3(0.0f32..1.0)),
+            16,
+        ),
+        exponent in 30.0f32..36.5,
+    ) {
+        let k = 10f32.powf(exponent);
+        let big: Vec<Shape> = shapes.iter().map(|s| scaled(s, k)).collect();
+        let rays: Vec<Ray> = aimed_rays(&shapes, &picks)
+            .into_iter()
+            .map(|r| Ray { origin: r.origin * k, dir: r.dir })
+            .collect();
+        agree_with_brute_force(&big, &rays)?;
+    }
+
     #[test]
     fn intersectors_agree_with_brute_force_on_random_rays(
         shapes in prop::collection::vec(shape_strategy(), 0..60),
