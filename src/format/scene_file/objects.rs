@@ -50,23 +50,7 @@ pub fn geometry(source: &Source, raw: &RawObject) -> Result<Geometry> {
             ),
         )
     })?;
-    if let Some((name, span)) = raw
-        .shape_keys()
-        .into_iter()
-        .find(|(n, _)| !allowed.contains(n))
-    {
-        return Err(source.error_at(
-            span,
-            format!(
-                "`{name}` does not apply to a {kind}, which takes {}",
-                allowed
-                    .iter()
-                    .map(|k| format!("`{k}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        ));
-    }
+    super::source::refuse_foreign_keys(source, raw.shape_keys(), allowed, kind)?;
     let missing = |key: &str| source.error(&raw.kind, format!("a {kind} needs `{key}`"));
     let need = |v: &Option<Spanned<Vector>>, key: &str| -> Result<DVec3> {
         v.as_ref()

@@ -64,3 +64,26 @@ pub fn regular_file(source: &Source, at: &Spanned<String>, path: &Path) -> crate
         Err(e) => Err(source.error(at, format!("cannot open {}: {e}", path.display()))),
     }
 }
+
+/// Refuses the first of `given` (key, where it starts) that `allowed` does not list:
+/// `` `key` does not apply to a WHAT, which takes `a`, `b` ``.
+pub fn refuse_foreign_keys(
+    source: &Source,
+    given: Vec<(&'static str, std::ops::Range<usize>)>,
+    allowed: &[&str],
+    what: &str,
+) -> crate::Result<()> {
+    match given.into_iter().find(|(n, _)| !allowed.contains(n)) {
+        None => Ok(()),
+        Some((name, span)) => {
+            let takes: Vec<String> = allowed.iter().map(|k| format!("`{k}`")).collect();
+            Err(source.error_at(
+                span,
+                format!(
+                    "`{name}` does not apply to a {what}, which takes {}",
+                    takes.join(", ")
+                ),
+            ))
+        }
+    }
+}
