@@ -501,3 +501,28 @@ fn animation_files_must_be_regular_and_errors_name_the_right_line_among_many_tra
         stderr(&o)
     );
 }
+
+#[test]
+fn a_rerun_of_a_finished_video_does_no_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 3);
+    let gif = dir.path().join("t.gif");
+    let o = animate(&anim, &gif, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let made = fs::metadata(&gif).unwrap().modified().unwrap();
+    let o = run(prism().arg("animate").arg(&anim).arg(&gif).arg("--stats"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("nothing to do"), "{}", stderr(&o));
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("rendered"));
+    assert_eq!(fs::metadata(&gif).unwrap().modified().unwrap(), made);
+    // Another animation into the same file is made again.
+    let other = small_turntable(dir.path(), 4);
+    let o = animate(&other, &gif, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let frames = gif::DecodeOptions::new()
+        .read_info(fs::File::open(&gif).unwrap())
+        .unwrap()
+        .into_iter()
+        .count();
+    assert_eq!(frames, 4);
+}

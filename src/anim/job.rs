@@ -257,3 +257,35 @@ fn frame_output(anim: &Animation) -> OutputOptions {
         ..OutputOptions::classic()
     }
 }
+
+/// The stamp beside a finished video (`.NAME.prism`): the fingerprint of the animation
+/// it was made from, so a rerun of a finished film does no work.
+fn video_stamp(video: &Path) -> std::path::PathBuf {
+    let name = video
+        .file_name()
+        .map_or_else(|| "video".into(), |n| n.to_string_lossy().into_owned());
+    video.with_file_name(format!(".{name}.prism"))
+}
+
+fn stamp_text(anim: &Animation) -> String {
+    format!(
+        "prism video 1\nfingerprint {:016x}\nframes {}\n",
+        anim.fingerprint, anim.frames
+    )
+}
+
+/// Whether `video` exists and was made from this very animation (same files, same
+/// frame count): then there is nothing to render or encode.
+pub fn video_is_current(anim: &Animation, video: &Path) -> bool {
+    video.is_file()
+        && std::fs::read_to_string(video_stamp(video)).is_ok_and(|t| t == stamp_text(anim))
+}
+
+/// Records that `video` now holds `anim` (after it was encoded).
+pub fn mark_video_current(anim: &Animation, video: &Path) -> Result<()> {
+    let stamp = video_stamp(video);
+    write_atomically(&stamp, |w| {
+        w.write_all(stamp_text(anim).as_bytes())
+            .map_err(|e| Error::file(&stamp, format!("cannot write: {e}")))
+    })
+}

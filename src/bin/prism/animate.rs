@@ -49,6 +49,17 @@ pub fn run(args: &AnimateArgs, interrupt: &crate::Interrupt) -> prism::Result<()
         None => 0..anim.frames,
     };
     job::check(&anim, frames.clone(), &output)?;
+    if let Output::Video { path, .. } = &output
+        && job::video_is_current(&anim, path)
+    {
+        if !args.quiet {
+            eprintln!(
+                "note: {} is already this animation's film: nothing to do",
+                path.display()
+            );
+        }
+        return Ok(());
+    }
 
     // The bar and its ETA count only the frames to render, not those an earlier run
     // left (skipped in no time, they would make the ETA far too short).
@@ -94,6 +105,7 @@ pub fn run(args: &AnimateArgs, interrupt: &crate::Interrupt) -> prism::Result<()
         let all = 0..anim.frames;
         bars.encoding(all.len() as u64);
         let (info, seconds) = job::encode_frames(&anim, all.clone(), &output, &|| bars.all.inc(1))?;
+        job::mark_video_current(&anim, path)?;
         bars.finish();
         if !args.keep_frames {
             job::remove_frames(pattern, all);
