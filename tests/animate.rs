@@ -43,12 +43,12 @@ fn animate(anim: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
         .args(extra))
 }
 
-/// The files in `dir`, but for a frame folder's manifest.
+/// The files in `dir`, but for a frame folder's manifest and a finished video's stamp.
 fn names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n != ".prism-animation")
+        .filter(|n| n != ".prism-animation" && !(n.starts_with('.') && n.ends_with(".prism")))
         .collect();
     v.sort();
     v
