@@ -85,7 +85,7 @@ impl<'a> Whitted<'a> {
         let s = self.surface(hit.shape);
         let d = ray.dir;
         let sp = match &s.normal_map {
-            Some(slot) => self.normal_mapped(sp, slot),
+            Some(slot) => self.normal_mapped(sp, hit.shape, slot),
             None => sp,
         };
         // Inside/outside from the geometric normal; shading normals turned to the ray.
@@ -215,9 +215,10 @@ impl<'a> Whitted<'a> {
     fn normal_mapped(
         &self,
         mut sp: SurfacePoint,
+        shape: u32,
         slot: &crate::scene::TextureSlot,
     ) -> SurfacePoint {
-        let Some(dpdu) = sp.dpdu else {
+        let Some(dpdu) = self.scene.dpdu(shape) else {
             return sp;
         };
         let n = sp.n;

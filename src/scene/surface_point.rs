@@ -21,9 +21,6 @@ pub struct SurfacePoint {
     /// A mesh triangle's corners, vertex normals and the hit's barycentrics, for
     /// [`SurfacePoint::shadow_origin`].
     pub smooth: Option<([Vec3; 3], [Vec3; 3], [f32; 3])>,
-    /// The direction in which the texture's u grows (unnormalised), where the surface
-    /// has texture coordinates: the tangent frame of normal maps.
-    pub dpdu: Option<Vec3>,
 }
 
 impl SurfacePoint {
@@ -52,7 +49,6 @@ impl Scene {
             uv: [0.0, 0.0],
             color: Vec3::ONE,
             smooth: None,
-            dpdu: None,
         };
         match s {
             Shape::Triangle(tri) => {
@@ -68,9 +64,6 @@ impl Scene {
                     }
                     if let Some(uv) = mesh.texcoord(i, b) {
                         sp.uv = uv;
-                        let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-                        let uvs = corners.map(|c| mesh.texcoord(i, c).unwrap_or([0.0; 2]));
-                        sp.dpdu = tangent(tri.v, uvs);
                     }
                     if let Some(c) = mesh.color(i, b) {
                         sp.color = c;
@@ -82,7 +75,6 @@ impl Scene {
                 let u = if c.len_x > 0.0 { c.x / c.len_x } else { 0.0 };
                 let v = if c.len_y > 0.0 { c.y / c.len_y } else { 0.0 };
                 sp.uv = [u, v];
-                sp.dpdu = Some(r.v[1] - r.v[0]);
             }
             Shape::Sphere(_) => {
                 // Latitude-longitude with +y up, u = 0 at -z... seam behind: a common
@@ -109,6 +101,28 @@ pub fn tangent(v: [Vec3; 3], uv: [[f32; 2]; 3]) -> Option<Vec3> {
     }
     let t = (dp1 * dv2 - dp2 * dv1) / det;
     t.is_finite().then_some(t)
+}
+
+impl Scene {
+    /// The direction in which the texture's u grows (unnormalised) on shape `shape`:
+    /// the tangent frame of normal maps. Only mesh triangles with texture coordinates
+    /// and rectangles have one. Asked only by normal-mapped surfaces, so ordinary hits
+    /// do not pay for it.
+    pub fn dpdu(&self, shape: u32) -> Option<Vec3> {
+        match &self.shapes[shape as usize] {
+            Shape::Triangle(tri) => {
+                let (mesh, i) = self.mesh_of(shape)?;
+                let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+                let uvs = corners.map(|c| mesh.texcoord(i, c));
+                let [Some(a), Some(b), Some(c)] = uvs else {
+                    return None;
+                };
+                tangent(tri.v, [a, b, c])
+            }
+            Shape::Rectangle(r) => Some(r.v[1] - r.v[0]),
+            Shape::Sphere(_) => None,
+        }
+    }
 }
 
 /// Barycentric coordinates of `p` (on or near the triangle's plane) for `v0 v1 v2`.
