@@ -49,6 +49,8 @@ pub struct StillOptions {
     pub accel: crate::accel::AccelKind,
     pub max_depth: Option<u32>,
     pub min_weight: Option<f32>,
+    /// Memory budget in bytes (`--max-memory`); `None`: half the machine's memory.
+    pub max_memory: Option<u64>,
 }
 
 /// A scene ready to render: the scene (with default lights added if it needed them),
@@ -130,6 +132,7 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
             .min_weight
             .or(fs.min_weight)
             .unwrap_or(crate::render::DEFAULT_MIN_WEIGHT),
+        max_memory: options.max_memory,
     };
     Ok(Still {
         scene,

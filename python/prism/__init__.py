@@ -101,8 +101,9 @@ def render(
     ``bilinear``, ``area``, ``bicubic``, ``lanczos``), ``region=(x, y, w, h)`` (that
     window of the full frame, identical to the same crop of a full render), ``seed``,
     ``threads`` (the image does not depend on it), ``integrator`` (``classic`` or
-    ``whitted``), and the keywords ``dof_rays``, ``max_depth``, ``min_weight`` and
-    ``accel``. ``camera`` (:class:`Camera`) replaces the scene's own.
+    ``whitted``), and the keywords ``dof_rays``, ``max_depth``, ``min_weight``,
+    ``accel`` and ``max_memory`` (bytes, or a size such as ``"4G"``: a render whose
+    estimate is larger is refused; default half the machine's memory). ``camera`` (:class:`Camera`) replaces the scene's own.
 
     Returns an H x W x 3 ``float32`` array of linear values (0..1 for the classic
     model, radiance for whitted), or with ``srgb=True`` the H x W x 3 ``uint8`` values

@@ -35,6 +35,14 @@ pub fn still_options(
             "threads" => o.threads = Some(value.extract()?),
             "max_depth" => o.max_depth = Some(value.extract()?),
             "min_weight" => o.min_weight = Some(value.extract()?),
+            "max_memory" => {
+                o.max_memory = Some(match value.extract::<String>() {
+                    Ok(text) => {
+                        prism::render::memory::parse_size(&text).map_err(PyValueError::new_err)?
+                    }
+                    Err(_) => value.extract()?,
+                })
+            }
             "filter" => o.filter = Some(parse(&value)?),
             "integrator" => o.integrator = Some(parse(&value)?),
             "accel" => o.accel = parse(&value)?,

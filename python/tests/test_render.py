@@ -80,6 +80,17 @@ def test_bad_options_raise(example):
         prism.render(scene, camera, colour=3)
 
 
+def test_a_render_over_its_memory_budget_raises(example):
+    scene, camera = example
+    with pytest.raises(prism.SettingsError, match="memory budget of 64 KiB"):
+        prism.render(scene, camera, width=64, max_memory="64K")
+    with pytest.raises(prism.SettingsError, match="memory budget of 64 KiB"):
+        prism.render(scene, camera, width=64, max_memory=65536)
+    with pytest.raises(ValueError, match="expected a size"):
+        prism.render(scene, camera, width=64, max_memory="lots")
+    assert prism.render(scene, camera, width=64, max_memory="256M").shape == (36, 64, 3)
+
+
 def test_progress_is_reported_up_to_the_total(example):
     scene, camera = example
     calls = []

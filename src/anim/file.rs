@@ -192,8 +192,9 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
     let mut camera = crate::format::load_camera(&camera_path)?;
     let mut fingerprint = fnv1a(FNV_OFFSET, text.as_bytes());
     for file in [&scene_path, &camera_path] {
-        let bytes =
-            std::fs::read(file).map_err(|e| Error::file(file, format!("cannot read: {e}")))?;
+        // The files were read once already; read again within the same bounds.
+        let bytes = crate::format::file::read_regular(file, crate::format::text::MAX_TEXT_BYTES)
+            .map_err(|e| Error::file(file, format!("cannot read: {e}")))?;
         // The length first, so moving bytes from one file to the next changes the hash.
         fingerprint = fnv1a(fingerprint, &(bytes.len() as u64).to_le_bytes());
         fingerprint = fnv1a(fingerprint, &bytes);

@@ -130,13 +130,7 @@ const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 /// its largest resolution level; its data window becomes the image.
 pub fn read_linear_image(path: &Path) -> Result<Image> {
     let cannot_read = |e: &dyn fmt::Display| Error::file(path, format!("cannot read: {e}"));
-    // Checked before opening: opening a FIFO would block.
-    let meta = std::fs::metadata(path).map_err(|e| cannot_read(&e))?;
-    let mut file = File::open(path).map_err(|e| cannot_read(&e))?;
-    let opened = file.metadata().map_err(|e| cannot_read(&e))?;
-    if !meta.is_file() || !opened.is_file() {
-        return Err(cannot_read(&"not a regular file"));
-    }
+    let mut file = crate::format::file::open_regular(path).map_err(|e| cannot_read(&e))?;
     let mut signature = [0u8; 10];
     let n = read_up_to(&mut file, &mut signature).map_err(|e| cannot_read(&e))?;
     file.rewind().map_err(|e| cannot_read(&e))?;

@@ -7,23 +7,77 @@
 //! what its size says, usually empty.
 
 use std::io::Read as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// The folder every read is confined to, once [`restrict_reads_to`] has been called.
+static READ_ROOT: OnceLock<PathBuf> = OnceLock::new();
+
+/// Confines every later read of this process (scenes, meshes, materials, textures,
+/// includes, animations) to the folder `dir`: a path that leads outside it, after `..`
+/// and symbolic links are resolved, is refused. For render services that take scene
+/// files from strangers. It cannot be lifted or moved once set.
+pub fn restrict_reads_to(dir: &Path) -> Result<(), String> {
+    let root = std::fs::canonicalize(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    if !root.is_dir() {
+        return Err(format!("{}: not a folder", dir.display()));
+    }
+    let set = READ_ROOT.get_or_init(|| root.clone());
+    if *set != root {
+        return Err(format!(
+            "reads are already restricted to {}, not {}",
+            set.display(),
+            root.display()
+        ));
+    }
+    Ok(())
+}
+
+/// The folder reads are restricted to, if they are.
+pub fn read_root() -> Option<&'static Path> {
+    READ_ROOT.get().map(PathBuf::as_path)
+}
+
+/// The path to open for `path`: itself, or under a restriction its resolved form, which
+/// must lie inside the root (opening the resolved form means a link changed after the
+/// check cannot point elsewhere).
+fn allowed(path: &Path) -> Result<std::borrow::Cow<'_, Path>, String> {
+    let Some(root) = read_root() else {
+        return Ok(path.into());
+    };
+    let real = std::fs::canonicalize(path).map_err(|e| e.to_string())?;
+    if real.starts_with(root) {
+        Ok(real.into())
+    } else {
+        Err(format!(
+            "outside {}, the folder reads are restricted to (--restrict-paths)",
+            root.display()
+        ))
+    }
+}
+
+/// Opens the regular file `path` for reading, refusing directories, FIFOs, sockets and
+/// devices before opening them, and paths outside a restriction.
+pub fn open_regular(path: &Path) -> Result<std::fs::File, String> {
+    let path = allowed(path)?;
+    // Before opening: opening a FIFO for reading blocks until someone writes to it.
+    let named = std::fs::metadata(&path).map_err(|e| e.to_string())?;
+    if !named.is_file() {
+        return Err("not a regular file".into());
+    }
+    let file = std::fs::File::open(&path).map_err(|e| e.to_string())?;
+    // Again on what was opened, in case the path changed in between.
+    if !file.metadata().map_err(|e| e.to_string())?.is_file() {
+        return Err("not a regular file".into());
+    }
+    Ok(file)
+}
 
 /// The bytes of the regular file `path`, at most `max` of them. The error says why,
 /// without the path (callers name the file and where it was named).
 pub fn read_regular(path: &Path, max: u64) -> Result<Vec<u8>, String> {
-    // Before opening: opening a FIFO for reading blocks until someone writes to it.
-    let named = std::fs::metadata(path).map_err(|e| e.to_string())?;
-    if !named.is_file() {
-        return Err("not a regular file".into());
-    }
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    // Again on what was opened, in case the path changed in between.
-    let meta = file.metadata().map_err(|e| e.to_string())?;
-    if !meta.is_file() {
-        return Err("not a regular file".into());
-    }
-    let size = meta.len();
+    let file = open_regular(path)?;
+    let size = file.metadata().map_err(|e| e.to_string())?.len();
     if size > max {
         return Err(format!(
             "the file has {size} bytes, more than the {max} Prism reads"

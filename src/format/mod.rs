@@ -26,7 +26,7 @@ pub mod objx;
 pub mod ply;
 mod ply_scene;
 pub mod scene_file;
-mod text;
+pub(crate) mod text;
 pub mod wavefront;
 
 use std::path::Path;

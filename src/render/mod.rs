@@ -3,6 +3,7 @@
 
 pub mod camera;
 pub mod classic;
+pub mod memory;
 pub mod optics;
 pub mod sampler;
 mod settings;
@@ -109,6 +110,16 @@ impl<'a> Renderer<'a> {
         settings: RenderSettings,
     ) -> Result<Renderer<'a>> {
         let plan = settings.resolve(camera)?;
+        if scene.shapes.len() > crate::scene::MAX_SHAPES {
+            return Err(crate::Error::Settings(format!(
+                "the scene has {} shapes, more than the {} Prism renders",
+                scene.shapes.len(),
+                crate::scene::MAX_SHAPES
+            )));
+        }
+        let region = plan.region;
+        memory::MemoryEstimate::of(scene, plan.accel, region.width, region.height, plan.aa)
+            .check(plan.max_memory)?;
         Ok(Renderer {
             scene,
             plan,

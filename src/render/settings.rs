@@ -56,6 +56,9 @@ pub struct RenderSettings {
     /// Limits of the whitted model's recursion.
     pub max_depth: u32,
     pub min_weight: f32,
+    /// Memory budget in bytes for the render's big allocations; `None` uses
+    /// [`super::memory::default_budget`].
+    pub max_memory: Option<u64>,
 }
 
 impl Default for RenderSettings {
@@ -73,6 +76,7 @@ impl Default for RenderSettings {
             integrator: IntegratorKind::default(),
             max_depth: DEFAULT_MAX_DEPTH,
             min_weight: DEFAULT_MIN_WEIGHT,
+            max_memory: None,
         }
     }
 }
@@ -150,6 +154,7 @@ pub(crate) struct Plan {
     pub integrator: IntegratorKind,
     pub max_depth: u32,
     pub min_weight: f32,
+    pub max_memory: u64,
 }
 
 impl RenderSettings {
@@ -244,6 +249,9 @@ impl RenderSettings {
             integrator: self.integrator,
             max_depth: self.max_depth,
             min_weight: self.min_weight,
+            max_memory: self
+                .max_memory
+                .unwrap_or_else(super::memory::default_budget),
         })
     }
 }

@@ -35,13 +35,21 @@ pub struct AnimateArgs {
     /// Print figures: frames rendered and skipped, render and encode seconds, file size.
     #[arg(long)]
     pub stats: bool,
+    /// Memory budget (e.g. 512M, 4G): frames whose estimate is larger are refused
+    /// before the first starts. Default: half of the machine's memory.
+    #[arg(long, value_name = "SIZE", value_parser = crate::parse_memory)]
+    pub max_memory: Option<u64>,
+    #[command(flatten)]
+    pub limits: crate::ReadLimits,
 }
 
 pub fn run(args: &AnimateArgs, interrupt: &crate::Interrupt) -> prism::Result<()> {
     // Refuse a bad output path before loading anything.
     let output = Output::from_path(&args.output)?;
+    args.limits.apply()?;
     let mut anim = Animation::load(&args.animation)?;
     anim.settings.threads = args.threads;
+    anim.settings.max_memory = args.max_memory;
     anim.settings.accel = args.accel;
     anim.cancel = Some(std::sync::Arc::clone(&interrupt.stop));
     let frames = match &args.frames {

@@ -12,9 +12,12 @@ pub struct ConvertArgs {
     pub input: PathBuf,
     /// 2014 scene file to write (`.objx`).
     pub output: PathBuf,
+    #[command(flatten)]
+    pub limits: crate::ReadLimits,
 }
 
 pub fn run(args: &ConvertArgs) -> prism::Result<()> {
+    args.limits.apply()?;
     let is_objx = args
         .output
         .extension()

@@ -11,9 +11,12 @@ pub struct InfoArgs {
     /// One JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub limits: crate::ReadLimits,
 }
 
 pub fn run(args: &InfoArgs) -> prism::Result<()> {
+    args.limits.apply()?;
     let file = prism::format::load(&args.scene)?;
     let info = SceneInfo::of(&file);
     if args.json {

@@ -127,6 +127,31 @@ fn main() -> ExitCode {
     }
 }
 
+/// Options every command that reads scene files takes.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub(crate) struct ReadLimits {
+    /// Refuse to read any file outside DIR (after resolving `..` and symbolic links):
+    /// for services that render scene files from others.
+    #[arg(long, value_name = "DIR")]
+    pub restrict_paths: Option<std::path::PathBuf>,
+}
+
+impl ReadLimits {
+    /// Puts the limits in force for the rest of the process.
+    pub fn apply(&self) -> prism::Result<()> {
+        if let Some(dir) = &self.restrict_paths {
+            prism::format::file::restrict_reads_to(dir)
+                .map_err(|e| prism::Error::Settings(format!("--restrict-paths: {e}")))?;
+        }
+        Ok(())
+    }
+}
+
+/// `--max-memory`: a size such as 512M or 4G.
+pub(crate) fn parse_memory(s: &str) -> Result<u64, String> {
+    prism::render::memory::parse_size(s)
+}
+
 /// `--accel`: clap checks and lists the intersector names, so commands get the kind.
 pub(crate) fn accel_parser() -> impl clap::builder::TypedValueParser<Value = AccelKind> {
     clap::builder::PossibleValuesParser::new(AccelKind::ALL.map(AccelKind::name))

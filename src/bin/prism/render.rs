@@ -98,6 +98,12 @@ pub struct RenderArgs {
     /// Print one line of figures: rays traced, seconds, million rays per second.
     #[arg(long)]
     pub stats: bool,
+    /// Memory budget (e.g. 512M, 4G): a render whose estimate is larger is refused
+    /// before it starts. Default: half of the machine's memory.
+    #[arg(long, value_name = "SIZE", value_parser = crate::parse_memory)]
+    pub max_memory: Option<u64>,
+    #[command(flatten)]
+    pub limits: crate::ReadLimits,
 }
 
 pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()> {
@@ -116,6 +122,7 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         }
         _ => unreachable!("clap takes one or two paths"),
     };
+    args.limits.apply()?;
     // Refuse a bad output path before spending time on the render.
     check_output_path(output)?;
     let options = StillOptions {
@@ -144,6 +151,7 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         accel: args.accel,
         max_depth: args.max_depth,
         min_weight: args.min_weight,
+        max_memory: args.max_memory,
     };
     let still = prism::still::prepare(scene_path, &options)?;
     if !args.quiet {

@@ -536,6 +536,14 @@ impl Reader<'_, '_> {
                 );
             }
         }
+        let limit = crate::scene::MAX_SHAPES;
+        if self.obj.triangles.len() + (n - 2) > limit {
+            return Err(self.error(
+                line,
+                0,
+                format!("expected at most {limit} triangles in a scene, found more"),
+            ));
+        }
         let template = ObjTriangle {
             v: [0; 3],
             vt: all_vt.then_some([0; 3]),

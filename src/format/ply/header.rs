@@ -426,10 +426,13 @@ fn row_count(path: &Path, line: &Line, count: &Token) -> Result<u32> {
     if count.text.is_empty() || !count.text.bytes().all(|b| b.is_ascii_digit()) {
         return Err(expected("a whole number"));
     }
-    count
-        .text
-        .parse::<u32>()
-        .map_err(|_| expected(&format!("a whole number of at most {}", u32::MAX)))
+    let limit = crate::scene::MAX_SHAPES;
+    match count.text.parse::<u32>() {
+        Ok(n) if n as usize <= limit => Ok(n),
+        _ => Err(expected(&format!(
+            "a whole number of at most {limit} (the most shapes a scene may hold)"
+        ))),
+    }
 }
 
 fn scalar(path: &Path, line: &Line, word: &Token) -> Result<Scalar> {

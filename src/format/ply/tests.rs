@@ -261,8 +261,13 @@ fn header_errors_name_line_and_column() {
         ),
         (
             b"ply\nformat ascii 1.0\nelement vertex 4294967296\n".to_vec(),
-            "m.ply:3:16: expected a whole number of at most 4294967295 for the row count, \
-             found `4294967296`",
+            "m.ply:3:16: expected a whole number of at most 268435456 (the most shapes a \
+             scene may hold) for the row count, found `4294967296`",
+        ),
+        (
+            b"ply\nformat ascii 1.0\nelement face 268435457\n".to_vec(),
+            "m.ply:3:14: expected a whole number of at most 268435456 (the most shapes a \
+             scene may hold) for the row count, found `268435457`",
         ),
         (
             b"ply\nformat ascii 1.0\nelement vertex\n".to_vec(),
