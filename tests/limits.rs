@@ -192,3 +192,33 @@ fn a_full_disk_is_a_clear_error_and_leaves_no_file() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(entries(&mount), ["frame.ppm"]);
 }
+
+#[test]
+fn messages_quote_a_short_excerpt_of_huge_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = "n".repeat(1 << 20);
+    let mtl = dir.path().join("m.mtl");
+    fs::write(
+        &mtl,
+        format!("newmtl {name}\nillum 42\nmap_Kd {name}.png\n"),
+    )
+    .unwrap();
+    let obj = dir.path().join("m.obj");
+    fs::write(
+        &obj,
+        format!("mtllib m.mtl\nusemtl {name}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    )
+    .unwrap();
+    let toml = dir.path().join("s.toml");
+    fs::write(&toml, format!("[render]\n{name} = 1\n")).unwrap();
+    let tonemap = dir.path().join("t.toml");
+    fs::write(&tonemap, format!("[render]\ntonemap = \"{name}\"\n")).unwrap();
+    for (file, code) in [(&obj, 0), (&toml, 2), (&tonemap, 2)] {
+        let o = run(prism().arg("info").arg(file));
+        assert_eq!(o.status.code(), Some(code), "{}", stderr(&o));
+        let said = o.stdout.len() + o.stderr.len();
+        assert!(said < 2000, "{} bytes for {}", said, file.display());
+        let all = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(&o));
+        assert!(all.contains("nnnnnnnnnn..."), "{all}");
+    }
+}

@@ -77,7 +77,10 @@ impl FromStr for AccelKind {
         AccelKind::ALL
             .into_iter()
             .find(|k| k.name() == s)
-            .ok_or_else(|| format!("unknown intersector `{s}`: expected bvh, octree or list"))
+            .ok_or_else(|| {
+                let s = crate::format::text::shown(s);
+                format!("unknown intersector {s}: expected bvh, octree or list")
+            })
     }
 }
 

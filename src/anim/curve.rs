@@ -32,7 +32,8 @@ impl std::str::FromStr for Interpolation {
             "linear" => Ok(Interpolation::Linear),
             "smooth" => Ok(Interpolation::Smooth),
             _ => Err(format!(
-                "unknown interpolation `{s}`: expected linear or smooth"
+                "unknown interpolation {}: expected linear or smooth",
+                crate::format::text::shown(s)
             )),
         }
     }

@@ -418,7 +418,10 @@ fn render_settings(lines: &Lines, render: Option<&Spanned<RawRender>>) -> Result
 /// The shapes and lights a target names: `shape:N`, `material:NAME`, `group:NAME`.
 fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selection> {
     let name = at.get_ref();
-    let unknown = |why: String| lines.error(at, format!("unknown target `{name}`: {why}"));
+    let unknown = |why: String| {
+        let name = crate::format::text::shown(name);
+        lines.error(at, format!("unknown target {name}: {why}"))
+    };
     let (kind, what) = name.split_once(':').ok_or_else(|| {
         unknown(
             "expected camera, shape:N, material:NAME, group:NAME, object:NAME or light:NAME".into(),
@@ -426,9 +429,12 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
     })?;
     let (shapes, lights) = match kind {
         "shape" => {
-            let i: u32 = what
-                .parse()
-                .map_err(|_| unknown(format!("expected a shape index, found `{what}`")))?;
+            let i: u32 = what.parse().map_err(|_| {
+                unknown(format!(
+                    "expected a shape index, found {}",
+                    crate::format::text::shown(what)
+                ))
+            })?;
             if i as usize >= scene.shapes.len() {
                 return Err(unknown(format!(
                     "the scene has {} shapes (numbered from 0)",
@@ -442,7 +448,10 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
                 .filter(|&i| scene.material(i).name == what)
                 .collect();
             if shapes.is_empty() {
-                return Err(unknown(format!("no shape wears material `{what}`")));
+                return Err(unknown(format!(
+                    "no shape wears material {}",
+                    crate::format::text::shown(what)
+                )));
             }
             (shapes, vec![])
         }
@@ -452,7 +461,10 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
                 .group(what)
                 .ok_or_else(|| unknown(format!("the scene has no `g {what}` or `o {what}`")))?;
             if g.shapes.is_empty() && g.lights.is_empty() {
-                return Err(unknown(format!("group `{what}` is empty")));
+                return Err(unknown(format!(
+                    "group {} is empty",
+                    crate::format::text::shown(what)
+                )));
             }
             (g.shapes.clone(), g.lights.clone())
         }
@@ -505,7 +517,8 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
             lines.path,
             lines.line(at),
             format!(
-                "`{name}` does not apply to motion `{}`, which takes {}",
+                "{} does not apply to motion `{}`, which takes {}",
+                crate::format::text::shown(name),
                 raw.motion.get_ref(),
                 allowed
                     .iter()
@@ -587,7 +600,10 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
         other => {
             return Err(lines.error(
                 &raw.motion,
-                format!("unknown motion `{other}`: expected translate, rotate, orbit or look_at"),
+                format!(
+                    "unknown motion {}: expected translate, rotate, orbit or look_at",
+                    crate::format::text::shown(other)
+                ),
             ));
         }
     };

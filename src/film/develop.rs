@@ -71,7 +71,10 @@ impl FromStr for ToneMap {
         ToneMap::ALL
             .into_iter()
             .find(|t| t.name() == s)
-            .ok_or_else(|| format!("unknown tone map `{s}`: expected clamp, reinhard or aces"))
+            .ok_or_else(|| {
+                let s = crate::format::text::shown(s);
+                format!("unknown tone map {s}: expected clamp, reinhard or aces")
+            })
     }
 }
 
@@ -180,7 +183,8 @@ pub fn parse_exposure(s: &str) -> Result<f32, String> {
     match s.trim().parse::<f32>() {
         Ok(ev) if ev.is_finite() && ev.abs() <= 64.0 => Ok(ev),
         _ => Err(format!(
-            "expected an exposure in stops between -64 and 64, found `{s}`"
+            "expected an exposure in stops between -64 and 64, found {}",
+            crate::format::text::shown(s)
         )),
     }
 }

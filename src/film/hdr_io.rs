@@ -54,7 +54,8 @@ impl FromStr for ExrPrecision {
             "half" => Ok(ExrPrecision::Half),
             "float" => Ok(ExrPrecision::Float),
             _ => Err(format!(
-                "unknown EXR precision `{s}`: expected half or float"
+                "unknown EXR precision {}: expected half or float",
+                crate::format::text::shown(s)
             )),
         }
     }

@@ -87,7 +87,10 @@ impl FromStr for PngBits {
         match s {
             "8" => Ok(PngBits::Eight),
             "16" => Ok(PngBits::Sixteen),
-            _ => Err(format!("unknown PNG depth `{s}`: expected 8 or 16")),
+            _ => Err(format!(
+                "unknown PNG depth {}: expected 8 or 16",
+                crate::format::text::shown(s)
+            )),
         }
     }
 }

@@ -127,7 +127,8 @@ impl FromStr for Filter {
             .find(|f| f.name() == s)
             .ok_or_else(|| {
                 format!(
-                    "unknown filter `{s}`: expected nearest, bilinear, area, bicubic or lanczos"
+                    "unknown filter {}: expected nearest, bilinear, area, bicubic or lanczos",
+                    crate::format::text::shown(s)
                 )
             })
     }

@@ -108,15 +108,23 @@ pub fn load(path: &Path) -> Result<SceneFile> {
 
 /// Reads any scene file in the given dialect.
 pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
-    match dialect {
-        SceneDialect::WavefrontObj => return wavefront::load(path),
-        SceneDialect::PrismScene => return scene_file::load(path),
-        SceneDialect::Ply => return ply_scene::load(path),
-        SceneDialect::Objx2014 => {}
+    let mut file = match dialect {
+        SceneDialect::WavefrontObj => wavefront::load(path)?,
+        SceneDialect::PrismScene => scene_file::load(path)?,
+        SceneDialect::Ply => ply_scene::load(path)?,
+        SceneDialect::Objx2014 => load_objx_file(path)?,
+    };
+    // Warnings quote the files too: the same bound as errors.
+    for w in &mut file.warnings {
+        *w = crate::error::bounded(std::mem::take(w));
     }
-    let scene = load_scene_as(path, dialect)?;
+    Ok(file)
+}
+
+fn load_objx_file(path: &Path) -> Result<SceneFile> {
+    let scene = load_scene_as(path, SceneDialect::Objx2014)?;
     Ok(SceneFile {
-        dialect,
+        dialect: SceneDialect::Objx2014,
         scene,
         camera: None,
         settings: FileSettings::default(),

@@ -67,7 +67,7 @@ pub(super) fn last_line(text: &str) -> usize {
 
 /// A token as shown in a message, between backticks: control characters are escaped so a
 /// stray byte cannot garble the terminal, and very long tokens are shortened.
-pub(super) fn shown(token: &str) -> String {
+pub(crate) fn shown(token: &str) -> String {
     const MAX_CHARS: usize = 40;
     let mut out = String::from("`");
     for (i, c) in token.chars().enumerate() {
@@ -83,6 +83,11 @@ pub(super) fn shown(token: &str) -> String {
     }
     out.push('`');
     out
+}
+
+/// A path as shown in a message: [`shown`] of its text.
+pub(crate) fn shown_path(path: &Path) -> String {
+    shown(&path.to_string_lossy())
 }
 
 /// A place in a file, to build errors and parse tokens found there.

@@ -6,6 +6,7 @@ use super::image_file::{Encoding, read_texture};
 use super::mtl::{MtlMaterial, TextureMap};
 use super::obj::{ObjFile, load_obj};
 use super::{SceneDialect, SceneFile, SourceCounts};
+use crate::format::text::{shown, shown_path};
 use crate::math::Vec3;
 use crate::scene::{
     Albedo, Group, ImageTexture, Light, Material, MeshAttributes, Scene, Shape, Surface,
@@ -140,9 +141,9 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
                 scene.lights.push(light);
             }
             None => warnings.push(format!(
-                "{}: material `{}` emits light but its faces have no area",
+                "{}: material {} emits light but its faces have no area",
                 path.display(),
-                scene.materials[m].name
+                shown(&scene.materials[m].name)
             )),
         }
     }
@@ -184,11 +185,11 @@ impl ImageCache {
             Some(&i) => i,
             None if std::fs::symlink_metadata(&map.path).is_err() => {
                 warnings.push(format!(
-                    "{}:{}: texture `{}` of material `{}` is missing; it is left out",
+                    "{}:{}: texture {} of material {} is missing; it is left out",
                     material.path.display(),
                     material.line,
-                    map.path.display(),
-                    material.name
+                    shown_path(&map.path),
+                    shown(&material.name)
                 ));
                 return Ok(None);
             }
@@ -198,9 +199,9 @@ impl ImageCache {
                         &material.path,
                         material.line,
                         format!(
-                            "cannot read texture {} of material `{}`: {why}",
-                            map.path.display(),
-                            material.name
+                            "cannot read texture {} of material {}: {why}",
+                            shown_path(&map.path),
+                            shown(&material.name)
                         ),
                     )
                 })?;
@@ -263,10 +264,10 @@ fn convert_material(
             s.fresnel = true;
         }
         other => warnings.push(format!(
-            "{}:{}: illum {other} of material `{}` is not one of 0-10; read as 2",
+            "{}:{}: illum {other} of material {} is not one of 0-10; read as 2",
             m.path.display(),
             m.line,
-            m.name
+            shown(&m.name)
         )),
     }
     // Dissolve on an otherwise opaque material: light passes straight through.
@@ -302,10 +303,10 @@ fn convert_material(
     for (key, map) in [("bump", &m.bump), ("refl", &m.refl)] {
         if map.is_some() {
             warnings.push(format!(
-                "{}:{}: {key} of material `{}` is read but not applied",
+                "{}:{}: {key} of material {} is read but not applied",
                 m.path.display(),
                 m.line,
-                m.name
+                shown(&m.name)
             ));
         }
     }

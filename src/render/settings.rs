@@ -27,7 +27,8 @@ impl std::str::FromStr for Region {
                 height,
             }),
             _ => Err(format!(
-                "expected X,Y,W,H (four non-negative integers), found `{s}`"
+                "expected X,Y,W,H (four non-negative integers), found {}",
+                crate::format::text::shown(s)
             )),
         }
     }
@@ -108,7 +109,10 @@ impl std::str::FromStr for IntegratorKind {
         IntegratorKind::ALL
             .into_iter()
             .find(|k| k.name() == s)
-            .ok_or_else(|| format!("unknown integrator `{s}`: expected classic or whitted"))
+            .ok_or_else(|| {
+                let s = crate::format::text::shown(s);
+                format!("unknown integrator {s}: expected classic or whitted")
+            })
     }
 }
 

@@ -80,7 +80,8 @@ pub fn refuse_foreign_keys(
             Err(source.error_at(
                 span,
                 format!(
-                    "`{name}` does not apply to a {what}, which takes {}",
+                    "{} does not apply to a {what}, which takes {}",
+                    crate::format::text::shown(name),
                     takes.join(", ")
                 ),
             ))
