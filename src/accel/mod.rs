@@ -5,10 +5,12 @@
 mod bvh;
 mod list;
 mod octree;
+pub mod simd;
 
 pub use bvh::{Bvh, MAX_SHAPES};
 pub use list::ListAccel;
 pub use octree::Octree;
+pub use simd::SimdLevel;
 
 use crate::math::Ray;
 use crate::scene::Shape;

@@ -46,8 +46,18 @@ fn ray_strategy() -> impl Strategy<Value = Ray> {
 /// the same shadow answer.
 fn agree_with_brute_force(shapes: &[Shape], rays: &[Ray]) -> Result<(), TestCaseError> {
     let list = Accel::build(AccelKind::List, shapes);
-    for kind in [AccelKind::Octree, AccelKind::Bvh] {
-        let fast = Accel::build(kind, shapes);
+    let fast = [
+        ("octree", Accel::build(AccelKind::Octree, shapes)),
+        (
+            "bvh sse2",
+            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Baseline)),
+        ),
+        (
+            "bvh avx2",
+            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Avx2)),
+        ),
+    ];
+    for (kind, fast) in &fast {
         for ray in rays {
             for t_max in [5.0, 40.0, f32::INFINITY] {
                 let (a, b) = (list.closest(ray, t_max), fast.closest(ray, t_max));

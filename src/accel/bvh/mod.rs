@@ -1,6 +1,7 @@
-//! A four-wide bounding volume hierarchy: built as a binary tree by binned SAH, then
-//! collapsed so each node holds four child boxes side by side (structure of arrays), and
-//! one ray meets all four with a handful of 4-lane SIMD operations.
+//! An eight-wide bounding volume hierarchy: built as a binary tree by binned SAH, then
+//! collapsed so each node holds eight child boxes side by side (structure of arrays).
+//! One ray meets all eight with a handful of 8-lane AVX2 operations, or as two halves of
+//! four lanes on SSE2; either way the same children are entered.
 //!
 //! Closest-hit rays visit children nearest first and skip any whose entry lies beyond
 //! the best hit so far; shadow rays stop at the first blocker.
@@ -11,6 +12,7 @@ mod packet;
 pub use packet::MAX_SHAPES;
 
 use super::Hit;
+use super::simd::SimdLevel;
 use crate::math::{Aabb, Ray};
 use crate::scene::Shape;
 use build::{BinaryBvh, MAX_DEPTH};
@@ -18,30 +20,43 @@ use glam::Vec4;
 use packet::{Packet, PacketRay, padded_bounds};
 use std::mem::MaybeUninit;
 
-/// Entries the traversal stack needs: each level pushes at most four and pops one.
-const STACK: usize = 3 * MAX_DEPTH as usize + 4;
+/// Entries the traversal stack needs: each level pushes at most eight and pops one.
+const STACK: usize = (WIDTH - 1) * MAX_DEPTH as usize + WIDTH;
 /// Relative slack of the box test, so rounding never culls a box a hit lies in.
 const BOX_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 
-/// Four child boxes, one lane each. A lane whose box is empty (min +inf, max -inf) is
-/// never hit, which is how nodes with fewer than four children pad.
+/// Children per node.
+const WIDTH: usize = 8;
+
+/// Eight child boxes, one lane each (two halves of four, so SSE2 reads a half and AVX2
+/// the whole row). A lane whose box is empty (min +inf, max -inf) is never hit, which is
+/// how nodes with fewer than eight children pad.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-struct Node4 {
-    min: [Vec4; 3],
-    max: [Vec4; 3],
+struct Node8 {
+    min: [[Vec4; 2]; 3],
+    max: [[Vec4; 2]; 3],
     /// Inner child: node index. Leaf child: first packet.
-    child: [u32; 4],
+    child: [u32; WIDTH],
     /// 0 for an inner child, else the leaf's number of packets.
-    count: [u32; 4],
+    count: [u32; WIDTH],
 }
 
-const EMPTY_NODE: Node4 = Node4 {
-    min: [Vec4::INFINITY; 3],
-    max: [Vec4::NEG_INFINITY; 3],
-    child: [0; 4],
-    count: [0; 4],
+const EMPTY_NODE: Node8 = Node8 {
+    min: [[Vec4::INFINITY; 2]; 3],
+    max: [[Vec4::NEG_INFINITY; 2]; 3],
+    child: [0; WIDTH],
+    count: [0; WIDTH],
 };
+
+impl Node8 {
+    fn set_box(&mut self, lane: usize, b: &Aabb) {
+        for axis in 0..3 {
+            self.min[axis][lane / 4][lane % 4] = b.min[axis];
+            self.max[axis][lane / 4][lane % 4] = b.max[axis];
+        }
+    }
+}
 
 /// A pending child: where it is, and how far along the ray its box starts.
 #[derive(Clone, Copy)]
@@ -101,69 +116,161 @@ impl Stack {
     }
 }
 
-/// Per-ray constants of the slab test. Each axis reads its near plane from `min` or
-/// `max` by the sign of the direction, so an empty (inverted) box is missed.
-struct RayBoxes {
+/// The slab test of one ray against a node's eight boxes: lanes whose box the ray
+/// enters before `t_max` (bit `i` for lane `i`), and the entry distances.
+trait BoxTest {
+    fn new(ray: &Ray) -> Self;
+    fn hit(&self, node: &Node8, t_max: f32) -> (u32, [f32; WIDTH]);
+}
+
+/// The reciprocal of a direction component. A zero gives a huge finite value rather
+/// than infinity, so a plane through the origin gives 0 * big = 0, never 0 * inf = NaN.
+#[inline(always)]
+fn inverse(x: f32) -> f32 {
+    let i = 1.0 / x;
+    if i.is_finite() {
+        i
+    } else {
+        1e30f32.copysign(x)
+    }
+}
+
+/// Four lanes at a time (SSE2, or whatever the target's baseline is). Each axis reads
+/// its near plane from `min` or `max` by the sign of the direction, so an empty
+/// (inverted) box is missed.
+struct Boxes4 {
     origin: [Vec4; 3],
     inv_dir: [Vec4; 3],
     negative: [bool; 3],
 }
 
-impl RayBoxes {
-    #[inline]
-    fn new(ray: &Ray) -> RayBoxes {
+impl BoxTest for Boxes4 {
+    #[inline(always)]
+    fn new(ray: &Ray) -> Boxes4 {
         let o = ray.origin.to_array();
         let d = ray.dir.to_array();
-        // A zero component gives a huge finite inverse rather than infinity, so a
-        // plane through the origin gives 0 * big = 0 and never 0 * inf = NaN.
-        let inv = |x: f32| {
-            let i = 1.0 / x;
-            if i.is_finite() {
-                i
-            } else {
-                1e30f32.copysign(x)
-            }
-        };
-        RayBoxes {
+        Boxes4 {
             origin: o.map(Vec4::splat),
-            inv_dir: d.map(|x| Vec4::splat(inv(x))),
+            inv_dir: d.map(|x| Vec4::splat(inverse(x))),
             negative: d.map(|x| x.is_sign_negative()),
         }
     }
 
-    /// Lanes whose box the ray enters before `t_max`, and the entry distances.
-    #[inline]
-    fn hit(&self, node: &Node4, t_max: f32) -> (u32, Vec4) {
-        let mut t_near = Vec4::ZERO;
-        let mut t_far = Vec4::splat(t_max);
-        for axis in 0..3 {
-            let (near, far) = if self.negative[axis] {
-                (node.max[axis], node.min[axis])
-            } else {
-                (node.min[axis], node.max[axis])
-            };
-            t_near = t_near.max((near - self.origin[axis]) * self.inv_dir[axis]);
-            t_far = t_far.min((far - self.origin[axis]) * self.inv_dir[axis]);
+    #[inline(always)]
+    fn hit(&self, node: &Node8, t_max: f32) -> (u32, [f32; WIDTH]) {
+        let mut mask = 0;
+        let mut t = [0.0; WIDTH];
+        for half in 0..2 {
+            let mut t_near = Vec4::ZERO;
+            let mut t_far = Vec4::splat(t_max);
+            for axis in 0..3 {
+                let (near, far) = if self.negative[axis] {
+                    (node.max[axis][half], node.min[axis][half])
+                } else {
+                    (node.min[axis][half], node.max[axis][half])
+                };
+                t_near = t_near.max((near - self.origin[axis]) * self.inv_dir[axis]);
+                t_far = t_far.min((far - self.origin[axis]) * self.inv_dir[axis]);
+            }
+            mask |= t_near.cmple(t_far * BOX_SLACK).bitmask() << (4 * half);
+            t[4 * half..4 * half + 4].copy_from_slice(&t_near.to_array());
         }
-        (t_near.cmple(t_far * BOX_SLACK).bitmask(), t_near)
+        (mask, t)
+    }
+}
+
+/// All eight lanes in one AVX2 register. Only built inside functions compiled for AVX2
+/// (see [`Bvh::closest`]).
+#[cfg(target_arch = "x86_64")]
+struct Boxes8 {
+    origin: [std::arch::x86_64::__m256; 3],
+    inv_dir: [std::arch::x86_64::__m256; 3],
+    negative: [bool; 3],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl BoxTest for Boxes8 {
+    #[inline(always)]
+    fn new(ray: &Ray) -> Boxes8 {
+        use std::arch::x86_64::_mm256_set1_ps;
+        let o = ray.origin;
+        let d = ray.dir;
+        // SAFETY: reached only from AVX2 functions, on processors that run them. No
+        // closures here: they would not inherit the caller's instruction set.
+        unsafe {
+            Boxes8 {
+                origin: [
+                    _mm256_set1_ps(o.x),
+                    _mm256_set1_ps(o.y),
+                    _mm256_set1_ps(o.z),
+                ],
+                inv_dir: [
+                    _mm256_set1_ps(inverse(d.x)),
+                    _mm256_set1_ps(inverse(d.y)),
+                    _mm256_set1_ps(inverse(d.z)),
+                ],
+                negative: [
+                    d.x.is_sign_negative(),
+                    d.y.is_sign_negative(),
+                    d.z.is_sign_negative(),
+                ],
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn hit(&self, node: &Node8, t_max: f32) -> (u32, [f32; WIDTH]) {
+        use std::arch::x86_64::*;
+        // SAFETY: as in `new`; the rows are 32-byte aligned in a 64-byte-aligned node.
+        unsafe {
+            let mut t_near = _mm256_setzero_ps();
+            let mut t_far = _mm256_set1_ps(t_max);
+            for axis in 0..3 {
+                let (near, far) = if self.negative[axis] {
+                    (&node.max[axis], &node.min[axis])
+                } else {
+                    (&node.min[axis], &node.max[axis])
+                };
+                let near = _mm256_load_ps(near.as_ptr().cast::<f32>());
+                let far = _mm256_load_ps(far.as_ptr().cast::<f32>());
+                let n = _mm256_mul_ps(_mm256_sub_ps(near, self.origin[axis]), self.inv_dir[axis]);
+                let f = _mm256_mul_ps(_mm256_sub_ps(far, self.origin[axis]), self.inv_dir[axis]);
+                t_near = _mm256_max_ps(t_near, n);
+                t_far = _mm256_min_ps(t_far, f);
+            }
+            let slack = _mm256_mul_ps(t_far, _mm256_set1_ps(BOX_SLACK));
+            let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, slack)) as u32;
+            let mut t = [0.0; WIDTH];
+            _mm256_storeu_ps(t.as_mut_ptr(), t_near);
+            (mask, t)
+        }
     }
 }
 
 pub struct Bvh {
-    nodes: Vec<Node4>,
+    nodes: Vec<Node8>,
     packets: Vec<Packet>,
     shape_count: usize,
+    simd: SimdLevel,
 }
 
 impl Bvh {
     /// Builds over `shapes`. More than [`MAX_SHAPES`] shapes is the caller's error.
     pub fn build(shapes: &[Shape]) -> Bvh {
+        Bvh::build_with(shapes, SimdLevel::current())
+    }
+
+    /// Builds over `shapes`, to be traversed with `simd` (or the baseline, where the
+    /// processor lacks it).
+    pub fn build_with(shapes: &[Shape], simd: SimdLevel) -> Bvh {
         assert!(shapes.len() <= MAX_SHAPES, "too many shapes for the BVH");
+        let simd = simd.supported();
         if shapes.is_empty() {
             return Bvh {
                 nodes: Vec::new(),
                 packets: Vec::new(),
                 shape_count: 0,
+                simd,
             };
         }
         let boxes: Vec<Aabb> = shapes.iter().map(padded_bounds).collect();
@@ -172,6 +279,7 @@ impl Bvh {
             nodes: Vec::with_capacity(binary.nodes.len() / 2 + 1),
             packets: Vec::with_capacity(shapes.len() / 2 + 1),
             shape_count: shapes.len(),
+            simd,
         };
         bvh.nodes.push(EMPTY_NODE);
         bvh.collapse(&binary, shapes, 0, 0);
@@ -188,17 +296,39 @@ impl Bvh {
         self.shape_count
     }
 
+    /// The instructions the traversal runs on.
+    pub fn simd(&self) -> SimdLevel {
+        self.simd
+    }
+
     /// Bytes held by the nodes and the leaf-ordered shape copies.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.capacity() * size_of::<Node4>() + self.packets.capacity() * size_of::<Packet>()
+        self.nodes.capacity() * size_of::<Node8>() + self.packets.capacity() * size_of::<Packet>()
     }
 
     #[inline]
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        #[cfg(target_arch = "x86_64")]
+        if self.simd == SimdLevel::Avx2 {
+            // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
+            return unsafe { self.closest_avx2(ray, t_max) };
+        }
+        self.closest_in::<Boxes4>(ray, t_max)
+    }
+
+    /// [`Bvh::closest`] compiled for AVX2: the same operations, VEX-encoded.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn closest_avx2(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.closest_in::<Boxes8>(ray, t_max)
+    }
+
+    #[inline(always)]
+    fn closest_in<B: BoxTest>(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
         }
-        let boxes = RayBoxes::new(ray);
+        let boxes = B::new(ray);
         let lanes = PacketRay::new(ray);
         let mut best: Option<Hit> = None;
         let mut stack = Stack::new(Entry {
@@ -240,7 +370,6 @@ impl Bvh {
             }
             let node = &self.nodes[entry.child as usize];
             let (mut mask, t_near) = boxes.hit(node, bound);
-            let t_near = t_near.to_array();
             let base = stack.len;
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
@@ -258,10 +387,26 @@ impl Bvh {
 
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if self.simd == SimdLevel::Avx2 {
+            // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
+            return unsafe { self.occluded_avx2(ray, t_max, blocks) };
+        }
+        self.occluded_in::<Boxes4>(ray, t_max, blocks)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn occluded_avx2(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
+        self.occluded_in::<Boxes8>(ray, t_max, blocks)
+    }
+
+    #[inline(always)]
+    fn occluded_in<B: BoxTest>(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
-        let boxes = RayBoxes::new(ray);
+        let boxes = B::new(ray);
         let lanes = PacketRay::new(ray);
         let mut stack = Stack::new(Entry {
             child: 0,
@@ -310,7 +455,7 @@ impl Bvh {
 }
 
 impl Bvh {
-    /// Fills `nodes[slot]` with up to four descendants of binary node `at`: its
+    /// Fills `nodes[slot]` with up to eight descendants of binary node `at`: its
     /// children, then repeatedly the children of the largest inner one among them.
     /// Leaves become runs of packets.
     fn collapse(&mut self, binary: &BinaryBvh, shapes: &[Shape], at: usize, slot: usize) {
@@ -321,7 +466,7 @@ impl Bvh {
             let first = src[at].first as usize;
             vec![first, first + 1]
         };
-        while members.len() < 4 {
+        while members.len() < WIDTH {
             let widest = members
                 .iter()
                 .enumerate()
@@ -335,11 +480,7 @@ impl Bvh {
         let mut node = EMPTY_NODE;
         let mut inner = Vec::new();
         for (lane, &m) in members.iter().enumerate() {
-            let b = src[m].bounds;
-            for axis in 0..3 {
-                node.min[axis][lane] = b.min[axis];
-                node.max[axis][lane] = b.max[axis];
-            }
+            node.set_box(lane, &src[m].bounds);
             if src[m].is_leaf() {
                 let (first, count) = (src[m].first as usize, src[m].count as usize);
                 let leaf = &binary.order[first..first + count];

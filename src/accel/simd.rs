@@ -1,0 +1,88 @@
+//! Which vector instructions the intersectors use, chosen once when the process starts
+//! using them: AVX2 with FMA where the processor has them, else the SSE2 every x86-64
+//! has (other architectures get what the compiler targets).
+//!
+//! Every path computes the same products and sums in the same order, without fused
+//! multiply-add, so the hits — and the images — are the same bit for bit whichever
+//! path runs. `PRISM_SIMD=sse2` forces the baseline path (to compare, or to rule it
+//! out); `PRISM_SIMD=avx2` on a processor without AVX2 falls back to SSE2.
+
+use std::sync::OnceLock;
+
+/// The environment variable that overrides the detected level.
+pub const SIMD_ENV: &str = "PRISM_SIMD";
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SimdLevel {
+    /// The architecture's baseline: SSE2 on x86-64.
+    Baseline,
+    /// x86-64 with AVX2 and FMA: eight lanes, three-operand instructions.
+    Avx2,
+}
+
+impl SimdLevel {
+    pub fn name(self) -> &'static str {
+        match self {
+            SimdLevel::Baseline if cfg!(target_arch = "x86_64") => "sse2",
+            SimdLevel::Baseline => "baseline",
+            SimdLevel::Avx2 => "avx2",
+        }
+    }
+
+    /// The best level this processor runs.
+    pub fn best_supported() -> SimdLevel {
+        if avx2_supported() {
+            SimdLevel::Avx2
+        } else {
+            SimdLevel::Baseline
+        }
+    }
+
+    /// `self` if the processor runs it, else the baseline.
+    pub fn supported(self) -> SimdLevel {
+        match self {
+            SimdLevel::Avx2 if avx2_supported() => SimdLevel::Avx2,
+            _ => SimdLevel::Baseline,
+        }
+    }
+
+    /// The level in use: the best supported, unless [`SIMD_ENV`] says otherwise. Read
+    /// once per process.
+    pub fn current() -> SimdLevel {
+        static LEVEL: OnceLock<SimdLevel> = OnceLock::new();
+        *LEVEL.get_or_init(|| match std::env::var(SIMD_ENV).as_deref() {
+            Ok("sse2" | "baseline") => SimdLevel::Baseline,
+            Ok("avx2") => SimdLevel::Avx2.supported(),
+            _ => SimdLevel::best_supported(),
+        })
+    }
+}
+
+fn avx2_supported() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_fall_back_to_what_the_processor_runs() {
+        assert_eq!(SimdLevel::Baseline.supported(), SimdLevel::Baseline);
+        let best = SimdLevel::best_supported();
+        assert_eq!(SimdLevel::Avx2.supported(), best);
+        assert!(matches!(
+            SimdLevel::current(),
+            SimdLevel::Baseline | SimdLevel::Avx2
+        ));
+        #[cfg(target_arch = "x86_64")]
+        assert_eq!(SimdLevel::Baseline.name(), "sse2");
+    }
+}
