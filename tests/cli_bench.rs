@@ -54,6 +54,75 @@ fn bench_table_and_bad_arguments() {
 }
 
 #[test]
+fn bench_dump_writes_the_rays_for_another_ray_tracer() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("quad.obj");
+    // A quad facing the example camera and, behind it, a triangle it hides in part.
+    fs::write(
+        &obj,
+        "v 0 -60 20\nv 0 60 20\nv 0 60 140\nv 0 -60 140\nf 1 2 3 4\n\
+         v 100 -150 0\nv 100 150 0\nv 100 0 200\nf 5 6 7\n",
+    )
+    .unwrap();
+    let dump = dir.path().join("dump");
+    let o = run(prism()
+        .args([
+            "bench",
+            "--json",
+            "--width",
+            "40",
+            "--threads",
+            "2",
+            "--dump",
+        ])
+        .args([&dump, &obj, &example("example.cmr")]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(
+        json.trim(),
+        fs::read_to_string(dump.join("meta.json")).unwrap().trim()
+    );
+    let number = |key: &str| -> usize {
+        let at = json.find(&format!("\"{key}\":")).expect(key) + key.len() + 3;
+        json[at..]
+            .split([',', '}'])
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert_eq!(number("width"), 40);
+    assert_eq!(number("triangles"), 3);
+    let (rays, shadow) = (number("rays"), number("shadow_rays"));
+    assert_eq!(rays, 40 * number("height"));
+    assert!(shadow > 0 && shadow < rays, "{json}");
+    for (file, bytes) in [
+        ("triangles.f32", 3 * 36),
+        ("rays.f32", 24 * rays),
+        ("hits.bin", 8 * rays),
+        ("shadow.f32", 28 * shadow),
+        ("occluded.u8", shadow),
+    ] {
+        assert_eq!(
+            fs::metadata(dump.join(file)).unwrap().len(),
+            bytes as u64,
+            "{file}"
+        );
+    }
+
+    // Spheres cannot be exported: refused, and nothing written.
+    let refused = dir.path().join("refused");
+    let o = run(prism().args(["bench", "--dump"]).args([
+        &refused,
+        &example("example.objx"),
+        &example("example.cmr"),
+    ]));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("not a triangle"), "{}", stderr(&o));
+    assert!(!refused.exists());
+}
+
+#[test]
 fn convert_writes_a_2014_scene_that_renders_like_the_obj() {
     let dir = tempfile::tempdir().unwrap();
     let obj = dir.path().join("quad.obj");

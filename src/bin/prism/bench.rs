@@ -30,6 +30,10 @@ pub struct BenchArgs {
     /// Skip the full classic frame.
     #[arg(long)]
     pub no_frame: bool,
+    /// Measure nothing: write the triangles, the primary and shadow rays and this
+    /// intersector's answers into DIR for another ray tracer (`benches/embree3.sh`).
+    #[arg(long, value_name = "DIR")]
+    pub dump: Option<PathBuf>,
 }
 
 pub fn run(args: &BenchArgs) -> prism::Result<()> {
@@ -53,6 +57,15 @@ pub fn run(args: &BenchArgs) -> prism::Result<()> {
         frame: !args.no_frame,
         width: args.width,
     };
+    if let Some(dir) = &args.dump {
+        let summary = bench::write_bench_dump(dir, &scene, &camera, &options)?;
+        if args.json {
+            println!("{}", summary.to_json());
+        } else {
+            println!("wrote {}: {summary}", dir.display());
+        }
+        return Ok(());
+    }
     let report = bench::run(&scene, &camera, &options)?;
     if args.json {
         println!("{}", report.to_json());
