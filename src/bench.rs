@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
-use crate::accel::{Accel, AccelKind};
+use crate::accel::{Accel, AccelKind, Hit, PACKET_RAYS};
 use crate::math::{Ray, Vec3, surface_epsilon};
 use crate::render::{CameraRays, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene, Shape};
@@ -61,6 +61,12 @@ pub struct BenchReport {
     pub bytes: usize,
     pub primary_mrays: f64,
     pub shadow_mrays: f64,
+    /// The same rays traced as packets of [`PACKET_RAYS`] (4 x 2 pixel tiles; the
+    /// shadow rays of a tile's hits together).
+    pub primary_packet_mrays: f64,
+    pub shadow_packet_mrays: f64,
+    /// The instructions the BVH ran on (`avx2` or `sse2`).
+    pub simd: &'static str,
     /// Seconds of a full classic frame, or `None` when not asked for.
     pub frame_s: Option<f64>,
     /// Share of primary rays that hit something.
@@ -83,7 +89,9 @@ impl BenchReport {
             concat!(
                 "{{\"accel\":\"{}\",\"threads\":{},\"width\":{},\"height\":{},",
                 "\"build_s\":{:.6},\"primitives\":{},\"bytes\":{},",
-                "\"primary_mrays\":{:.4},\"shadow_mrays\":{:.4},\"frame_s\":{},",
+                "\"primary_mrays\":{:.4},\"shadow_mrays\":{:.4},",
+                "\"primary_packet_mrays\":{:.4},\"shadow_packet_mrays\":{:.4},",
+                "\"simd\":\"{}\",\"frame_s\":{},",
                 "\"hit_fraction\":{:.6}}}"
             ),
             self.accel,
@@ -95,6 +103,9 @@ impl BenchReport {
             self.bytes,
             self.primary_mrays,
             self.shadow_mrays,
+            self.primary_packet_mrays,
+            self.shadow_packet_mrays,
+            self.simd,
             frame,
             self.hit_fraction,
         )
@@ -131,10 +142,21 @@ impl std::fmt::Display for BenchReport {
             self.height,
             100.0 * self.hit_fraction
         )?;
-        write!(
+        writeln!(
             f,
             "shadow       {:.2} Mrays/s (to {light})",
             self.shadow_mrays
+        )?;
+        writeln!(
+            f,
+            "packets      {:.2} Mrays/s primary, {:.2} shadow ({PACKET_RAYS} rays, {})",
+            self.primary_packet_mrays, self.shadow_packet_mrays, self.simd
+        )?;
+        write!(
+            f,
+            "             {:.2}x and {:.2}x single rays",
+            self.primary_packet_mrays / self.primary_mrays.max(1e-9),
+            self.shadow_packet_mrays / self.shadow_mrays.max(1e-9)
         )?;
         if let Some(s) = self.frame_s {
             write!(f, "\nclassic frame {s:.3} s")?;
@@ -144,6 +166,21 @@ impl std::fmt::Display for BenchReport {
 }
 
 /// The camera's pinhole rays, one per pixel, row by row.
+/// Pixel indices (row-major) in tiles of 4 x 2, the packets the benchmark traces;
+/// tiles at the right and bottom edges hold fewer.
+pub fn tile_packets(width: u32, height: u32) -> Vec<Vec<u32>> {
+    let mut tiles = Vec::new();
+    for y0 in (0..height).step_by(2) {
+        for x0 in (0..width).step_by(4) {
+            let tile: Vec<u32> = (y0..(y0 + 2).min(height))
+                .flat_map(|y| (x0..(x0 + 4).min(width)).map(move |x| y * width + x))
+                .collect();
+            tiles.push(tile);
+        }
+    }
+    tiles
+}
+
 pub fn primary_rays(camera: &Camera) -> Vec<Ray> {
     let rays = CameraRays::new(camera, 1, 1);
     (0..camera.height)
@@ -462,7 +499,51 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
         points.len()
     });
 
+    // Packets: 4 x 2 pixel tiles, and the shadow rays of each tile's hits together.
+    let tiles = tile_packets(camera.width, camera.height);
+    let tiled: Vec<Ray> = tiles.iter().flatten().map(|&i| rays[i as usize]).collect();
+    let mut offsets = Vec::with_capacity(tiles.len() + 1);
+    offsets.push(0);
+    for t in &tiles {
+        offsets.push(offsets.last().unwrap() + t.len());
+    }
+    let mut packet_hits: Vec<Option<Hit>> = vec![None; tiled.len()];
+    let primary_packet_s = repeat_for(min, || {
+        packet_hits
+            .par_chunks_mut(PACKET_RAYS)
+            .zip(tiled.par_chunks(PACKET_RAYS))
+            .with_min_len(8)
+            .for_each(|(out, packet)| accel.closest_packet(packet, f32::INFINITY, out));
+        tiled.len()
+    });
+    // Each tile's hit points become one shadow packet (of up to eight rays).
+    let mut shadow_packets: Vec<(Vec<Ray>, Vec<f32>)> = Vec::new();
+    for w in offsets.windows(2) {
+        let (rs, ls): (Vec<Ray>, Vec<f32>) = (w[0]..w[1])
+            .filter_map(|i| packet_hits[i].map(|h| tiled[i].at(h.t)))
+            .filter_map(|p| shadow_ray(light, p))
+            .unzip();
+        if !rs.is_empty() {
+            shadow_packets.push((rs, ls));
+        }
+    }
+    let shadow_rays: usize = shadow_packets.iter().map(|(r, _)| r.len()).sum();
+    let shadow_packet_s = repeat_for(min, || {
+        shadow_packets
+            .par_iter()
+            .with_min_len(8)
+            .map(|(r, l)| accel.occluded_packet(r, l, |_| true).count_ones())
+            .sum::<u32>();
+        shadow_rays
+    });
+
     BenchReport {
+        primary_packet_mrays: primary_packet_s.mrays(),
+        shadow_packet_mrays: shadow_packet_s.mrays(),
+        simd: match &accel {
+            Accel::Bvh(b) => b.simd().name(),
+            _ => "none",
+        },
         accel: options.accel,
         threads: rayon::current_num_threads(),
         width: camera.width,
@@ -512,6 +593,19 @@ fn repeat_for(min: Duration, mut pass: impl FnMut() -> usize) -> Throughput {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tiles_cover_every_pixel_once_four_by_two() {
+        let tiles = tile_packets(5, 3);
+        assert_eq!(tiles[0], [0, 1, 2, 3, 5, 6, 7, 8]);
+        assert_eq!(tiles[1], [4, 9]);
+        assert_eq!(tiles[2], [10, 11, 12, 13]);
+        assert_eq!(tiles[3], [14]);
+        let mut all: Vec<u32> = tiles.concat();
+        all.sort_unstable();
+        assert_eq!(all, (0..15).collect::<Vec<u32>>());
+        assert!(tiles.iter().all(|t| t.len() <= PACKET_RAYS));
+    }
     use crate::scene::{Light, Material, Sphere, Triangle};
 
     /// A unit sphere 5 in front of the 2014 camera looking down +x, a light above.

@@ -7,7 +7,7 @@ mod list;
 mod octree;
 pub mod simd;
 
-pub use bvh::{Bvh, MAX_SHAPES};
+pub use bvh::{Bvh, MAX_SHAPES, PACKET_RAYS};
 pub use list::ListAccel;
 pub use octree::Octree;
 pub use simd::SimdLevel;
@@ -137,6 +137,40 @@ impl<'s> Accel<'s> {
             Accel::List(a) => a.occluded(ray, t_max, blocks),
             Accel::Octree(a) => a.occluded(ray, t_max, blocks),
             Accel::Bvh(a) => a.occluded(ray, t_max, blocks),
+        }
+    }
+
+    /// The closest hit of each of up to [`PACKET_RAYS`] rays into `hits`, the answers
+    /// of [`Accel::closest`]: the BVH traces them as one packet.
+    #[inline]
+    pub fn closest_packet(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<Hit>]) {
+        match self {
+            Accel::Bvh(a) => a.closest_packet(rays, t_max, hits),
+            _ => {
+                for (hit, ray) in hits.iter_mut().zip(rays) {
+                    *hit = self.closest(ray, t_max);
+                }
+            }
+        }
+    }
+
+    /// Which of up to [`PACKET_RAYS`] rays (bit `i` for ray `i`) are blocked before
+    /// their `t_max[i]`: the answers of [`Accel::occluded`], as one packet in the BVH.
+    #[inline]
+    pub fn occluded_packet(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        blocks: impl Fn(u32) -> bool,
+    ) -> u32 {
+        match self {
+            Accel::Bvh(a) => a.occluded_packet(rays, t_max, blocks),
+            _ => rays
+                .iter()
+                .zip(t_max)
+                .enumerate()
+                .map(|(i, (ray, &t))| u32::from(self.occluded(ray, t, &blocks)) << i)
+                .sum(),
         }
     }
 }

@@ -58,6 +58,42 @@ fn agree_with_brute_force(shapes: &[Shape], rays: &[Ray]) -> Result<(), TestCase
         ),
     ];
     for (kind, fast) in &fast {
+        // Packets of every size from 1 to 8: the single-ray answers, bit for bit.
+        let mut start = 0;
+        for size in (1..=PACKET_RAYS).cycle() {
+            if start >= rays.len() {
+                break;
+            }
+            let chunk = &rays[start..(start + size).min(rays.len())];
+            start += size;
+            for t_max in [5.0, 40.0, f32::INFINITY] {
+                let mut hits = vec![None; chunk.len()];
+                fast.closest_packet(chunk, t_max, &mut hits);
+                let limits: Vec<f32> = (0..chunk.len())
+                    .map(|i| t_max / (1 + i % 3) as f32)
+                    .collect();
+                let even = |s: u32| s.is_multiple_of(2);
+                let blocked = fast.occluded_packet(chunk, &limits, even);
+                for (i, ray) in chunk.iter().enumerate() {
+                    prop_assert_eq!(
+                        hits[i],
+                        list.closest(ray, t_max),
+                        "{} packet of {}, ray {}",
+                        kind,
+                        size,
+                        i
+                    );
+                    prop_assert_eq!(
+                        blocked >> i & 1 == 1,
+                        list.occluded(ray, limits[i], even),
+                        "{} shadow packet of {}, ray {}",
+                        kind,
+                        size,
+                        i
+                    );
+                }
+            }
+        }
         for ray in rays {
             for t_max in [5.0, 40.0, f32::INFINITY] {
                 let (a, b) = (list.closest(ray, t_max), fast.closest(ray, t_max));
@@ -134,6 +170,22 @@ proptest! {
         shapes in prop::collection::vec(shape_strategy(), 0..60),
         rays in prop::collection::vec(ray_strategy(), 32),
     ) {
+        agree_with_brute_force(&shapes, &rays)?;
+    }
+
+    /// Camera-like packets: every ray from one eye, toward nearby points.
+    #[test]
+    fn packets_from_one_eye_agree_with_brute_force(
+        shapes in prop::collection::vec(shape_strategy(), 1..300),
+        eye in prop::array::uniform3(-80.0f32..80.0),
+        target in prop::array::uniform3(-20.0f32..20.0),
+        jitter in prop::collection::vec(prop::array::uniform3(-3.0f32..3.0), 40),
+    ) {
+        let rays: Vec<Ray> = jitter
+            .iter()
+            .map(|j| Ray::new(v(eye), v(target) + v(*j) - v(eye)))
+            .filter(|r| r.dir.is_finite())
+            .collect();
         agree_with_brute_force(&shapes, &rays)?;
     }
 

@@ -7,7 +7,10 @@
 //! the best hit so far; shadow rays stop at the first blocker.
 
 mod build;
+mod coherent;
 mod packet;
+
+pub use coherent::PACKET_RAYS;
 
 pub use packet::MAX_SHAPES;
 

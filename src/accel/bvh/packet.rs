@@ -34,6 +34,15 @@ pub struct Packet {
     shape: [u32; 4],
 }
 
+/// One triangle or rectangle of a packet, for tests against many rays.
+#[derive(Clone, Copy, Debug)]
+pub struct Flat {
+    pub p: [f32; 3],
+    pub e1: [f32; 3],
+    pub e2: [f32; 3],
+    pub max_sum: f32,
+}
+
 /// Per-ray constants of the packet test.
 pub struct PacketRay {
     origin: [Vec4; 3],
@@ -128,6 +137,22 @@ impl Packet {
             & (u + v).cmple(self.max_sum + Vec4::splat(EDGE_SLACK));
         let in_range = t.cmpgt(Vec4::ZERO) & t.cmplt(Vec4::splat(t_max));
         ((finite & inside & in_range).bitmask(), t)
+    }
+
+    /// The triangle or rectangle of `lane` as corner, edges and `max_sum`; `None` for a
+    /// sphere or an empty lane.
+    #[inline(always)]
+    pub fn flat(&self, lane: usize) -> Option<Flat> {
+        if self.shape[lane] == EMPTY_LANE || self.radius[lane] > 0.0 {
+            return None;
+        }
+        let at = |v: &[Vec4; 3]| [v[0][lane], v[1][lane], v[2][lane]];
+        Some(Flat {
+            p: at(&self.p),
+            e1: at(&self.e1),
+            e2: at(&self.e2),
+            max_sum: self.max_sum[lane],
+        })
     }
 
     /// Lanes holding a sphere.

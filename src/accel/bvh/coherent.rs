@@ -1,0 +1,372 @@
+//! Coherent rays traced together: up to eight rays (a tile's camera rays, one pixel's
+//! lens rays, shadow rays toward one light) walk the tree as one packet. A node is
+//! fetched once for all of them and each child box is tested against every ray at once
+//! (the rays are the lanes: eight on AVX2, two halves of four on SSE2); a child is
+//! entered when any ray still needs it.
+//!
+//! Each ray's answer is the one [`Bvh::closest`] / [`Bvh::occluded`] gives it, bit for
+//! bit: a lane repeats the single-ray shape test operation for operation, and ties go to
+//! the lower index, so the order shapes are met in does not matter.
+
+use super::packet::Flat;
+use super::{BOX_SLACK, Bvh, Node8, STACK, WIDTH, inverse};
+use crate::accel::Hit;
+use crate::accel::simd::SimdLevel;
+use crate::math::Ray;
+use crate::scene::shape::EDGE_SLACK;
+use std::mem::MaybeUninit;
+
+/// Rays in a packet.
+pub const PACKET_RAYS: usize = 8;
+
+type Lanes = [f32; PACKET_RAYS];
+
+/// The rays as structure of arrays. Lanes past the packet's rays copy its first ray and
+/// are never active.
+struct Rays {
+    origin: [Lanes; 3],
+    dir: [Lanes; 3],
+    inv_dir: [Lanes; 3],
+}
+
+impl Rays {
+    #[inline(always)]
+    fn new(rays: &[Ray]) -> Rays {
+        let mut r = Rays {
+            origin: [[0.0; PACKET_RAYS]; 3],
+            dir: [[0.0; PACKET_RAYS]; 3],
+            inv_dir: [[0.0; PACKET_RAYS]; 3],
+        };
+        for i in 0..PACKET_RAYS {
+            let ray = rays.get(i).unwrap_or(&rays[0]);
+            for axis in 0..3 {
+                r.origin[axis][i] = ray.origin[axis];
+                r.dir[axis][i] = ray.dir[axis];
+                r.inv_dir[axis][i] = inverse(ray.dir[axis]);
+            }
+        }
+        r
+    }
+
+    /// Rays (bit `i` for ray `i`) that enter child `lane` of `node` before their bound,
+    /// and the smallest entry distance among them. The slab test of [`super::Boxes4`],
+    /// with the rays in the lanes instead of the boxes.
+    #[inline(always)]
+    fn enter(&self, node: &Node8, lane: usize, bound: &Lanes) -> (u32, f32) {
+        let (h, l) = (lane / 4, lane % 4);
+        let lo = [node.min[0][h][l], node.min[1][h][l], node.min[2][h][l]];
+        let hi = [node.max[0][h][l], node.max[1][h][l], node.max[2][h][l]];
+        let mut t_near = [0.0f32; PACKET_RAYS];
+        let mut t_far = *bound;
+        for axis in 0..3 {
+            for i in 0..PACKET_RAYS {
+                let a = (lo[axis] - self.origin[axis][i]) * self.inv_dir[axis][i];
+                let b = (hi[axis] - self.origin[axis][i]) * self.inv_dir[axis][i];
+                // The near plane by the direction's sign, as the single-ray test reads
+                // it, so an empty (inverted) box is missed.
+                let (near, far) = if self.inv_dir[axis][i] < 0.0 {
+                    (b, a)
+                } else {
+                    (a, b)
+                };
+                t_near[i] = if near > t_near[i] { near } else { t_near[i] };
+                t_far[i] = if far < t_far[i] { far } else { t_far[i] };
+            }
+        }
+        let mut mask = 0;
+        let mut first = f32::INFINITY;
+        for i in 0..PACKET_RAYS {
+            let hit = t_near[i] <= t_far[i] * BOX_SLACK;
+            mask |= u32::from(hit) << i;
+            first = if hit && t_near[i] < first {
+                t_near[i]
+            } else {
+                first
+            };
+        }
+        (mask, first)
+    }
+
+    /// Rays that meet the triangle or rectangle `f` before their bound, with the
+    /// distances: [`super::packet::Packet::intersect_flat`] with rays for lanes.
+    #[inline(always)]
+    fn meet(&self, f: &Flat, bound: &Lanes) -> (u32, Lanes) {
+        let [dx, dy, dz] = &self.dir;
+        let [e1x, e1y, e1z] = f.e1;
+        let [e2x, e2y, e2z] = f.e2;
+        let mut t = [0.0f32; PACKET_RAYS];
+        let mut mask = 0;
+        let lo = -EDGE_SLACK;
+        let hi = 1.0 + EDGE_SLACK;
+        let max_sum = f.max_sum + EDGE_SLACK;
+        for i in 0..PACKET_RAYS {
+            let px = dy[i] * e2z - dz[i] * e2y;
+            let py = dz[i] * e2x - dx[i] * e2z;
+            let pz = dx[i] * e2y - dy[i] * e2x;
+            let det = e1x * px + e1y * py + e1z * pz;
+            let inv_det = 1.0 / det;
+            let tx = self.origin[0][i] - f.p[0];
+            let ty = self.origin[1][i] - f.p[1];
+            let tz = self.origin[2][i] - f.p[2];
+            let u = (tx * px + ty * py + tz * pz) * inv_det;
+            let qx = ty * e1z - tz * e1y;
+            let qy = tz * e1x - tx * e1z;
+            let qz = tx * e1y - ty * e1x;
+            let v = (dx[i] * qx + dy[i] * qy + dz[i] * qz) * inv_det;
+            t[i] = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
+            let finite = det.is_finite() & (det != 0.0);
+            let inside = (u >= lo) & (u <= hi) & (v >= lo) & (v <= hi) & (u + v <= max_sum);
+            let in_range = (t[i] > 0.0) & (t[i] < bound[i]);
+            mask |= u32::from(finite & inside & in_range) << i;
+        }
+        (mask, t)
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Entry {
+    child: u32,
+    count: u32,
+    /// The nearest entry distance of any ray into the child.
+    t: f32,
+}
+
+struct Stack {
+    items: [MaybeUninit<Entry>; STACK],
+    len: usize,
+}
+
+impl Stack {
+    #[inline(always)]
+    fn pop(&mut self) -> Option<Entry> {
+        self.len = self.len.checked_sub(1)?;
+        // SAFETY: slots below `len` were written by `push_sorted`.
+        Some(unsafe { self.items[self.len].assume_init() })
+    }
+
+    /// Pushes `e` among the entries above `base`, farthest first.
+    #[inline(always)]
+    fn push_sorted(&mut self, e: Entry, base: usize) {
+        let mut i = self.len;
+        while i > base {
+            // SAFETY: base <= i - 1 < len, a written slot.
+            let below = unsafe { self.items[i - 1].assume_init() };
+            if below.t >= e.t {
+                break;
+            }
+            self.items[i] = MaybeUninit::new(below);
+            i -= 1;
+        }
+        self.items[i] = MaybeUninit::new(e);
+        self.len += 1;
+    }
+}
+
+impl Bvh {
+    /// The closest hit of each of up to [`PACKET_RAYS`] rays with `0 < t < t_max`, into
+    /// `hits[i]`: what [`Bvh::closest`] gives each ray, found faster when the rays run
+    /// close together.
+    pub fn closest_packet(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<Hit>]) {
+        assert!(rays.len() <= PACKET_RAYS && hits.len() == rays.len());
+        if rays.is_empty() {
+            return;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.simd == SimdLevel::Avx2 {
+            // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
+            return unsafe { self.closest_packet_avx2(rays, t_max, hits) };
+        }
+        self.closest_packet_in(rays, t_max, hits);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn closest_packet_avx2(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<Hit>]) {
+        self.closest_packet_in(rays, t_max, hits);
+    }
+
+    #[inline(always)]
+    fn closest_packet_in(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<Hit>]) {
+        hits.fill(None);
+        if self.nodes.is_empty() {
+            return;
+        }
+        let lanes = Rays::new(rays);
+        let mut best: [Option<Hit>; PACKET_RAYS] = [None; PACKET_RAYS];
+        // Each ray's bound: t_max, then just past its best hit so a tie is still seen.
+        // Lanes without a ray get -inf, so no box or shape is ever entered for them.
+        let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
+        bound[..rays.len()].fill(t_max);
+        let mut stack = Stack {
+            items: [const { MaybeUninit::uninit() }; STACK],
+            len: 0,
+        };
+        stack.push_sorted(
+            Entry {
+                child: 0,
+                count: 0,
+                t: 0.0,
+            },
+            0,
+        );
+        while let Some(entry) = stack.pop() {
+            let widest = bound.iter().fold(f32::NEG_INFINITY, |m, &b| m.max(b));
+            if entry.t > widest * BOX_SLACK {
+                continue;
+            }
+            if entry.count > 0 {
+                let first = entry.child as usize;
+                for packet in &self.packets[first..first + entry.count as usize] {
+                    for shape_lane in 0..4 {
+                        let shape = packet.shape(shape_lane);
+                        if let Some(flat) = packet.flat(shape_lane) {
+                            let (mut mask, t) = lanes.meet(&flat, &bound);
+                            while mask != 0 {
+                                let i = mask.trailing_zeros() as usize;
+                                mask &= mask - 1;
+                                if Hit::beats(t[i], shape, &best[i]) {
+                                    best[i] = Some(Hit { t: t[i], shape });
+                                    bound[i] = Hit::bound(&best[i], t_max);
+                                }
+                            }
+                        } else if packet.sphere_lanes() >> shape_lane & 1 == 1 {
+                            let sphere = packet.sphere(shape_lane);
+                            for (i, ray) in rays.iter().enumerate() {
+                                if let Some(t) = sphere.intersect(ray, bound[i])
+                                    && Hit::beats(t, shape, &best[i])
+                                {
+                                    best[i] = Some(Hit { t, shape });
+                                    bound[i] = Hit::bound(&best[i], t_max);
+                                }
+                            }
+                        }
+                    }
+                }
+                continue;
+            }
+            let node = &self.nodes[entry.child as usize];
+            let base = stack.len;
+            for lane in 0..WIDTH {
+                let (mask, t) = lanes.enter(node, lane, &bound);
+                if mask != 0 {
+                    let e = Entry {
+                        child: node.child[lane],
+                        count: node.count[lane],
+                        t,
+                    };
+                    stack.push_sorted(e, base);
+                }
+            }
+        }
+        hits.copy_from_slice(&best[..rays.len()]);
+    }
+
+    /// Whether each of up to [`PACKET_RAYS`] rays meets, with `0 < t < t_max[i]`, a
+    /// shape for which `blocks(shape)` holds: [`Bvh::occluded`] for each ray.
+    pub fn occluded_packet(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        blocks: impl Fn(u32) -> bool,
+    ) -> u32 {
+        assert!(rays.len() <= PACKET_RAYS && t_max.len() == rays.len());
+        if rays.is_empty() {
+            return 0;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.simd == SimdLevel::Avx2 {
+            // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
+            return unsafe { self.occluded_packet_avx2(rays, t_max, blocks) };
+        }
+        self.occluded_packet_in(rays, t_max, blocks)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn occluded_packet_avx2(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        blocks: impl Fn(u32) -> bool,
+    ) -> u32 {
+        self.occluded_packet_in(rays, t_max, blocks)
+    }
+
+    /// The mask of blocked rays (bit `i` for ray `i`).
+    #[inline(always)]
+    fn occluded_packet_in(&self, rays: &[Ray], t_max: &[f32], blocks: impl Fn(u32) -> bool) -> u32 {
+        if self.nodes.is_empty() {
+            return 0;
+        }
+        let lanes = Rays::new(rays);
+        let all = (1u32 << rays.len()) - 1;
+        let mut blocked = 0u32;
+        // A blocked ray's bound drops to -inf: it needs nothing more.
+        let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
+        bound[..rays.len()].copy_from_slice(t_max);
+        let mut stack = Stack {
+            items: [const { MaybeUninit::uninit() }; STACK],
+            len: 0,
+        };
+        stack.push_sorted(
+            Entry {
+                child: 0,
+                count: 0,
+                t: 0.0,
+            },
+            0,
+        );
+        while let Some(entry) = stack.pop() {
+            if entry.count > 0 {
+                let first = entry.child as usize;
+                for packet in &self.packets[first..first + entry.count as usize] {
+                    for shape_lane in 0..4 {
+                        let shape = packet.shape(shape_lane);
+                        let mut newly = 0;
+                        if let Some(flat) = packet.flat(shape_lane) {
+                            let (mask, _) = lanes.meet(&flat, &bound);
+                            if mask != 0 && blocks(shape) {
+                                newly = mask;
+                            }
+                        } else if packet.sphere_lanes() >> shape_lane & 1 == 1 && blocks(shape) {
+                            let sphere = packet.sphere(shape_lane);
+                            for (i, ray) in rays.iter().enumerate() {
+                                if bound[i] > f32::NEG_INFINITY
+                                    && sphere.intersect(ray, bound[i]).is_some()
+                                {
+                                    newly |= 1 << i;
+                                }
+                            }
+                        }
+                        if newly != 0 {
+                            blocked |= newly;
+                            if blocked == all {
+                                return blocked;
+                            }
+                            for (i, b) in bound.iter_mut().enumerate() {
+                                if newly >> i & 1 == 1 {
+                                    *b = f32::NEG_INFINITY;
+                                }
+                            }
+                        }
+                    }
+                }
+                continue;
+            }
+            let node = &self.nodes[entry.child as usize];
+            let base = stack.len;
+            for lane in 0..WIDTH {
+                let (mask, t) = lanes.enter(node, lane, &bound);
+                if mask != 0 {
+                    let e = Entry {
+                        child: node.child[lane],
+                        count: node.count[lane],
+                        t,
+                    };
+                    stack.push_sorted(e, base);
+                }
+            }
+        }
+        blocked
+    }
+}
