@@ -32,7 +32,7 @@ fn image_is_identical_for_any_thread_count_and_intersector() {
         let out = dir.path().join(name);
         let o = run(prism()
             .args([example("example.objx"), example("example.cmr"), out.clone()])
-            .args(["--width", "64", "--aa", "2", "--dof-rays", "5"])
+            .args(["--width", "64", "--aa", "2", "--dof-rays", "11"])
             .args(extra));
         assert!(o.status.success(), "{}", stderr(&o));
         fs::read(out).unwrap()

@@ -7,7 +7,7 @@
 //! ratio. Light colours are not used.
 
 use super::{Integrator, PixelSampler, RayCount, WeightedColor};
-use crate::accel::Accel;
+use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, reflect, surface_epsilon};
 use crate::scene::Scene;
 
@@ -52,7 +52,20 @@ impl<'a> Classic<'a> {
             return;
         }
         count.rays += 1;
-        let Some(hit) = self.accel.closest(&r.ray, f32::INFINITY) else {
+        let hit = self.accel.closest(&r.ray, f32::INFINITY);
+        self.shade(r, hit, depth, acc, count);
+    }
+
+    /// Adds the contributions of `r`, whose closest hit is `hit`, and its children.
+    fn shade(
+        &self,
+        r: ClassicRay,
+        hit: Option<Hit>,
+        depth: u32,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        let Some(hit) = hit else {
             return;
         };
         let p = r.ray.at(hit.t);
@@ -162,6 +175,28 @@ pub fn refract(d: Vec3, n: Vec3, ray_ior: f32, material_ior: f32) -> Option<(Vec
 }
 
 impl Integrator for Classic<'_> {
+    /// Shading draws nothing from the sampler: camera rays may be traced ahead.
+    const PACKETS: bool = true;
+
+    #[inline]
+    fn trace_camera_hit(
+        &self,
+        ray: Ray,
+        hit: Option<Hit>,
+        _sampler: &mut PixelSampler,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        let r = ClassicRay {
+            ray,
+            intensity: 1.0,
+            ior: self.camera_ior,
+        };
+        // What `trace` does at depth 0, with the closest hit already found.
+        count.rays += 1;
+        self.shade(r, hit, 0, acc, count);
+    }
+
     #[inline]
     fn trace_camera_ray(
         &self,

@@ -20,7 +20,7 @@ pub use settings::{
 pub use whitted::Whitted;
 
 use crate::Result;
-use crate::accel::Accel;
+use crate::accel::{Accel, Hit, PACKET_RAYS};
 use crate::film::Image;
 use crate::film::resample::{AxisWeights, resample_window};
 use crate::math::{Ray, Vec3};
@@ -68,6 +68,11 @@ pub struct RayCount {
 /// A shading model: what one camera ray adds to its pixel. `sampler` is the pixel's
 /// random stream (area lights draw from it), so the image does not depend on threads.
 pub trait Integrator: Sync {
+    /// Whether camera rays may be traced as packets ahead of their shading: true when
+    /// shading a camera ray draws nothing from the pixel's sampler, so generating a
+    /// pixel's rays first leaves every sample, and the image, as it was.
+    const PACKETS: bool = false;
+
     fn trace_camera_ray(
         &self,
         ray: Ray,
@@ -75,7 +80,26 @@ pub trait Integrator: Sync {
         acc: &mut WeightedColor,
         count: &mut RayCount,
     );
+
+    /// [`Integrator::trace_camera_ray`] with the ray's closest hit already found (in a
+    /// packet). Models that trace no packets need not override it.
+    fn trace_camera_hit(
+        &self,
+        ray: Ray,
+        _hit: Option<Hit>,
+        sampler: &mut PixelSampler,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        self.trace_camera_ray(ray, sampler, acc, count);
+    }
 }
+
+/// A ray to fill unused packet slots.
+const NO_RAY: Ray = Ray {
+    origin: Vec3::ZERO,
+    dir: Vec3::Z,
+};
 
 /// Figures of one render.
 #[derive(Clone, Copy, Debug)]
@@ -244,7 +268,7 @@ impl<'a> Renderer<'a> {
         match plan.integrator {
             IntegratorKind::Classic => {
                 let classic = Classic::new(self.scene, accel, plan.camera.medium_ior);
-                self.render_frame(&classic, start, progress)
+                self.render_frame(&classic, accel, start, progress)
             }
             IntegratorKind::Whitted => {
                 let surfaces = self.scene.resolved_surfaces();
@@ -255,15 +279,16 @@ impl<'a> Renderer<'a> {
                     plan.max_depth,
                     plan.min_weight,
                 );
-                self.render_frame(&whitted, start, progress)
+                self.render_frame(&whitted, accel, start, progress)
             }
         }
     }
 
     /// The band loop, for one shading model (static dispatch: one copy per model).
-    fn render_frame(
+    fn render_frame<I: Integrator>(
         &self,
-        integrator: &impl Integrator,
+        integrator: &I,
+        accel: &Accel,
         start: Instant,
         progress: &(dyn Fn(u64) + Sync),
     ) -> (Image, RenderStats) {
@@ -290,9 +315,15 @@ impl<'a> Renderer<'a> {
                         }
                         let y = lo + i as u32;
                         let mut count = RayCount::default();
-                        for (j, out) in row.iter_mut().enumerate() {
-                            let x = x_lo + j as u32;
-                            *out = self.pixel(integrator, &rays, x, y, &mut count).to_array();
+                        if I::PACKETS && rays.rays_per_pixel() == 1 {
+                            self.row_in_packets(integrator, accel, &rays, x_lo, y, row, &mut count);
+                        } else {
+                            for (j, out) in row.iter_mut().enumerate() {
+                                let x = x_lo + j as u32;
+                                *out = self
+                                    .pixel(integrator, accel, &rays, x, y, &mut count)
+                                    .to_array();
+                            }
                         }
                         total_rays.fetch_add(count.rays, Ordering::Relaxed);
                         progress(1);
@@ -321,10 +352,12 @@ impl<'a> Renderer<'a> {
     }
 
     /// Colour of supersampled pixel `(x, y)`: all its camera rays into one weighted mean.
+    /// Where the model allows, the lens rays go as packets, shaded in their order.
     #[inline]
-    fn pixel(
+    fn pixel<I: Integrator>(
         &self,
-        integrator: &impl Integrator,
+        integrator: &I,
+        accel: &Accel,
         rays: &CameraRays,
         x: u32,
         y: u32,
@@ -332,10 +365,81 @@ impl<'a> Renderer<'a> {
     ) -> Vec3 {
         let mut sampler = PixelSampler::new(self.plan.seed, x, y);
         let mut acc = WeightedColor::default();
+        if !I::PACKETS || rays.rays_per_pixel() == 1 {
+            rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
+                integrator.trace_camera_ray(ray, sampler, &mut acc, count)
+            });
+            return acc.mean();
+        }
+        let mut batch = [NO_RAY; PACKET_RAYS];
+        let mut n = 0;
         rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
-            integrator.trace_camera_ray(ray, sampler, &mut acc, count)
+            batch[n] = ray;
+            n += 1;
+            if n == PACKET_RAYS {
+                trace_packet(integrator, accel, &batch, sampler, &mut acc, count);
+                n = 0;
+            }
         });
+        trace_packet(
+            integrator,
+            accel,
+            &batch[..n],
+            &mut sampler,
+            &mut acc,
+            count,
+        );
         acc.mean()
+    }
+
+    /// One row of supersampled pixels with one camera ray each, eight neighbours to a
+    /// packet; each pixel keeps its own sampler, as in [`Renderer::pixel`].
+    #[allow(clippy::too_many_arguments)]
+    fn row_in_packets<I: Integrator>(
+        &self,
+        integrator: &I,
+        accel: &Accel,
+        rays: &CameraRays,
+        x_lo: u32,
+        y: u32,
+        row: &mut [[f32; 3]],
+        count: &mut RayCount,
+    ) {
+        let mut batch = [NO_RAY; PACKET_RAYS];
+        let mut hits = [None; PACKET_RAYS];
+        for (c, pixels) in row.chunks_mut(PACKET_RAYS).enumerate() {
+            let x0 = x_lo + (c * PACKET_RAYS) as u32;
+            let n = pixels.len();
+            for (i, ray) in batch[..n].iter_mut().enumerate() {
+                *ray = rays.pinhole(x0 + i as u32, y);
+            }
+            accel.closest_packet(&batch[..n], f32::INFINITY, &mut hits[..n]);
+            for (i, out) in pixels.iter_mut().enumerate() {
+                let x = x0 + i as u32;
+                let mut sampler = PixelSampler::new(self.plan.seed, x, y);
+                let mut acc = WeightedColor::default();
+                integrator.trace_camera_hit(batch[i], hits[i], &mut sampler, &mut acc, count);
+                *out = acc.mean().to_array();
+            }
+        }
+    }
+}
+
+/// Traces `batch` as one packet, then shades each ray in order.
+#[inline]
+fn trace_packet<I: Integrator>(
+    integrator: &I,
+    accel: &Accel,
+    batch: &[Ray],
+    sampler: &mut PixelSampler,
+    acc: &mut WeightedColor,
+    count: &mut RayCount,
+) {
+    let mut hits = [None; PACKET_RAYS];
+    let hits = &mut hits[..batch.len()];
+    accel.closest_packet(batch, f32::INFINITY, hits);
+    for (&ray, &hit) in batch.iter().zip(hits.iter()) {
+        integrator.trace_camera_hit(ray, hit, sampler, acc, count);
     }
 }
 
