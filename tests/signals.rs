@@ -122,3 +122,110 @@ fn a_signal_during_an_animation_keeps_whole_frames_and_a_rerun_finishes() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(out.is_file());
 }
+
+/// Resident memory of a running process, from /proc (Linux only; `None` elsewhere).
+fn resident_kib(child: &Child) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{}/status", child.id())).ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+#[test]
+fn a_million_frame_gif_renders_in_bounded_memory_and_stops_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    for f in ["example.objx", "example.mtlx", "example.cmr", "checker.ppm"] {
+        std::fs::copy(example(f), dir.path().join(f)).unwrap();
+    }
+    let anim = dir.path().join("long.toml");
+    std::fs::write(
+        &anim,
+        "scene = \"example.objx\"\ncamera = \"example.cmr\"\nframes = 1000000\nfps = 24\n\
+         [render]\nwidth = 8\nheight = 8\naa = 1\ndof_rays = 1\n",
+    )
+    .unwrap();
+    let out = dir.path().join("long.gif");
+    let child = prism()
+        .args(["animate", "--quiet"])
+        .args([&anim, &out])
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    // Hundreds of frames are done by now; memory must not grow with the film's length.
+    if let Some(kib) = resident_kib(&child) {
+        assert!(kib < 256 * 1024, "{kib} KiB resident");
+    }
+    send(&child, "INT");
+    assert_eq!(wait(child), Some(130));
+    assert!(!out.exists());
+    assert!(
+        leftovers(dir.path()).is_empty(),
+        "{:?}",
+        leftovers(dir.path())
+    );
+}
+
+/// A FIFO, `/dev/zero` or a folder named as a scene, a material library or a texture:
+/// refused by type at once (exit 2), never opened and waited on.
+#[test]
+fn fifos_devices_and_folders_in_a_scene_are_refused_without_waiting() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("skipped: mkfifo is not available");
+        return;
+    }
+    let scene = std::fs::read_to_string(example("example.objx")).unwrap();
+    let materials = std::fs::read_to_string(example("example.mtlx")).unwrap();
+    for f in ["example.cmr", "checker.ppm"] {
+        std::fs::copy(example(f), dir.path().join(f)).unwrap();
+    }
+    for bad in ["pipe", "/dev/zero", "."] {
+        for what in ["scene", "material library", "texture"] {
+            // The scene names its library, the library its texture: one of the three is
+            // the bad file.
+            let library = if what == "material library" {
+                bad
+            } else {
+                "lib.mtlx"
+            };
+            let texture = if what == "texture" {
+                bad
+            } else {
+                "checker.ppm"
+            };
+            std::fs::write(
+                dir.path().join("lib.mtlx"),
+                materials.replace("checker.ppm", texture),
+            )
+            .unwrap();
+            std::fs::write(
+                dir.path().join("ok.objx"),
+                scene.replace("example.mtlx", library),
+            )
+            .unwrap();
+            let scene_path = dir
+                .path()
+                .join(if what == "scene" { bad } else { "ok.objx" });
+            refused_at_once(&scene_path, &dir.path().join("example.cmr"), what, bad);
+        }
+    }
+}
+
+/// Renders `scene_path` expecting a refusal (exit 2, no output) within seconds.
+fn refused_at_once(scene_path: &Path, camera: &Path, what: &str, bad: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.png");
+    let child = prism()
+        .args(["render", "--quiet"])
+        .arg(scene_path)
+        .args([camera, &out])
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    assert_eq!(wait(child), Some(2), "{what} {bad}");
+    assert!(start.elapsed() < Duration::from_secs(10), "{what} {bad}");
+    assert!(!out.exists());
+}
