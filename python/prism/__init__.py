@@ -35,6 +35,7 @@ __all__ = [
     "animate",
     "load_scene",
     "render",
+    "restrict_paths",
     "show",
     "write_image",
 ]
@@ -53,6 +54,19 @@ def load_scene(path: Path, dialect: Optional[str] = None) -> Scene:
     ``column`` for malformed content, :class:`FileError` for a missing file.
     """
     return _prism.load_scene(path, dialect)
+
+
+def restrict_paths(folder: Path) -> None:
+    """Confines every later read of this process (scenes, meshes, materials, textures,
+    includes, animations) to ``folder``: a path leading outside it, after ``..`` and
+    symbolic links are resolved, raises :class:`FileError` or :class:`SceneError`.
+    For services rendering scene files from others, as ``prism --restrict-paths``.
+    It cannot be lifted: run each job in a process of its own (Ray workers are).
+
+    Raises :class:`SettingsError` if ``folder`` is not a folder or reads are already
+    restricted to another one.
+    """
+    _prism.restrict_paths(folder)
 
 
 def _progress_callback(progress: Progress, unit: str) -> Tuple[Optional[Callable], Callable]:

@@ -22,6 +22,13 @@ mod watch;
 
 use pyo3::prelude::*;
 
+/// Confines every later read of this process to `folder` (`prism --restrict-paths`).
+#[pyfunction]
+fn restrict_paths(py: Python<'_>, folder: std::path::PathBuf) -> PyResult<()> {
+    prism::format::file::restrict_reads_to(&folder)
+        .map_err(|e| errors::to_py(py, prism::Error::Settings(format!("restrict_paths: {e}"))))
+}
+
 #[pymodule]
 fn _prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::Scene>()?;
@@ -32,6 +39,7 @@ fn _prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(still::plan, m)?)?;
     m.add_function(wrap_pyfunction!(image::write_image, m)?)?;
     m.add_function(wrap_pyfunction!(image::encode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(restrict_paths, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -2,6 +2,7 @@
 
 import json
 import subprocess
+import sys
 
 import pytest
 
@@ -83,3 +84,28 @@ def test_a_missing_file_is_a_file_error(tmp_path):
         prism.load_scene(tmp_path / "none.objx")
     assert isinstance(caught.value, OSError)
     assert caught.value.file == str(tmp_path / "none.objx")
+
+
+def test_restricted_reads_refuse_files_outside_the_folder(tmp_path):
+    # A process of its own: the restriction lasts for the rest of the process.
+    jail = tmp_path / "jail"
+    jail.mkdir()
+    (tmp_path / "outside.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    (jail / "inside.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    script = f"""
+import prism
+prism.restrict_paths({str(jail)!r})
+prism.load_scene({str(jail / "inside.obj")!r})
+try:
+    prism.load_scene({str(tmp_path / "outside.obj")!r})
+except prism.PrismError as e:
+    assert "restricted to" in str(e), e
+    print("refused")
+try:
+    prism.restrict_paths({str(tmp_path)!r})
+except prism.SettingsError as e:
+    print("fixed")
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["refused", "fixed"]
