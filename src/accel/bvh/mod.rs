@@ -21,6 +21,7 @@ use crate::scene::Shape;
 use build::{BinaryBvh, MAX_DEPTH};
 use glam::Vec4;
 use packet::{Packet, PacketRay, padded_bounds};
+use rayon::prelude::*;
 use std::mem::MaybeUninit;
 
 /// Entries the traversal stack needs: each level pushes at most eight and pops one.
@@ -276,7 +277,7 @@ impl Bvh {
                 simd,
             };
         }
-        let boxes: Vec<Aabb> = shapes.iter().map(padded_bounds).collect();
+        let boxes: Vec<Aabb> = shapes.par_iter().map(padded_bounds).collect();
         let binary = build::build(&boxes);
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(binary.nodes.len() / 2 + 1),
