@@ -222,3 +222,148 @@ fn messages_quote_a_short_excerpt_of_huge_names() {
         assert!(all.contains("nnnnnnnnnn..."), "{all}");
     }
 }
+
+/// Bits into bytes, least significant first, as DEFLATE packs them.
+struct Bits {
+    bytes: Vec<u8>,
+    used: u32,
+}
+
+impl Bits {
+    fn put(&mut self, value: u32, count: u32) {
+        for k in 0..count {
+            if self.used.is_multiple_of(8) {
+                self.bytes.push(0);
+            }
+            let bit = (value >> k & 1) as u8;
+            *self.bytes.last_mut().unwrap() |= bit << (self.used % 8);
+            self.used += 1;
+        }
+    }
+
+    /// A Huffman code: sent most significant bit first.
+    fn code(&mut self, code: u32, len: u32) {
+        for k in (0..len).rev() {
+            self.put(code >> k & 1, 1);
+        }
+    }
+}
+
+/// A zlib stream of `n` zero bytes (n > 258) in a few bytes per 258: one literal 0,
+/// then copies of length 258 at distance 1 (fixed Huffman codes), then a shorter copy.
+fn zlib_zeros(n: usize) -> Vec<u8> {
+    let mut bits = Bits {
+        bytes: vec![0x78, 0x01],
+        used: 16,
+    };
+    bits.put(1, 1); // last block
+    bits.put(1, 2); // fixed Huffman codes
+    bits.code(0x30, 8); // literal 0
+    let mut left = n - 1;
+    while left > 0 {
+        let len = left.min(258);
+        let len = if left - len > 0 && left - len < 3 {
+            len - 3
+        } else {
+            len
+        };
+        match len {
+            258 => bits.code(0b1100_0101, 8),           // code 285
+            3..=10 => bits.code(len as u32 - 3 + 1, 7), // codes 257-264
+            _ => {
+                // Codes 265-284 carry extra bits; find the code whose range holds len.
+                let bases = [
+                    11, 13, 15, 17, 19, 23, 27, 31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195,
+                    227,
+                ];
+                let i = bases.iter().rposition(|&b| b <= len).unwrap();
+                let extra = (i / 4 + 1) as u32;
+                let code = 265 + i as u32;
+                if code <= 279 {
+                    bits.code(code - 256, 7);
+                } else {
+                    bits.code(code - 280 + 0b1100_0000, 8);
+                }
+                bits.put((len - bases[i]) as u32, extra);
+            }
+        }
+        bits.code(0, 5); // distance 1
+        left -= len;
+    }
+    bits.code(0, 7); // end of block
+    // Adler-32 of zeros: a = 1, b = n mod 65521.
+    let b = (n % 65521) as u32;
+    bits.bytes.extend_from_slice(&((b << 16) | 1).to_be_bytes());
+    bits.bytes
+}
+
+fn png_chunk(png: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
+    png.extend_from_slice(&(data.len() as u32).to_be_bytes());
+    png.extend_from_slice(kind);
+    png.extend_from_slice(data);
+    let crc = crc32(kind.iter().chain(data));
+    png.extend_from_slice(&crc.to_be_bytes());
+}
+
+fn crc32<'a>(bytes: impl Iterator<Item = &'a u8>) -> u32 {
+    let mut crc = !0u32;
+    for &b in bytes {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
+#[test]
+fn a_decompression_bomb_texture_is_refused_before_it_is_decoded() {
+    // A valid one-bit PNG of 22000 x 22000 pixels: 60 MB of zeros compressed to about
+    // 380 KB, and 1.9 GB as the RGBA texels a decoder would allocate.
+    let png = one_bit_png(22000, 22000);
+    assert!(png.len() < 500_000);
+
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("bomb.png"), &png).unwrap();
+    // The same encoder makes a small PNG that decodes: the bomb is a real image.
+    let small = one_bit_png(1000, 9);
+    let image = image::load_from_memory(&small).unwrap().to_luma8();
+    assert_eq!(image.dimensions(), (1000, 9));
+    assert!(image.pixels().all(|p| p.0 == [0]));
+    let scene = dir.path().join("bomb.toml");
+    fs::write(
+        &scene,
+        "[[material]]\nname = \"m\"\ntexture = \"bomb.png\"\n\n\
+         [[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out.png");
+    let start = std::time::Instant::now();
+    let o = run(prism()
+        .args(["render", "--width", "16", "--height", "16"])
+        .args([&scene, &out]));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("22000x22000"), "{err}");
+    assert!(err.contains("bomb.toml"), "{err}");
+    assert!(start.elapsed() < std::time::Duration::from_secs(10));
+    assert!(!out.exists());
+}
+
+/// A black one-bit greyscale PNG of `w` x `h` pixels.
+fn one_bit_png(w: u32, h: u32) -> Vec<u8> {
+    let row = 1 + w.div_ceil(8) as usize;
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = Vec::new();
+    ihdr.extend_from_slice(&w.to_be_bytes());
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[1, 0, 0, 0, 0]);
+    png_chunk(&mut png, b"IHDR", &ihdr);
+    png_chunk(&mut png, b"IDAT", &zlib_zeros(row * h as usize));
+    png_chunk(&mut png, b"IEND", &[]);
+    png
+}
