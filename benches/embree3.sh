@@ -117,8 +117,9 @@ print("|---|---:|---:|---:|---:|")
 threads = sorted({r["data"]["threads"] for r in rows})
 lines = [
     ("primary, closest hit, Mrays/s: rtcIntersect1", "primary_mrays", "intersect1_mrays", 1),
-    ("primary, closest hit, Mrays/s: rtcIntersect16, 4x4 tiles", "primary_mrays", "intersect16_mrays", 1),
+    ("primary, Prism packets of 8 (4x2 tiles) vs rtcIntersect16 (4x4 tiles), Mrays/s", "primary_packet_mrays", "intersect16_mrays", 1),
     ("shadow, any hit, Mrays/s: rtcOccluded1", "shadow_mrays", "occluded1_mrays", 1),
+    ("shadow, Prism packets of a tile's hits vs rtcOccluded1, Mrays/s", "shadow_packet_mrays", "occluded1_mrays", 1),
     ("build, ms (time: above 1 is slower)", "build_s", "build_s", 1000),
 ]
 for label, pkey, ekey, scale in lines:
