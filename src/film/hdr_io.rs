@@ -183,8 +183,16 @@ fn read_up_to(reader: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> 
     Ok(n)
 }
 
-/// Refuses `width × height` images above `max` pixels, with both numbers in the message.
+/// Refuses empty images, and `width × height` images above `max` pixels with both
+/// numbers in the message.
 fn check_size(path: &Path, width: u64, height: u64, max: u64) -> Result<()> {
+    // Radiance headers may say `-Y 0`; an image without texels cannot be sampled.
+    if width == 0 || height == 0 {
+        return Err(Error::file(
+            path,
+            format!("the image is empty ({width}x{height})"),
+        ));
+    }
     if width.saturating_mul(height) > max {
         return Err(too_large(
             path,
@@ -211,6 +219,9 @@ fn read_exr(mut reader: impl BufRead + Seek, path: &Path, max_pixels: u64) -> Re
     match sizes[..] {
         [(w, h)] => check_size(path, w, h, max_pixels)?,
         _ => {
+            for &(w, h) in &sizes {
+                check_size(path, w, h, max_pixels)?;
+            }
             let total = sizes
                 .iter()
                 .fold(0u64, |t, &(w, h)| t.saturating_add(w.saturating_mul(h)));
@@ -248,7 +259,7 @@ fn read_exr(mut reader: impl BufRead + Seek, path: &Path, max_pixels: u64) -> Re
     let layer = exr_image.layer_data;
     let exr_img::Vec2(w, h) = layer.size;
     let (_, pixels) = layer.channel_data.pixels;
-    // Both fit in u32: the product is at most the limit, itself far below 2^32.
+    // Both fit in u32: neither is 0, and their product is within the limit (2^28 at most).
     Ok(Image::new(w as u32, h as u32, pixels))
 }
 
@@ -310,6 +321,12 @@ mod tests {
             "{e}"
         );
         assert!(check_size(p, u64::MAX, u64::MAX, MAX_LINEAR_PIXELS).is_err());
+        for (w, h) in [(8, 0), (0, 8), (0, 0)] {
+            let e = check_size(p, w, h, MAX_LINEAR_PIXELS)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(&format!("empty ({w}x{h})")), "{e}");
+        }
     }
 
     use crate::film::{OutputOptions, write_image_with};

@@ -253,6 +253,15 @@ mod tests {
     }
 
     #[test]
+    fn an_empty_radiance_image_is_refused() {
+        // fuzz/findings/texture-radiance-height-0.hdr: the header says 8x0, and sampling a
+        // texture without rows would panic.
+        let bytes = b"#?RADIANCE\n\n-Y 0 +X 8";
+        let e = decode_texture(bytes, "t.hdr", Encoding::Linear, MAX_TEXTURE_PIXELS).unwrap_err();
+        assert_eq!(e, "the image is empty (8x0)");
+    }
+
+    #[test]
     fn tga_files_load_by_their_extension() {
         // TGA has no signature, so its content alone does not name the format.
         let dir = tempfile::tempdir().unwrap();
