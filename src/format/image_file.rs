@@ -107,6 +107,7 @@ pub fn decode_image(
     name: &str,
     max_pixels: u64,
 ) -> Result<image::DynamicImage, String> {
+    check_png_palette(bytes)?;
     let open = || {
         let mut reader = image::ImageReader::new(Cursor::new(bytes))
             .with_guessed_format()
@@ -131,6 +132,28 @@ pub fn decode_image(
     limits.max_alloc = Some(max_pixels.saturating_mul(16));
     reader.limits(limits);
     reader.decode().map_err(|e| e.to_string())
+}
+
+/// Refuses a PNG whose palette is not whole RGB entries: png 0.18.1 accepts a PLTE chunk
+/// of any length from 3 to 768 bytes and then panics expanding one of, say, 16
+/// (image-rs/image-png#694). Only the chunk headers are read.
+fn check_png_palette(bytes: &[u8]) -> Result<(), String> {
+    let Some(mut rest) = bytes.strip_prefix(b"\x89PNG\r\n\x1a\n".as_slice()) else {
+        return Ok(());
+    };
+    while let Some((head, _)) = rest.split_first_chunk::<8>() {
+        let len = u32::from_be_bytes([head[0], head[1], head[2], head[3]]) as usize;
+        if &head[4..] == b"PLTE" && !len.is_multiple_of(3) {
+            return Err(format!(
+                "invalid PNG: its palette (PLTE) has {len} bytes, not a whole number of RGB \
+                 entries"
+            ));
+        }
+        // Length, type, data and CRC; past the end is the end.
+        let next = len.saturating_add(12);
+        rest = rest.get(next..).unwrap_or_default();
+    }
+    Ok(())
 }
 
 fn check_size(width: u32, height: u32, max_pixels: u64) -> Result<(), String> {
@@ -259,6 +282,49 @@ mod tests {
         let bytes = b"#?RADIANCE\n\n-Y 0 +X 8";
         let e = decode_texture(bytes, "t.hdr", Encoding::Linear, MAX_TEXTURE_PIXELS).unwrap_err();
         assert_eq!(e, "the image is empty (8x0)");
+    }
+
+    #[test]
+    fn a_png_palette_of_partial_entries_is_refused() {
+        // fuzz/findings/texture-png-palette-of-16-bytes.png: png 0.18.1 panics expanding a
+        // palette whose length is not a multiple of 3.
+        let png = |palette: &[u8]| {
+            let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+            // 2x2, 8-bit indices 0 1 / 1 0, in a stored (uncompressed) zlib stream.
+            let rows = [0u8, 0, 1, 0, 1, 0];
+            let mut idat = vec![0x78, 0x01, 0x01, 6, 0, !6, 0xff];
+            idat.extend_from_slice(&rows);
+            let (a, b) = rows.iter().fold((1u32, 0u32), |(a, b), &x| {
+                let a = (a + u32::from(x)) % 65521;
+                (a, (b + a) % 65521)
+            });
+            idat.extend_from_slice(&(b << 16 | a).to_be_bytes());
+            let ihdr = [0, 0, 0, 2, 0, 0, 0, 2, 8, 3, 0, 0, 0];
+            for (kind, data) in [
+                (b"IHDR", &ihdr[..]),
+                (b"PLTE", palette),
+                (b"IDAT", &idat),
+                (b"IEND", &[]),
+            ] {
+                png.extend_from_slice(&(data.len() as u32).to_be_bytes());
+                png.extend_from_slice(kind);
+                png.extend_from_slice(data);
+                png.extend_from_slice(&crc32(kind, data).to_be_bytes());
+            }
+            png
+        };
+        let whole = decode_texture(&png(&[255, 0, 0, 0, 0, 255]), "p.png", Encoding::Linear, 4);
+        assert_eq!(
+            whole.unwrap().texel(1, 0),
+            glam::Vec4::new(0.0, 0.0, 1.0, 1.0)
+        );
+        for len in [4, 16, 767] {
+            let e = decode_texture(&png(&vec![9; len]), "p.png", Encoding::Linear, 4).unwrap_err();
+            assert!(
+                e.contains(&format!("palette (PLTE) has {len} bytes")),
+                "{e}"
+            );
+        }
     }
 
     #[test]
