@@ -200,6 +200,12 @@ fn fuzz_findings_are_refused_cleanly() {
             continue;
         }
         seen += 1;
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if TEXTURE_EXTENSIONS.contains(&ext) {
+            // Scene files name textures; `prism info` would read this one as a scene.
+            texture_is_refused_or_whole(&path);
+            continue;
+        }
         let out = prism().arg("info").arg(&path).output().unwrap();
         let code = out.status.code();
         assert!(
@@ -212,6 +218,31 @@ fn fuzz_findings_are_refused_cleanly() {
         assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
     }
     assert!(seen > 0, "no findings in {}", dir.display());
+}
+
+/// Extensions of the image files that `fuzz/findings` may hold, from the `texture` target.
+const TEXTURE_EXTENSIONS: [&str; 8] = ["png", "jpg", "bmp", "tga", "ppm", "hdr", "exr", "tex"];
+
+/// The `texture` fuzz target's property: reading `path` as a texture is an error, or a
+/// non-empty texture within the limit with one texel per pixel.
+fn texture_is_refused_or_whole(path: &Path) {
+    use prism::format::image_file::{Encoding, MAX_TEXTURE_PIXELS, read_texture};
+    use prism::scene::Texels;
+    let Ok(texture) = read_texture(path, Encoding::Linear) else {
+        return;
+    };
+    let pixels = u64::from(texture.width) * u64::from(texture.height);
+    let texels = match &texture.texels {
+        Texels::Rgba8 { texels, .. } => texels.len(),
+        Texels::RgbaF32(texels) => texels.len(),
+    };
+    assert!(
+        pixels > 0 && pixels <= MAX_TEXTURE_PIXELS && texels as u64 == pixels,
+        "{}: {}x{}, {texels} texels",
+        path.display(),
+        texture.width,
+        texture.height
+    );
 }
 
 #[cfg(target_os = "linux")]

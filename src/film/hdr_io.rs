@@ -11,8 +11,7 @@ use super::Image;
 use crate::{Error, Result};
 use exr::prelude::{self as exr_img, ReadChannels, ReadLayers, WritableImage};
 use std::fmt;
-use std::fs::File;
-use std::io::{BufReader, Read, Seek, Write};
+use std::io::{BufRead, BufReader, Read, Seek, Write};
 use std::path::Path;
 use std::str::FromStr;
 
@@ -131,15 +130,28 @@ const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 /// its largest resolution level; its data window becomes the image.
 pub fn read_linear_image(path: &Path) -> Result<Image> {
     let cannot_read = |e: &dyn fmt::Display| Error::file(path, format!("cannot read: {e}"));
-    let mut file = crate::format::file::open_regular(path).map_err(|e| cannot_read(&e))?;
+    let file = crate::format::file::open_regular(path).map_err(|e| cannot_read(&e))?;
+    decode_linear_image(BufReader::new(file), path, MAX_LINEAR_PIXELS)
+}
+
+/// Decodes an OpenEXR or Radiance HDR image from `reader`, as [`read_linear_image`]
+/// does, refusing it from its header when it has more than `max_pixels`. `path` names
+/// the file in errors. Textures decode their files' bytes through here, with their own
+/// limit.
+pub fn decode_linear_image(
+    mut reader: impl BufRead + Seek,
+    path: &Path,
+    max_pixels: u64,
+) -> Result<Image> {
+    let cannot_read = |e: &dyn fmt::Display| Error::file(path, format!("cannot read: {e}"));
     let mut signature = [0u8; 10];
-    let n = read_up_to(&mut file, &mut signature).map_err(|e| cannot_read(&e))?;
-    file.rewind().map_err(|e| cannot_read(&e))?;
+    let n = read_up_to(&mut reader, &mut signature).map_err(|e| cannot_read(&e))?;
+    reader.rewind().map_err(|e| cannot_read(&e))?;
     let signature = &signature[..n];
     let mut image = if signature.starts_with(&EXR_MAGIC) {
-        read_exr(file, path)?
+        read_exr(reader, path, max_pixels)?
     } else if signature.starts_with(b"#?RADIANCE") || signature.starts_with(b"#?RGBE") {
-        read_hdr(file, path)?
+        read_hdr(reader, path, max_pixels)?
     } else {
         return Err(Error::file(
             path,
@@ -153,11 +165,11 @@ pub fn read_linear_image(path: &Path) -> Result<Image> {
     Ok(image)
 }
 
-/// Fills as much of `buf` as the file has.
-fn read_up_to(file: &mut File, buf: &mut [u8]) -> std::io::Result<usize> {
+/// Fills as much of `buf` as the reader has.
+fn read_up_to(reader: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
     let mut n = 0;
     while n < buf.len() {
-        match file.read(&mut buf[n..])? {
+        match reader.read(&mut buf[n..])? {
             0 => break,
             k => n += k,
         }
@@ -165,37 +177,51 @@ fn read_up_to(file: &mut File, buf: &mut [u8]) -> std::io::Result<usize> {
     Ok(n)
 }
 
-/// Refuses `width × height` images above the limit, with both numbers in the message.
-fn check_size(path: &Path, width: u64, height: u64) -> Result<()> {
-    if width.saturating_mul(height) > MAX_LINEAR_PIXELS {
-        return Err(too_large(path, format!("image of {width}x{height} pixels")));
+/// Refuses empty images, and `width × height` images above `max` pixels with both
+/// numbers in the message.
+fn check_size(path: &Path, width: u64, height: u64, max: u64) -> Result<()> {
+    // Radiance headers may say `-Y 0`; an image without texels cannot be sampled.
+    if width == 0 || height == 0 {
+        return Err(Error::file(
+            path,
+            format!("the image is empty ({width}x{height})"),
+        ));
+    }
+    if width.saturating_mul(height) > max {
+        return Err(too_large(
+            path,
+            format!("image of {width}x{height} pixels"),
+            max,
+        ));
     }
     Ok(())
 }
 
-fn too_large(path: &Path, what: String) -> Error {
+fn too_large(path: &Path, what: String, max: u64) -> Error {
     Error::file(
         path,
-        format!("{what} is too large: expected at most {MAX_LINEAR_PIXELS} pixels"),
+        format!("{what} is too large: expected at most {max} pixels"),
     )
 }
 
-fn read_exr(file: File, path: &Path) -> Result<Image> {
+fn read_exr(mut reader: impl BufRead + Seek, path: &Path, max_pixels: u64) -> Result<Image> {
     let invalid = |e: exr::error::Error| Error::file(path, format!("invalid OpenEXR file: {e}"));
-    let mut reader = BufReader::new(file);
     let meta = exr_img::MetaData::read_from_buffered(&mut reader, false).map_err(invalid)?;
     // Every part counts: the reader may hold chunks of all of them.
     let sizes = meta.headers.iter().map(|h| h.layer_size);
     let sizes: Vec<(u64, u64)> = sizes.map(|s| (s.0 as u64, s.1 as u64)).collect();
     match sizes[..] {
-        [(w, h)] => check_size(path, w, h)?,
+        [(w, h)] => check_size(path, w, h, max_pixels)?,
         _ => {
+            for &(w, h) in &sizes {
+                check_size(path, w, h, max_pixels)?;
+            }
             let total = sizes
                 .iter()
                 .fold(0u64, |t, &(w, h)| t.saturating_add(w.saturating_mul(h)));
-            if total > MAX_LINEAR_PIXELS {
+            if total > max_pixels {
                 let what = format!("OpenEXR file of {} parts and {total} pixels", sizes.len());
-                return Err(too_large(path, what));
+                return Err(too_large(path, what, max_pixels));
             }
         }
     }
@@ -227,17 +253,17 @@ fn read_exr(file: File, path: &Path) -> Result<Image> {
     let layer = exr_image.layer_data;
     let exr_img::Vec2(w, h) = layer.size;
     let (_, pixels) = layer.channel_data.pixels;
-    // Both fit in u32: the product is at most MAX_LINEAR_PIXELS.
+    // Both fit in u32: neither is 0, and their product is within the limit (2^28 at most).
     Ok(Image::new(w as u32, h as u32, pixels))
 }
 
-fn read_hdr(file: File, path: &Path) -> Result<Image> {
+fn read_hdr(reader: impl BufRead + Seek, path: &Path, max_pixels: u64) -> Result<Image> {
     use image::ImageDecoder;
     let invalid =
         |e: image::ImageError| Error::file(path, format!("invalid Radiance HDR file: {e}"));
-    let decoder = image::codecs::hdr::HdrDecoder::new(BufReader::new(file)).map_err(invalid)?;
+    let decoder = image::codecs::hdr::HdrDecoder::new(reader).map_err(invalid)?;
     let (width, height) = decoder.dimensions();
-    check_size(path, width.into(), height.into())?;
+    check_size(path, width.into(), height.into(), max_pixels)?;
     let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
     // The decoder writes native-endian f32 RGB, which is the layout of `[f32; 3]`.
     decoder
@@ -280,13 +306,21 @@ mod tests {
     #[test]
     fn size_limit_names_both_numbers() {
         let p = Path::new("big.exr");
-        assert!(check_size(p, 16384, 16384).is_ok());
-        let e = check_size(p, 16385, 16384).unwrap_err().to_string();
+        assert!(check_size(p, 16384, 16384, MAX_LINEAR_PIXELS).is_ok());
+        let e = check_size(p, 16385, 16384, MAX_LINEAR_PIXELS)
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("16385x16384") && e.contains("at most 268435456"),
             "{e}"
         );
-        assert!(check_size(p, u64::MAX, u64::MAX).is_err());
+        assert!(check_size(p, u64::MAX, u64::MAX, MAX_LINEAR_PIXELS).is_err());
+        for (w, h) in [(8, 0), (0, 8), (0, 0)] {
+            let e = check_size(p, w, h, MAX_LINEAR_PIXELS)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(&format!("empty ({w}x{h})")), "{e}");
+        }
     }
 
     use crate::film::{OutputOptions, write_image_with};
