@@ -13,6 +13,7 @@ use crate::scene::{
     TextureSlot, Triangle,
 };
 use crate::{Error, Result};
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -42,16 +43,37 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
         scene.materials.push(material);
         scene.surfaces.push(surface);
     }
+    // One pass over the triangles finds what they use.
+    let (any_default, any_vn, any_vt) = obj
+        .triangles
+        .par_iter()
+        .map(|t| (t.material.is_none(), t.vn.is_some(), t.vt.is_some()))
+        .reduce(
+            || (false, false, false),
+            |a, b| (a.0 || b.0, a.1 || b.1, a.2 || b.2),
+        );
     let default_material = scene.materials.len() as u32;
-    if obj.triangles.iter().any(|t| t.material.is_none()) {
+    if any_default {
         scene.materials.push(Material::default_white());
         scene.surfaces.push(Surface::default());
     }
 
-    // Triangles, and the attributes they carry.
+    // Triangles, and the attributes they carry. Shapes are independent of each other;
+    // the attributes a face lacks are appended in file order, so they stay on one thread.
     let n = obj.triangles.len();
-    scene.shapes.reserve_exact(n);
-    scene.material_of.reserve_exact(n);
+    let positions = &obj.positions;
+    obj.triangles
+        .par_iter()
+        .map(|t| {
+            Shape::Triangle(Triangle {
+                v: t.v.map(|i| positions[i as usize]),
+            })
+        })
+        .collect_into_vec(&mut scene.shapes);
+    obj.triangles
+        .par_iter()
+        .map(|t| t.material.unwrap_or(default_material))
+        .collect_into_vec(&mut scene.material_of);
     let mut mesh = MeshAttributes {
         first_shape: 0,
         len: n as u32,
@@ -59,22 +81,21 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
         texcoords: obj.texcoords,
         ..MeshAttributes::default()
     };
-    let any_vn = obj.triangles.iter().any(|t| t.vn.is_some());
-    let any_vt = obj.triangles.iter().any(|t| t.vt.is_some());
-    let has_colors = !obj.colors.is_empty();
-    for t in &obj.triangles {
-        let v = t.v.map(|i| obj.positions[i as usize]);
-        let tri = Triangle { v };
-        if any_vn {
+    if any_vn {
+        mesh.normal_indices.reserve_exact(n);
+        for (t, shape) in obj.triangles.iter().zip(&scene.shapes) {
             // Faces without normals keep their flat one: a normal of their own.
             let vn = t.vn.unwrap_or_else(|| {
                 let i = mesh.normals.len() as u32;
-                mesh.normals.push(Shape::Triangle(tri).normal(v[0]));
+                mesh.normals.push(shape.normal(positions[t.v[0] as usize]));
                 [i; 3]
             });
             mesh.normal_indices.push(vn);
         }
-        if any_vt {
+    }
+    if any_vt {
+        mesh.texcoord_indices.reserve_exact(n);
+        for t in &obj.triangles {
             let vt = t.vt.unwrap_or_else(|| {
                 let i = mesh.texcoords.len() as u32;
                 mesh.texcoords.push([0.0, 0.0]);
@@ -82,10 +103,13 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
             });
             mesh.texcoord_indices.push(vt);
         }
-        if has_colors {
-            mesh.color_indices.push(t.v);
-        }
-        scene.push_shape(Shape::Triangle(tri), t.material.unwrap_or(default_material));
+    }
+    let has_colors = !obj.colors.is_empty();
+    if has_colors {
+        obj.triangles
+            .par_iter()
+            .map(|t| t.v)
+            .collect_into_vec(&mut mesh.color_indices);
     }
     if !any_vn {
         mesh.normals.clear();

@@ -6,6 +6,7 @@
 //! they are kept, and no line is copied unless it continues onto the next one.
 
 use std::borrow::Cow;
+use std::ops::Range;
 use std::path::Path;
 
 use crate::{Error, Result};
@@ -97,9 +98,15 @@ pub struct Line<'l> {
 
 impl<'a> Lines<'a> {
     pub fn new(text: &'a [u8]) -> Lines<'a> {
+        Lines::numbered_from(text, 1)
+    }
+
+    /// Lines of a piece of a file that starts at line `first`: places still name the
+    /// file's lines.
+    pub fn numbered_from(text: &'a [u8], first: usize) -> Lines<'a> {
         Lines {
             rest: text,
-            next_number: 1,
+            next_number: first,
             joined: Vec::new(),
             segments: Vec::new(),
         }
@@ -185,6 +192,11 @@ impl Line<'_> {
         (number, column)
     }
 
+    /// Whether the line was joined from several physical lines.
+    pub fn is_joined(&self) -> bool {
+        !self.segments.is_empty()
+    }
+
     pub fn tokens(&self) -> Tokens<'_> {
         Tokens {
             text: self.text,
@@ -242,6 +254,53 @@ impl<'l> Tokens<'l> {
     pub fn offset(&self) -> usize {
         self.pos
     }
+}
+
+/// Cuts text into pieces of about `step` bytes that [`Lines`] reads as it reads the
+/// whole: each cut follows a `\n` ending a physical line that does not continue. The
+/// pieces cover the text in order; the last may be short.
+pub fn piece_ranges(text: &[u8], step: usize) -> Vec<Range<usize>> {
+    let mut pieces = Vec::new();
+    let mut start = 0;
+    while start < text.len() {
+        // The first byte a cut may follow.
+        let mut from = start + step.max(1) - 1;
+        let end = loop {
+            let Some(i) = text
+                .get(from..)
+                .and_then(|rest| rest.iter().position(|&b| b == b'\n'))
+            else {
+                break text.len();
+            };
+            let newline = from + i;
+            let line_start = text[start..newline]
+                .iter()
+                .rposition(|&b| b == b'\n')
+                .map_or(start, |j| start + j + 1);
+            if !continues(&text[line_start..newline]) {
+                break newline + 1;
+            }
+            from = newline + 1;
+        };
+        pieces.push(start..end);
+        start = end;
+    }
+    pieces
+}
+
+/// Whether a physical line (without its `\n`) goes on to the next, as
+/// [`Lines::physical`] decides it: a comment anywhere stops it.
+fn continues(line: &[u8]) -> bool {
+    !line.contains(&b'#') && line.strip_suffix(b"\r").unwrap_or(line).ends_with(b"\\")
+}
+
+/// How many `\n` the bytes hold. A block of 255 bytes cannot overflow a u8 count, and
+/// a count kept in one byte is what the compiler turns into 16 bytes an instruction.
+pub fn count_newlines(bytes: &[u8]) -> usize {
+    bytes
+        .chunks(255)
+        .map(|block| block.iter().fold(0u8, |n, &b| n + (b == b'\n') as u8) as usize)
+        .sum()
 }
 
 /// The first `\n` or `#` in `bytes`, eight bytes at a time.
@@ -433,6 +492,42 @@ mod tests {
         let line = lines.next_line().unwrap();
         let offsets: Vec<_> = line.tokens().map(|t| line.place(t.start)).collect();
         assert_eq!(offsets, [(1, 1), (1, 3), (2, 3), (3, 1)]);
+    }
+
+    #[test]
+    fn pieces_read_as_the_whole_wherever_they_are_cut() {
+        let text = "v 1 2 3 # tail \\\r\nf 1 \\\n 2 \\\r\n3\n\n# only \\\nx \\ # not\ng a\\\n\\\n b\r\nv 1\\";
+        let whole = logical(text);
+        for step in 1..text.len() + 2 {
+            let ranges = piece_ranges(text.as_bytes(), step);
+            let mut at = 0;
+            let mut read = Vec::new();
+            for range in ranges {
+                assert_eq!(range.start, at, "{step}");
+                assert!(range.end > range.start);
+                at = range.end;
+                let piece = &text.as_bytes()[range.clone()];
+                let first = 1 + count_newlines(&text.as_bytes()[..range.start]);
+                let mut lines = Lines::numbered_from(piece, first);
+                while let Some(line) = lines.next_line() {
+                    read.push((line.number, String::from_utf8_lossy(line.text).into_owned()));
+                }
+            }
+            assert_eq!(at, text.len());
+            assert_eq!(read, whole, "pieces of {step} bytes");
+        }
+        assert!(piece_ranges(b"", 4).is_empty());
+    }
+
+    #[test]
+    fn newlines_are_counted_in_blocks_and_remainders() {
+        let text: Vec<u8> = (0..10_000u32)
+            .map(|i| if i % 7 == 0 { b'\n' } else { b'a' })
+            .collect();
+        for len in [0, 1, 15, 16, 17, 4079, 4080, 4081, 10_000] {
+            let expected = text[..len].iter().filter(|&&b| b == b'\n').count();
+            assert_eq!(count_newlines(&text[..len]), expected, "{len}");
+        }
     }
 
     #[test]

@@ -1,6 +1,9 @@
 //! The OBJ statement reader: one pass over the lines, then the checks and fix-ups that
 //! need the whole file (forward references, deferred polygons, material names,
-//! smoothing normals).
+//! smoothing normals). Large files are read in pieces on every thread ([`parallel`]),
+//! to the same result.
+
+mod parallel;
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -12,6 +15,7 @@ use super::{GroupKind, ObjFile, ObjGroup, ObjTriangle, Warning};
 use crate::format::mtl;
 use crate::math::Vec3;
 use crate::{Error, Result};
+use rayon::prelude::*;
 
 /// Past this many, warnings are counted in one last warning instead of kept: a file of
 /// a million bad faces should not hold a million messages.
@@ -27,41 +31,37 @@ pub struct Options<'r> {
     pub smooth: bool,
 }
 
+/// Reads OBJ text; `path` names it in errors.
 pub fn read(text: &[u8], path: &Path, options: Options) -> Result<ObjFile> {
     let text = lines::without_bom(text);
-    let mut reader = Reader {
-        path,
-        folder: path.parent().unwrap_or(Path::new("")).to_path_buf(),
-        options,
-        obj: ObjFile::default(),
-        suppressed_warnings: 0,
-        corners: Vec::new(),
-        polygon: Vec::new(),
-        local: Vec::new(),
-        triangulator: Triangulator::default(),
-        forward: Default::default(),
-        deferred: Vec::new(),
-        deferred_corners: Vec::new(),
-        smoothing: 0,
-        material: None,
-        material_names: Vec::new(),
-        material_ids: HashMap::new(),
-        usemtl_lines: Vec::new(),
-        material_index: HashMap::new(),
-        libraries_read: HashSet::new(),
-        run: Run {
-            name: String::new(),
-            kind: GroupKind::Group,
-            first: 0,
-        },
-        skipped_first_line: BTreeMap::new(),
-        mixed_face_warned: [false; 2],
-    };
-    let mut lines = Lines::new(&text);
+    if parallel::worth_it(&text) {
+        let step = parallel::piece_bytes(text.len());
+        return parallel::read(&text, path, options, step);
+    }
+    read_in_order(&text, path, options)
+}
+
+/// Reads on this thread alone, statement after statement.
+fn read_in_order(text: &[u8], path: &Path, options: Options) -> Result<ObjFile> {
+    let mut reader = Reader::new(path, options);
+    let mut lines = Lines::new(text);
     while let Some(line) = lines.next_line() {
         reader.statement(&line)?;
     }
     reader.finish()
+}
+
+/// Reads `text` (without its byte-order mark) as [`read`] does on more than one thread,
+/// cut into pieces of about `step` bytes however short the text.
+#[cfg(test)]
+fn read_in_pieces(text: &[u8], path: &Path, options: Options, step: usize) -> Result<ObjFile> {
+    parallel::read(text, path, options, step)
+}
+
+/// Reads `text` (without its byte-order mark) as [`read`] does on one thread.
+#[cfg(test)]
+fn read_in_one_piece(text: &[u8], path: &Path, options: Options) -> Result<ObjFile> {
+    read_in_order(text, path, options)
 }
 
 /// The kinds of index a face corner holds.
@@ -175,10 +175,42 @@ const SKIPPED_KEYWORDS: &[&str] = &[
     "vw",
 ];
 
+impl<'p, 'r> Reader<'p, 'r> {
+    fn new(path: &'p Path, options: Options<'r>) -> Reader<'p, 'r> {
+        Reader {
+            path,
+            folder: path.parent().unwrap_or(Path::new("")).to_path_buf(),
+            options,
+            obj: ObjFile::default(),
+            suppressed_warnings: 0,
+            corners: Vec::new(),
+            polygon: Vec::new(),
+            local: Vec::new(),
+            triangulator: Triangulator::default(),
+            forward: Default::default(),
+            deferred: Vec::new(),
+            deferred_corners: Vec::new(),
+            smoothing: 0,
+            material: None,
+            material_names: Vec::new(),
+            material_ids: HashMap::new(),
+            usemtl_lines: Vec::new(),
+            material_index: HashMap::new(),
+            libraries_read: HashSet::new(),
+            run: Run {
+                name: String::new(),
+                kind: GroupKind::Group,
+                first: 0,
+            },
+            skipped_first_line: BTreeMap::new(),
+            mixed_face_warned: [false; 2],
+        }
+    }
+}
+
 impl Reader<'_, '_> {
     fn error(&self, line: &Line, offset: usize, message: impl Into<String>) -> Error {
-        let (number, column) = line.place(offset);
-        Error::parse_at(self.path, number, column, message)
+        error_at(self.path, line, offset, message)
     }
 
     fn warn(&mut self, line: usize, message: impl Into<String>) {
@@ -198,33 +230,54 @@ impl Reader<'_, '_> {
             return Ok(());
         };
         match keyword.bytes {
-            b"v" => self.position(line, tokens),
-            b"vt" => self.texcoord(line, tokens),
-            b"vn" => self.normal(line, tokens),
-            b"f" | b"fo" => self.face(line, tokens),
-            b"o" => self.start_run(GroupKind::Object, tokens),
-            b"g" => self.start_run(GroupKind::Group, tokens),
-            b"s" => self.smoothing_group(line, keyword, tokens),
-            b"usemtl" => {
-                self.use_material(line, keyword);
+            b"v" => {
+                let (values, count) = parse_position(self.path, line, tokens)?;
+                push_position(&mut self.obj.positions, &mut self.obj.colors, values, count);
                 Ok(())
             }
-            b"mtllib" => self.material_libraries(line, keyword),
+            b"vt" => {
+                let uv = parse_texcoord(self.path, line, tokens)?;
+                self.obj.texcoords.push(uv);
+                Ok(())
+            }
+            b"vn" => {
+                let n = parse_normal(self.path, line, tokens)?;
+                self.obj.normals.push(n);
+                Ok(())
+            }
+            b"f" | b"fo" => self.face(line, tokens),
+            b"o" => {
+                self.start_run(
+                    GroupKind::Object,
+                    run_name(tokens),
+                    self.obj.triangles.len(),
+                );
+                Ok(())
+            }
+            b"g" => {
+                self.start_run(GroupKind::Group, run_name(tokens), self.obj.triangles.len());
+                Ok(())
+            }
+            b"s" => {
+                self.smoothing = parse_smoothing(self.path, line, keyword, tokens)?;
+                Ok(())
+            }
+            b"usemtl" => {
+                self.use_material(
+                    line.rest_from(keyword.start + keyword.bytes.len()),
+                    line.number,
+                );
+                Ok(())
+            }
+            b"mtllib" => {
+                let rest = line.rest_from(keyword.start + keyword.bytes.len());
+                self.material_libraries(rest, line.number)
+            }
             other => {
-                let kind = match std::str::from_utf8(other) {
-                    Ok(k) if SKIPPED_KEYWORDS.contains(&k) => k,
-                    _ => "unknown",
-                };
+                let kind = skipped_kind(other);
                 *self.obj.skipped.entry(kind.to_owned()).or_insert(0) += 1;
                 if kind == "unknown" && !self.skipped_first_line.contains_key(kind) {
-                    self.warn(
-                        line.number,
-                        format!(
-                            "unknown statement {} skipped (the count of unknown statements \
-                             is in the summary)",
-                            shown(other)
-                        ),
-                    );
+                    self.warn(line.number, unknown_message(other));
                 }
                 self.skipped_first_line
                     .entry(kind.to_owned())
@@ -232,136 +285,6 @@ impl Reader<'_, '_> {
                 Ok(())
             }
         }
-    }
-
-    /// The next token as a finite f32, or an error naming `what` was expected there.
-    fn number(&self, line: &Line, token: Token, what: &str) -> Result<f32> {
-        number(self.path, line, token, what)
-    }
-
-    fn position(&mut self, line: &Line, tokens: Tokens) -> Result<()> {
-        const WHAT: [&str; 6] = [
-            "the x coordinate",
-            "the y coordinate",
-            "the z coordinate",
-            "w (or the red of a vertex colour)",
-            "the green of the vertex colour",
-            "the blue of the vertex colour",
-        ];
-        let mut values = [0.0f32; 6];
-        let mut count = 0;
-        let mut end = tokens.offset();
-        for token in tokens {
-            if count == values.len() {
-                return Err(self.error(
-                    line,
-                    token.start,
-                    format!(
-                        "expected x y z, x y z w or x y z r g b after v, found a 7th \
-                         value {}",
-                        shown(token.bytes)
-                    ),
-                ));
-            }
-            values[count] = self.number(line, token, WHAT[count])?;
-            count += 1;
-            end = token.start + token.bytes.len();
-        }
-        match count {
-            3 | 4 | 6 => {}
-            0..=2 => {
-                return Err(self.error(
-                    line,
-                    end,
-                    format!(
-                        "expected 3 coordinates after v (v x y z), {} is missing",
-                        WHAT[count]
-                    ),
-                ));
-            }
-            _ => {
-                return Err(self.error(
-                    line,
-                    end,
-                    "expected x y z, x y z w or x y z r g b after v, found 5 values: \
-                     the blue of the vertex colour is missing",
-                ));
-            }
-        }
-        let colors = &mut self.obj.colors;
-        if count == 6 {
-            if colors.is_empty() {
-                colors.resize(self.obj.positions.len(), Vec3::ONE);
-            }
-            colors.push(Vec3::new(values[3], values[4], values[5]));
-        } else if !colors.is_empty() {
-            colors.push(Vec3::ONE);
-        }
-        self.obj
-            .positions
-            .push(Vec3::new(values[0], values[1], values[2]));
-        Ok(())
-    }
-
-    fn texcoord(&mut self, line: &Line, mut tokens: Tokens) -> Result<()> {
-        let mut uv = [0.0f32; 2];
-        let mut count = 0;
-        for token in tokens.by_ref() {
-            match count {
-                0 => uv[0] = self.number(line, token, "u")?,
-                1 => uv[1] = self.number(line, token, "v")?,
-                2 => {
-                    self.number(line, token, "w")?;
-                }
-                _ => {
-                    return Err(self.error(
-                        line,
-                        token.start,
-                        format!(
-                            "expected at most 3 values after vt (vt u v w), found a 4th {}",
-                            shown(token.bytes)
-                        ),
-                    ));
-                }
-            }
-            count += 1;
-        }
-        if count == 0 {
-            return Err(self.error(
-                line,
-                tokens.offset(),
-                "expected a texture coordinate after vt (vt u [v [w]]), found the end of \
-                 the line",
-            ));
-        }
-        self.obj.texcoords.push(uv);
-        Ok(())
-    }
-
-    fn normal(&mut self, line: &Line, mut tokens: Tokens) -> Result<()> {
-        let mut n = [0.0f32; 3];
-        for (slot, axis) in n.iter_mut().zip(["x", "y", "z"]) {
-            let Some(token) = tokens.next() else {
-                return Err(self.error(
-                    line,
-                    tokens.offset(),
-                    format!("expected 3 values after vn (vn x y z), the {axis} is missing"),
-                ));
-            };
-            *slot = self.number(line, token, &format!("the normal's {axis}"))?;
-        }
-        if let Some(extra) = tokens.next() {
-            return Err(self.error(
-                line,
-                extra.start,
-                format!(
-                    "expected 3 values after vn (vn x y z), found a 4th {}",
-                    shown(extra.bytes)
-                ),
-            ));
-        }
-        self.obj.normals.push(Vec3::from_array(n));
-        Ok(())
     }
 
     /// The 0-based index a face corner names, from its digits `text` at byte `start`.
@@ -375,20 +298,21 @@ impl Reader<'_, '_> {
         kind: Kind,
     ) -> Result<u32> {
         // The common case: a few digits naming something already read.
-        let defined = match kind {
+        let defined = self.defined(kind);
+        if let Some(value) = short_index(text)
+            && value <= defined
+        {
+            return Ok(value as u32 - 1);
+        }
+        self.index_slow(line, token, text, start, kind)
+    }
+
+    fn defined(&self, kind: Kind) -> usize {
+        match kind {
             Kind::Position => self.obj.positions.len(),
             Kind::Texcoord => self.obj.texcoords.len(),
             Kind::Normal => self.obj.normals.len(),
-        };
-        if !text.is_empty() && text.len() <= 9 && text.iter().all(u8::is_ascii_digit) {
-            let value = text
-                .iter()
-                .fold(0usize, |n, &d| n * 10 + (d - b'0') as usize);
-            if value >= 1 && value <= defined {
-                return Ok(value as u32 - 1);
-            }
         }
-        self.index_slow(line, token, text, start, kind)
     }
 
     #[cold]
@@ -400,49 +324,16 @@ impl Reader<'_, '_> {
         start: usize,
         kind: Kind,
     ) -> Result<u32> {
-        let defined = match kind {
-            Kind::Position => self.obj.positions.len(),
-            Kind::Texcoord => self.obj.texcoords.len(),
-            Kind::Normal => self.obj.normals.len(),
-        };
-        let noun = kind.noun();
-        let Some(value) = parse_integer(text) else {
-            return Err(self.error(
-                line,
-                start,
-                format!(
-                    "expected a {noun} index in the face corner {} (i, i/t, i//n or i/t/n)",
-                    shown(token.bytes)
-                ),
-            ));
-        };
-        let resolved = match value {
-            0 => {
-                return Err(self.error(
-                    line,
-                    start,
-                    format!("{noun} index 0 does not exist: indices start at 1"),
-                ));
+        let defined = self.defined(kind);
+        let value = index_value(self.path, line, token, text, start, kind)?;
+        let index = if value > 0 {
+            positive_index(self.path, line, text, start, kind, value)?
+        } else {
+            let resolved = defined as i64 + value;
+            if resolved < 0 {
+                return Err(self.error(line, start, missing_relative(kind, text, defined)));
             }
-            v if v > 0 => v - 1,
-            v => defined as i64 + v,
-        };
-        if resolved < 0 {
-            return Err(self.error(
-                line,
-                start,
-                format!(
-                    "{noun} index {} does not exist: -1 is the last of the {defined} read so far",
-                    shown(text)
-                ),
-            ));
-        }
-        let Ok(index) = u32::try_from(resolved) else {
-            return Err(self.error(
-                line,
-                start,
-                format!("{noun} index {} is too large", shown(text)),
-            ));
+            resolved as u32
         };
         if index as usize >= defined {
             let (number, _) = line.place(start);
@@ -470,27 +361,10 @@ impl Reader<'_, '_> {
         corners: &mut Vec<Corner>,
     ) -> Result<()> {
         for token in tokens {
-            // Up to three parts split by `/`: (text, byte offset in the line).
-            let mut parts: [Option<(&[u8], usize)>; 3] = [None; 3];
-            let mut start = 0;
-            for (k, part) in token.bytes.split(|&b| b == b'/').enumerate() {
-                if k == 3 {
-                    return Err(self.error(
-                        line,
-                        token.start + start - 1,
-                        format!(
-                            "expected a face corner i, i/t, i//n or i/t/n, found {}",
-                            shown(token.bytes)
-                        ),
-                    ));
-                }
-                parts[k] = Some((part, token.start + start));
-                start += part.len() + 1;
-            }
-            let [v_part, vt_part, vn_part] = parts;
+            let [v_part, vt_part, vn_part] = corner_parts(self.path, line, token)?;
             let (v_text, v_start) = v_part.unwrap_or((&[], token.start));
             let v = self.index(line, token, v_text, v_start, Kind::Position)?;
-            let mut optional = |part: Option<(&[u8], usize)>, kind| match part {
+            let mut optional = |part: Option<Part>, kind| match part {
                 Some((text, at)) if !text.is_empty() => {
                     self.index(line, token, text, at, kind).map(Some)
                 }
@@ -506,62 +380,27 @@ impl Reader<'_, '_> {
     fn add_face(&mut self, line: &Line, corners: &[Corner]) -> Result<()> {
         let n = corners.len();
         if n < 3 {
-            self.warn(
-                line.number,
-                format!("a face needs at least 3 vertices, found {n}: the face is dropped"),
-            );
+            self.warn(line.number, few_corners_message(n));
             return Ok(());
         }
-        let all_vt = corners.iter().all(|c| c.vt.is_some());
-        let all_vn = corners.iter().all(|c| c.vn.is_some());
-        for (k, (all, any, what)) in [
-            (
-                all_vt,
-                corners.iter().any(|c| c.vt.is_some()),
-                "texture coordinates",
-            ),
-            (all_vn, corners.iter().any(|c| c.vn.is_some()), "normals"),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            if any && !all && !self.mixed_face_warned[k] {
+        let (all, any) = corner_attributes(corners);
+        for k in 0..2 {
+            if any[k] && !all[k] && !self.mixed_face_warned[k] {
                 self.mixed_face_warned[k] = true;
-                self.warn(
-                    line.number,
-                    format!(
-                        "a face gives {what} for some corners only: it gets none (this is \
-                         reported for the first such face only)"
-                    ),
-                );
+                self.warn(line.number, mixed_face_message(k));
             }
         }
-        let limit = crate::scene::MAX_SHAPES;
-        if self.obj.triangles.len() + (n - 2) > limit {
-            return Err(self.error(
-                line,
-                0,
-                format!("expected at most {limit} triangles in a scene, found more"),
-            ));
+        if self.obj.triangles.len() + (n - 2) > crate::scene::MAX_SHAPES {
+            return Err(self.error(line, 0, too_many_triangles_message()));
         }
         let template = ObjTriangle {
             v: [0; 3],
-            vt: all_vt.then_some([0; 3]),
-            vn: all_vn.then_some([0; 3]),
+            vt: all[0].then_some([0; 3]),
+            vn: all[1].then_some([0; 3]),
             material: self.material,
             smoothing: self.smoothing,
         };
         let first = self.obj.triangles.len();
-        if first + n - 2 > crate::accel::MAX_SHAPES {
-            return Err(Error::parse(
-                self.path,
-                line.number,
-                format!(
-                    "more than {} triangles are not supported",
-                    crate::accel::MAX_SHAPES
-                ),
-            ));
-        }
         if n == 3 {
             self.obj
                 .triangles
@@ -588,47 +427,30 @@ impl Reader<'_, '_> {
     /// Triangulates a polygon whose positions are all known into the `n - 2` slots from
     /// `first`, which hold its material and smoothing group already.
     fn split_polygon(&mut self, corners: &[Corner], first: usize, line: usize) {
-        self.polygon.clear();
-        self.polygon
-            .extend(corners.iter().map(|c| self.obj.positions[c.v as usize]));
-        self.local.clear();
-        let method = self
-            .triangulator
-            .triangulate(&self.polygon, &mut self.local);
-        for (slot, local) in self.obj.triangles[first..].iter_mut().zip(&self.local) {
-            *slot = triangle_of(slot, corners, *local);
-        }
+        let method = split_polygon(
+            &mut self.triangulator,
+            &mut self.polygon,
+            &mut self.local,
+            &self.obj.positions,
+            corners,
+            &mut self.obj.triangles[first..first + corners.len() - 2],
+        );
         if method == Method::FanFallback {
-            self.warn(
-                line,
-                format!(
-                    "a concave polygon of {} vertices crosses itself or is too large to \
-                     clip: it is split as a fan, which may cover area outside it",
-                    corners.len()
-                ),
-            );
+            self.warn(line, fan_fallback_message(corners.len()));
         }
     }
 
-    fn start_run(&mut self, kind: GroupKind, tokens: Tokens) -> Result<()> {
-        self.close_run();
-        let mut name = String::new();
-        for token in tokens {
-            if !name.is_empty() {
-                name.push(' ');
-            }
-            name.push_str(&decode_name(token.bytes));
-        }
+    /// Ends the run in force at triangle `end` and starts another there.
+    fn start_run(&mut self, kind: GroupKind, name: String, at: usize) {
+        self.close_run(at);
         self.run = Run {
             name,
             kind,
-            first: self.obj.triangles.len(),
+            first: at,
         };
-        Ok(())
     }
 
-    fn close_run(&mut self) {
-        let end = self.obj.triangles.len();
+    fn close_run(&mut self, end: usize) {
         if end > self.run.first {
             self.obj.groups.push(ObjGroup {
                 name: std::mem::take(&mut self.run.name),
@@ -638,59 +460,35 @@ impl Reader<'_, '_> {
         }
     }
 
-    fn smoothing_group(&mut self, line: &Line, keyword: Token, mut tokens: Tokens) -> Result<()> {
-        let expected = "expected a smoothing group after s (a number, 0 or off)";
-        let Some(token) = tokens.next() else {
-            return Err(self.error(
-                line,
-                keyword.start + 1,
-                format!("{expected}, found the end of the line"),
-            ));
-        };
-        self.smoothing = if token.bytes.eq_ignore_ascii_case(b"off") {
-            0
-        } else {
-            match parse_integer(token.bytes).and_then(|n| u32::try_from(n).ok()) {
-                Some(n) => n,
-                None => {
-                    return Err(self.error(
-                        line,
-                        token.start,
-                        format!("{expected}, found {}", shown(token.bytes)),
-                    ));
-                }
-            }
-        };
-        Ok(())
-    }
-
-    fn use_material(&mut self, line: &Line, keyword: Token) {
-        let name = line.rest_from(keyword.start + keyword.bytes.len());
+    /// `usemtl` followed by `name` (trimmed): the material of the faces that follow.
+    fn use_material(&mut self, name: &[u8], line: usize) {
         if name.is_empty() {
-            self.warn(
-                line.number,
-                "usemtl without a name: the faces that follow get the default material",
-            );
+            self.warn(line, NAMELESS_USEMTL);
             self.material = None;
             return;
         }
-        let name = decode_name(name);
+        let id = self.material_id(decode_name(name));
+        self.material = Some(id);
+        self.usemtl_lines.push((id, line));
+    }
+
+    /// The number of a `usemtl` name, in order of first appearance.
+    fn material_id(&mut self, name: String) -> u32 {
         let next_id = self.material_names.len() as u32;
         let id = *self.material_ids.entry(name.clone()).or_insert(next_id);
         if id == next_id {
             self.material_names.push(name);
         }
-        self.material = Some(id);
-        self.usemtl_lines.push((id, line.number));
+        id
     }
 
-    fn material_libraries(&mut self, line: &Line, keyword: Token) -> Result<()> {
-        let rest = line.rest_from(keyword.start + keyword.bytes.len());
+    /// `mtllib` followed by `rest` (trimmed).
+    fn material_libraries(&mut self, rest: &[u8], line: usize) -> Result<()> {
         if rest.is_empty() {
-            self.warn(line.number, "mtllib without a file name");
+            self.warn(line, "mtllib without a file name");
         }
         for name in library_names(rest) {
-            self.read_library(&name, line.number)?;
+            self.read_library(&name, line)?;
         }
         Ok(())
     }
@@ -758,23 +556,12 @@ impl Reader<'_, '_> {
             .iter()
             .find(|f| f.index as usize >= positions)
         {
-            // `file:line:` as before: `prism convert`'s callers match this text.
-            return Err(Error::parse(
-                self.path,
-                f.line,
-                format!(
-                    "vertex {} does not exist: the file defines {positions}",
-                    f.index as u64 + 1
-                ),
-            ));
+            return Err(missing_vertex(self.path, f.line, f.index, positions));
         }
         // Missing texture coordinates and normals only cost the face its vt or vn, as
         // in the other readers (files that name normals they never wrote exist).
         for kind in [Kind::Texcoord, Kind::Normal] {
-            let defined = match kind {
-                Kind::Texcoord => self.obj.texcoords.len(),
-                _ => self.obj.normals.len(),
-            };
+            let defined = self.defined(kind);
             let Some(f) = self.forward[kind as usize]
                 .iter()
                 .find(|f| f.index as usize >= defined)
@@ -782,15 +569,7 @@ impl Reader<'_, '_> {
                 continue;
             };
             let (line, index) = (f.line, f.index);
-            let noun = kind.noun();
-            self.warn(
-                line,
-                format!(
-                    "{noun} {} does not exist (the file defines {defined}): faces naming \
-                     missing {noun}s get none (reported for the first only)",
-                    index as u64 + 1
-                ),
-            );
+            self.warn(line, missing_attribute_message(kind, index, defined));
             for t in &mut self.obj.triangles {
                 let field = if kind == Kind::Texcoord {
                     &mut t.vt
@@ -828,7 +607,13 @@ impl Reader<'_, '_> {
             }
             self.split_polygon(corners, polygon.first_triangle, polygon.line);
         }
-        self.close_run();
+        self.conclude()
+    }
+
+    /// What is left once every triangle is in place: the last run, materials, smoothing
+    /// normals and the summary warnings.
+    fn conclude(mut self) -> Result<ObjFile> {
+        self.close_run(self.obj.triangles.len());
         self.resolve_materials();
         if self.options.smooth {
             smooth_normals(
@@ -866,6 +651,9 @@ impl Reader<'_, '_> {
     /// Turns the `usemtl` names on the triangles into material indices; an unknown
     /// name gives a warning at each `usemtl` naming it and no material.
     fn resolve_materials(&mut self) {
+        if self.material_names.is_empty() {
+            return; // no triangle names one
+        }
         let resolved: Vec<Option<u32>> = self
             .material_names
             .iter()
@@ -881,10 +669,386 @@ impl Reader<'_, '_> {
                 self.warn(line, message);
             }
         }
-        for t in &mut self.obj.triangles {
+        self.obj.triangles.par_iter_mut().for_each(|t| {
             t.material = t.material.and_then(|id| resolved[id as usize]);
-        }
+        });
     }
+}
+
+/// An error at byte `offset` of a line.
+fn error_at(path: &Path, line: &Line, offset: usize, message: impl Into<String>) -> Error {
+    let (number, column) = line.place(offset);
+    Error::parse_at(path, number, column, message)
+}
+
+/// `v x y z [w]` or `v x y z r g b`: the values and how many there are (3, 4 or 6).
+fn parse_position(path: &Path, line: &Line, tokens: Tokens) -> Result<([f32; 6], usize)> {
+    const WHAT: [&str; 6] = [
+        "the x coordinate",
+        "the y coordinate",
+        "the z coordinate",
+        "w (or the red of a vertex colour)",
+        "the green of the vertex colour",
+        "the blue of the vertex colour",
+    ];
+    let mut values = [0.0f32; 6];
+    let mut count = 0;
+    let mut end = tokens.offset();
+    for token in tokens {
+        if count == values.len() {
+            return Err(error_at(
+                path,
+                line,
+                token.start,
+                format!(
+                    "expected x y z, x y z w or x y z r g b after v, found a 7th value {}",
+                    shown(token.bytes)
+                ),
+            ));
+        }
+        values[count] = number(path, line, token, WHAT[count])?;
+        count += 1;
+        end = token.start + token.bytes.len();
+    }
+    match count {
+        3 | 4 | 6 => Ok((values, count)),
+        0..=2 => Err(error_at(
+            path,
+            line,
+            end,
+            format!(
+                "expected 3 coordinates after v (v x y z), {} is missing",
+                WHAT[count]
+            ),
+        )),
+        _ => Err(error_at(
+            path,
+            line,
+            end,
+            "expected x y z, x y z w or x y z r g b after v, found 5 values: the blue of \
+             the vertex colour is missing",
+        )),
+    }
+}
+
+/// Adds a position, and its colour once any vertex has one (the others white).
+fn push_position(
+    positions: &mut Vec<Vec3>,
+    colors: &mut Vec<Vec3>,
+    values: [f32; 6],
+    count: usize,
+) {
+    if count == 6 {
+        if colors.is_empty() {
+            colors.resize(positions.len(), Vec3::ONE);
+        }
+        colors.push(Vec3::new(values[3], values[4], values[5]));
+    } else if !colors.is_empty() {
+        colors.push(Vec3::ONE);
+    }
+    positions.push(Vec3::new(values[0], values[1], values[2]));
+}
+
+/// `vt u [v [w]]`.
+fn parse_texcoord(path: &Path, line: &Line, mut tokens: Tokens) -> Result<[f32; 2]> {
+    let mut uv = [0.0f32; 2];
+    let mut count = 0;
+    for token in tokens.by_ref() {
+        match count {
+            0 => uv[0] = number(path, line, token, "u")?,
+            1 => uv[1] = number(path, line, token, "v")?,
+            2 => {
+                number(path, line, token, "w")?;
+            }
+            _ => {
+                return Err(error_at(
+                    path,
+                    line,
+                    token.start,
+                    format!(
+                        "expected at most 3 values after vt (vt u v w), found a 4th {}",
+                        shown(token.bytes)
+                    ),
+                ));
+            }
+        }
+        count += 1;
+    }
+    if count == 0 {
+        return Err(error_at(
+            path,
+            line,
+            tokens.offset(),
+            "expected a texture coordinate after vt (vt u [v [w]]), found the end of the line",
+        ));
+    }
+    Ok(uv)
+}
+
+/// `vn x y z`.
+fn parse_normal(path: &Path, line: &Line, mut tokens: Tokens) -> Result<Vec3> {
+    let mut n = [0.0f32; 3];
+    for (slot, axis) in n.iter_mut().zip(["x", "y", "z"]) {
+        let Some(token) = tokens.next() else {
+            return Err(error_at(
+                path,
+                line,
+                tokens.offset(),
+                format!("expected 3 values after vn (vn x y z), the {axis} is missing"),
+            ));
+        };
+        *slot = number(path, line, token, &format!("the normal's {axis}"))?;
+    }
+    if let Some(extra) = tokens.next() {
+        return Err(error_at(
+            path,
+            line,
+            extra.start,
+            format!(
+                "expected 3 values after vn (vn x y z), found a 4th {}",
+                shown(extra.bytes)
+            ),
+        ));
+    }
+    Ok(Vec3::from_array(n))
+}
+
+/// `s N`, `s 0` or `s off` (0).
+fn parse_smoothing(path: &Path, line: &Line, keyword: Token, mut tokens: Tokens) -> Result<u32> {
+    let expected = "expected a smoothing group after s (a number, 0 or off)";
+    let Some(token) = tokens.next() else {
+        return Err(error_at(
+            path,
+            line,
+            keyword.start + 1,
+            format!("{expected}, found the end of the line"),
+        ));
+    };
+    if token.bytes.eq_ignore_ascii_case(b"off") {
+        return Ok(0);
+    }
+    match parse_integer(token.bytes).and_then(|n| u32::try_from(n).ok()) {
+        Some(n) => Ok(n),
+        None => Err(error_at(
+            path,
+            line,
+            token.start,
+            format!("{expected}, found {}", shown(token.bytes)),
+        )),
+    }
+}
+
+/// The name of an `o` or `g`: its words joined by single spaces.
+fn run_name(tokens: Tokens) -> String {
+    let mut name = String::new();
+    for token in tokens {
+        if !name.is_empty() {
+            name.push(' ');
+        }
+        name.push_str(&decode_name(token.bytes));
+    }
+    name
+}
+
+/// What a statement Prism does not read is counted as.
+fn skipped_kind(keyword: &[u8]) -> &'static str {
+    std::str::from_utf8(keyword)
+        .ok()
+        .and_then(|k| SKIPPED_KEYWORDS.iter().find(|&&known| known == k))
+        .copied()
+        .unwrap_or("unknown")
+}
+
+/// A part of a face corner: its text and the byte offset of that in the line.
+type Part<'l> = (&'l [u8], usize);
+
+/// The up to three `/`-separated parts of a face corner.
+#[inline]
+fn corner_parts<'l>(path: &Path, line: &Line, token: Token<'l>) -> Result<[Option<Part<'l>>; 3]> {
+    let mut parts: [Option<Part>; 3] = [None; 3];
+    let mut start = 0;
+    for (k, part) in token.bytes.split(|&b| b == b'/').enumerate() {
+        if k == 3 {
+            return Err(error_at(
+                path,
+                line,
+                token.start + start - 1,
+                format!(
+                    "expected a face corner i, i/t, i//n or i/t/n, found {}",
+                    shown(token.bytes)
+                ),
+            ));
+        }
+        parts[k] = Some((part, token.start + start));
+        start += part.len() + 1;
+    }
+    Ok(parts)
+}
+
+/// An index written as at most nine digits and not 0: the fast path of both readers.
+#[inline]
+fn short_index(text: &[u8]) -> Option<usize> {
+    if text.is_empty() || text.len() > 9 || !text.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    let value = text
+        .iter()
+        .fold(0usize, |n, &d| n * 10 + (d - b'0') as usize);
+    (value >= 1).then_some(value)
+}
+
+/// The signed, non-zero number a face corner index is written as.
+fn index_value(
+    path: &Path,
+    line: &Line,
+    token: Token,
+    text: &[u8],
+    start: usize,
+    kind: Kind,
+) -> Result<i64> {
+    let noun = kind.noun();
+    match parse_integer(text) {
+        None => Err(error_at(
+            path,
+            line,
+            start,
+            format!(
+                "expected a {noun} index in the face corner {} (i, i/t, i//n or i/t/n)",
+                shown(token.bytes)
+            ),
+        )),
+        Some(0) => Err(error_at(
+            path,
+            line,
+            start,
+            format!("{noun} index 0 does not exist: indices start at 1"),
+        )),
+        Some(value) => Ok(value),
+    }
+}
+
+/// The 0-based index of a positive (1-based) one, which must fit in a u32.
+fn positive_index(
+    path: &Path,
+    line: &Line,
+    text: &[u8],
+    start: usize,
+    kind: Kind,
+    value: i64,
+) -> Result<u32> {
+    u32::try_from(value - 1).map_err(|_| {
+        error_at(
+            path,
+            line,
+            start,
+            format!("{} index {} is too large", kind.noun(), shown(text)),
+        )
+    })
+}
+
+/// The error for a negative index reaching before the first element of its kind.
+fn missing_relative(kind: Kind, text: &[u8], defined: usize) -> String {
+    format!(
+        "{} index {} does not exist: -1 is the last of the {defined} read so far",
+        kind.noun(),
+        shown(text)
+    )
+}
+
+/// The error for a vertex named but never defined; `file:line:` as before, since
+/// `prism convert`'s callers match this text.
+fn missing_vertex(path: &Path, line: usize, index: u32, positions: usize) -> Error {
+    Error::parse(
+        path,
+        line,
+        format!(
+            "vertex {} does not exist: the file defines {positions}",
+            index as u64 + 1
+        ),
+    )
+}
+
+fn missing_attribute_message(kind: Kind, index: u32, defined: usize) -> String {
+    let noun = kind.noun();
+    format!(
+        "{noun} {} does not exist (the file defines {defined}): faces naming missing \
+         {noun}s get none (reported for the first only)",
+        index as u64 + 1
+    )
+}
+
+/// Whether all and whether any corners have a texture coordinate (0) and a normal (1).
+fn corner_attributes(corners: &[Corner]) -> ([bool; 2], [bool; 2]) {
+    (
+        [
+            corners.iter().all(|c| c.vt.is_some()),
+            corners.iter().all(|c| c.vn.is_some()),
+        ],
+        [
+            corners.iter().any(|c| c.vt.is_some()),
+            corners.iter().any(|c| c.vn.is_some()),
+        ],
+    )
+}
+
+fn few_corners_message(n: usize) -> String {
+    format!("a face needs at least 3 vertices, found {n}: the face is dropped")
+}
+
+fn mixed_face_message(k: usize) -> String {
+    let what = ["texture coordinates", "normals"][k];
+    format!(
+        "a face gives {what} for some corners only: it gets none (this is reported for the \
+         first such face only)"
+    )
+}
+
+fn too_many_triangles_message() -> String {
+    format!(
+        "expected at most {} triangles in a scene, found more",
+        crate::scene::MAX_SHAPES
+    )
+}
+
+// The bounding volume hierarchy takes more triangles than a scene may hold, so the
+// scene's limit is the only one a face can reach.
+const _: () = assert!(crate::scene::MAX_SHAPES <= crate::accel::MAX_SHAPES);
+
+fn fan_fallback_message(corners: usize) -> String {
+    format!(
+        "a concave polygon of {corners} vertices crosses itself or is too large to clip: it \
+         is split as a fan, which may cover area outside it"
+    )
+}
+
+fn unknown_message(keyword: &[u8]) -> String {
+    format!(
+        "unknown statement {} skipped (the count of unknown statements is in the summary)",
+        shown(keyword)
+    )
+}
+
+const NAMELESS_USEMTL: &str =
+    "usemtl without a name: the faces that follow get the default material";
+
+/// Triangulates a polygon whose positions are all known into `slots` (`n - 2` of them),
+/// which hold its material and smoothing group already.
+fn split_polygon(
+    triangulator: &mut Triangulator,
+    polygon: &mut Vec<Vec3>,
+    local: &mut Vec<[u32; 3]>,
+    positions: &[Vec3],
+    corners: &[Corner],
+    slots: &mut [ObjTriangle],
+) -> Method {
+    polygon.clear();
+    polygon.extend(corners.iter().map(|c| positions[c.v as usize]));
+    local.clear();
+    let method = triangulator.triangulate(polygon, local);
+    for (slot, local) in slots.iter_mut().zip(local.iter()) {
+        *slot = triangle_of(slot, corners, *local);
+    }
+    method
 }
 
 fn push_warning(
