@@ -183,7 +183,8 @@ impl<'a> Whitted<'a> {
         let mut travelled = 0.0;
         for _ in 0..MAX_CROSSINGS {
             let hit = self.accel.closest(&r, f32::INFINITY)?;
-            let sp = self.scene.surface_point(hit.shape, &r, hit.t);
+            let uv = self.surface(hit.shape).reads_texture_coords();
+            let sp = self.scene.surface_point(hit.shape, &r, hit.t, uv);
             if !self.cut_out(hit.shape, &sp) {
                 return Some((
                     Hit {
@@ -361,7 +362,7 @@ impl<'a> Whitted<'a> {
             };
             let s = self.surface(hit.shape);
             let (p, ng) = if s.alpha_map.is_some() {
-                let sp = self.scene.surface_point(hit.shape, &r, hit.t);
+                let sp = self.scene.surface_point(hit.shape, &r, hit.t, true);
                 if !self.cut_out(hit.shape, &sp) {
                     vis *= s.transmission;
                     if vis.max_element() <= 0.0 {

@@ -517,7 +517,7 @@ fn visibility_by_traversals(w: &Whitted, from: Vec3, ng: Vec3, ls: &LightSample)
         let Some(hit) = w.accel.closest(&r, left) else {
             return vis;
         };
-        let sp = w.scene.surface_point(hit.shape, &r, hit.t);
+        let sp = w.scene.surface_point(hit.shape, &r, hit.t, true);
         if !w.cut_out(hit.shape, &sp) {
             vis *= w.surface(hit.shape).transmission;
             if vis.max_element() <= 0.0 {
