@@ -15,11 +15,16 @@ use crate::scene::{
     Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
     material::srgb_to_linear,
 };
+use std::cell::Cell;
 
 /// Surfaces a ray may pass through (alpha cut-outs) or a shadow ray may cross
 /// (transparent ones) before the answer is taken as final: bounds the work of a ray
 /// that meets a stack of leaves.
 const MAX_CROSSINGS: u32 = 64;
+
+/// See-through spheres a shadow ray notes on its one traversal for the walk through
+/// them; a ray passing more falls back to traversing the scene at every crossing.
+const WALK_SPHERES: usize = 16;
 
 pub struct Whitted<'a> {
     scene: &'a Scene,
@@ -178,7 +183,8 @@ impl<'a> Whitted<'a> {
         let mut travelled = 0.0;
         for _ in 0..MAX_CROSSINGS {
             let hit = self.accel.closest(&r, f32::INFINITY)?;
-            let sp = self.scene.surface_point(hit.shape, &r, hit.t);
+            let uv = self.surface(hit.shape).reads_texture_coords();
+            let sp = self.scene.surface_point(hit.shape, &r, hit.t, uv);
             if !self.cut_out(hit.shape, &sp) {
                 return Some((
                     Hit {
@@ -272,30 +278,109 @@ impl<'a> Whitted<'a> {
                 Vec3::ONE
             };
         }
-        let opaque = |shape: u32| {
+        // One traversal answers whether an opaque surface blocks the segment and, on
+        // the way, notes the see-through spheres it passes, so that the walk through
+        // them below need not traverse the scene again.
+        let mut spheres = [0u32; WALK_SPHERES];
+        let noted = Cell::from_mut(&mut spheres[..]).as_slice_of_cells();
+        let len = Cell::new(0usize);
+        let whole_scene = Cell::new(false);
+        let blocked = self.accel.occluded(&ray, t_max, |shape| {
             let s = self.surface(shape);
-            !s.is_transmissive() && s.alpha_map.is_none()
-        };
-        if self.accel.occluded(&ray, t_max, opaque) {
+            if !s.is_transmissive() && s.alpha_map.is_none() {
+                return true;
+            }
+            if whole_scene.get() {
+                return false;
+            }
+            let geometry = &self.scene.shapes[shape as usize];
+            if !matches!(geometry, Shape::Sphere(_)) {
+                // Triangles of a mesh sit edge to edge: a walk's ray, lifted off one
+                // crossing, can meet a neighbour of the next triangle the segment
+                // crosses, so walks through flat shapes keep the full traversal.
+                if geometry.intersect(&ray, t_max).is_some() {
+                    whole_scene.set(true);
+                }
+                return false;
+            }
+            let n = len.get();
+            if noted[..n].iter().any(|c| c.get() == shape) {
+                return false;
+            }
+            if n == noted.len() {
+                whole_scene.set(true);
+            } else {
+                noted[n].set(shape);
+                len.set(n + 1);
+            }
+            false
+        });
+        if blocked {
             return Vec3::ZERO;
         }
-        // Only see-through surfaces remain on the way: walk them.
+        if whole_scene.get() {
+            return self.walk_through(ray, t_max, |r, left| self.accel.closest(r, left));
+        }
+        let spheres = &spheres[..len.get()];
+        if spheres.is_empty() {
+            return Vec3::ONE;
+        }
+        // The nearest hit among the noted spheres, with the tie-break every intersector
+        // uses: the hit `Accel::closest` would find, as long as the walk's rays (each
+        // lifted a surface epsilon off the last crossing) meet no surface the traversal
+        // did not pass, which only one within that epsilon of the segment could be.
+        self.walk_through(ray, t_max, |r, left| {
+            let mut best: Option<Hit> = None;
+            for &shape in spheres {
+                if let Some(t) =
+                    self.scene.shapes[shape as usize].intersect(r, Hit::bound(&best, left))
+                    && Hit::beats(t, shape, &best)
+                {
+                    best = Some(Hit { t, shape });
+                }
+            }
+            best
+        })
+    }
+
+    /// The see-through surfaces along `ray` up to `t_max`, crossed one after another
+    /// (each hit found by `closest` from just past the last), their transmissions
+    /// multiplied in that order; cut-out parts let light by untouched.
+    #[inline]
+    fn walk_through(
+        &self,
+        ray: Ray,
+        t_max: f32,
+        closest: impl Fn(&Ray, f32) -> Option<Hit>,
+    ) -> Vec3 {
         let mut vis = Vec3::ONE;
         let mut r = ray;
         let mut left = t_max;
         for _ in 0..MAX_CROSSINGS {
-            let Some(hit) = self.accel.closest(&r, left) else {
+            let Some(hit) = closest(&r, left) else {
                 return vis;
             };
-            let sp = self.scene.surface_point(hit.shape, &r, hit.t);
-            if !self.cut_out(hit.shape, &sp) {
-                let s = self.surface(hit.shape);
+            let s = self.surface(hit.shape);
+            let (p, ng) = if s.alpha_map.is_some() {
+                let sp = self.scene.surface_point(hit.shape, &r, hit.t, true);
+                if !self.cut_out(hit.shape, &sp) {
+                    vis *= s.transmission;
+                    if vis.max_element() <= 0.0 {
+                        return Vec3::ZERO;
+                    }
+                }
+                (sp.p, sp.ng)
+            } else {
                 vis *= s.transmission;
                 if vis.max_element() <= 0.0 {
                     return Vec3::ZERO;
                 }
-            }
-            let next = offset_origin(sp.p, sp.ng, r.dir);
+                // What `surface_point` would give, without the texture coordinates
+                // and mesh attributes nothing here reads.
+                let p = r.at(hit.t);
+                (p, self.scene.shapes[hit.shape as usize].normal(p))
+            };
+            let next = offset_origin(p, ng, r.dir);
             left -= (next - r.origin).length();
             if left <= 0.0 {
                 return vis;

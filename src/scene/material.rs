@@ -187,6 +187,17 @@ impl Surface {
     pub fn is_transmissive(&self) -> bool {
         self.transmission.max_element() > 0.0
     }
+
+    /// Whether shading reads a hit's texture coordinates (an image albedo or any map):
+    /// hits on other surfaces skip computing them.
+    pub fn reads_texture_coords(&self) -> bool {
+        matches!(self.albedo, Albedo::Image { .. })
+            || self.alpha_map.is_some()
+            || self.normal_map.is_some()
+            || self.specular_map.is_some()
+            || self.ambient_map.is_some()
+            || self.emission_map.is_some()
+    }
 }
 
 /// The sRGB transfer curve undone (IEC 61966-2-1), per channel.
@@ -200,5 +211,44 @@ pub fn srgb_channel_to_linear(v: f32) -> f32 {
         v / 12.92
     } else {
         ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texture_coordinates_are_read_by_an_image_albedo_and_by_every_map() {
+        assert!(!Surface::default().reads_texture_coords());
+        let checker = Surface {
+            albedo: Albedo::Checker {
+                a: Vec3::ZERO,
+                b: Vec3::ONE,
+                scale: 1.0,
+            },
+            ..Surface::default()
+        };
+        assert!(!checker.reads_texture_coords());
+        let slot = Some(TextureSlot::new(0));
+        let image = Surface {
+            albedo: Albedo::Image {
+                slot: TextureSlot::new(0),
+                tint: Vec3::ONE,
+            },
+            ..Surface::default()
+        };
+        assert!(image.reads_texture_coords());
+        for set in [
+            |s: &mut Surface, m| s.alpha_map = m,
+            |s: &mut Surface, m| s.normal_map = m,
+            |s: &mut Surface, m| s.specular_map = m,
+            |s: &mut Surface, m| s.ambient_map = m,
+            |s: &mut Surface, m| s.emission_map = m,
+        ] {
+            let mut s = Surface::default();
+            set(&mut s, slot);
+            assert!(s.reads_texture_coords());
+        }
     }
 }

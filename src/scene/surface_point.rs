@@ -14,7 +14,8 @@ pub struct SurfacePoint {
     /// Unit shading normal (interpolated vertex normals where a mesh has them), on the
     /// same side as `ng`.
     pub n: Vec3,
-    /// Texture coordinates: a mesh's own, else the shape's natural parametrisation.
+    /// Texture coordinates: a mesh's own, else the shape's natural parametrisation;
+    /// `[0, 0]` unless they were asked for.
     pub uv: [f32; 2],
     /// Interpolated vertex colour (white where the mesh has none).
     pub color: Vec3,
@@ -37,8 +38,16 @@ impl SurfacePoint {
 }
 
 impl Scene {
-    /// The shading view of a hit at distance `t` on shape `shape`.
-    pub fn surface_point(&self, shape: u32, ray: &Ray, t: f32) -> SurfacePoint {
+    /// The shading view of a hit at distance `t` on shape `shape`, with texture
+    /// coordinates if `texture_coords` (a sphere's cost two inverse trigonometric
+    /// functions, and most surfaces read none).
+    pub fn surface_point(
+        &self,
+        shape: u32,
+        ray: &Ray,
+        t: f32,
+        texture_coords: bool,
+    ) -> SurfacePoint {
         let p = ray.at(t);
         let s = &self.shapes[shape as usize];
         let ng = s.normal(p);
@@ -53,7 +62,9 @@ impl Scene {
         match s {
             Shape::Triangle(tri) => {
                 let b = barycentrics(tri.v, p);
-                sp.uv = [b[1], b[2]];
+                if texture_coords {
+                    sp.uv = [b[1], b[2]];
+                }
                 if let Some((mesh, i)) = self.mesh_of(shape) {
                     if let Some(n) = mesh.normal(i, b) {
                         // Vertex normals may be wound against the triangle: follow ng.
@@ -62,7 +73,7 @@ impl Scene {
                     if let Some(normals) = mesh.vertex_normals(i) {
                         sp.smooth = Some((tri.v, normals, b));
                     }
-                    if let Some(uv) = mesh.texcoord(i, b) {
+                    if texture_coords && let Some(uv) = mesh.texcoord(i, b) {
                         sp.uv = uv;
                     }
                     if let Some(c) = mesh.color(i, b) {
@@ -70,6 +81,7 @@ impl Scene {
                     }
                 }
             }
+            Shape::Rectangle(_) | Shape::Sphere(_) if !texture_coords => {}
             Shape::Rectangle(r) => {
                 let c = r.surface_coords(p);
                 let u = if c.len_x > 0.0 { c.x / c.len_x } else { 0.0 };
@@ -174,6 +186,79 @@ mod tests {
         assert_eq!(
             barycentrics(v, Vec3::new(0.25, 0.5, 0.0)),
             [0.25, 0.25, 0.5]
+        );
+    }
+
+    #[test]
+    fn texture_coordinates_are_computed_only_when_asked_for_and_the_rest_is_the_same() {
+        use crate::scene::{MeshAttributes, Rectangle, Sphere, Triangle};
+        let mut scene = Scene::default();
+        scene.push_shape(
+            Shape::Sphere(Sphere {
+                center: Vec3::new(0.0, 1.0, 0.0),
+                radius: 1.0,
+            }),
+            0,
+        );
+        scene.push_shape(
+            Shape::Rectangle(Rectangle {
+                v: [
+                    Vec3::new(-2.0, 0.0, -2.0),
+                    Vec3::new(-2.0, 0.0, 2.0),
+                    Vec3::new(2.0, 0.0, 2.0),
+                    Vec3::new(2.0, 0.0, -2.0),
+                ],
+            }),
+            0,
+        );
+        let tri = [
+            Vec3::new(-1.0, 3.0, -1.0),
+            Vec3::new(1.0, 3.0, -1.0),
+            Vec3::new(0.0, 3.0, 1.0),
+        ];
+        scene.push_shape(Shape::Triangle(Triangle { v: tri }), 0);
+        scene.push_shape(Shape::Triangle(Triangle { v: tri }), 0);
+        scene.meshes.push(MeshAttributes {
+            first_shape: 3,
+            len: 1,
+            normals: vec![Vec3::Y, Vec3::new(0.0, 1.0, 0.1), Vec3::new(0.1, 1.0, 0.0)],
+            normal_indices: vec![[0, 1, 2]],
+            texcoords: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 1.0]],
+            texcoord_indices: vec![[0, 1, 2]],
+            ..MeshAttributes::default()
+        });
+        let from_above = |x: f32, z: f32| Ray::new(Vec3::new(x, 5.0, z), -Vec3::Y);
+        let hits = [
+            (0, from_above(0.3, 0.4), 5.0 - 1.0 - (1.0f32 - 0.25).sqrt()),
+            (1, from_above(0.5, -1.5), 5.0),
+            (2, from_above(0.1, 0.2), 2.0),
+            (3, from_above(0.1, 0.2), 2.0),
+        ];
+        for (shape, ray, t) in hits {
+            let with = scene.surface_point(shape, &ray, t, true);
+            let without = scene.surface_point(shape, &ray, t, false);
+            assert_eq!(without.uv, [0.0, 0.0]);
+            assert_ne!(with.uv, [0.0, 0.0], "shape {shape}");
+            assert_eq!(
+                SurfacePoint {
+                    uv: with.uv,
+                    ..without
+                },
+                with,
+                "shape {shape}"
+            );
+        }
+        // The sphere's latitude-longitude map, the mesh's own coordinates.
+        let (ray, t) = (hits[0].1, hits[0].2);
+        let d = scene.surface_point(0, &ray, t, true).ng;
+        let u = 0.5 + d.x.atan2(d.z) / std::f32::consts::TAU;
+        let v = 0.5 + d.y.clamp(-1.0, 1.0).asin() / std::f32::consts::PI;
+        assert_eq!(scene.surface_point(0, &ray, t, true).uv, [u, v]);
+        let b = barycentrics(tri, from_above(0.1, 0.2).at(2.0));
+        let expected = scene.meshes[0].texcoord(0, b).unwrap();
+        assert_eq!(
+            scene.surface_point(3, &from_above(0.1, 0.2), 2.0, true).uv,
+            expected
         );
     }
 

@@ -484,3 +484,200 @@ fn a_normal_map_tilts_the_shading_normal_in_the_tangent_frame() {
     // Tilting away from the light (toward -z): darker than the flat floor would be.
     assert!(lit_from(Vec3::new(0.0, 1.0, -1.0).normalize()) < 1e-5);
 }
+
+/// Shadow-ray visibility as it was computed before the single traversal: an occlusion
+/// query for the opaque surfaces, then a walk from crossing to crossing, each found by a
+/// traversal of the whole scene. The reference the walk through noted spheres must
+/// match bit for bit.
+fn visibility_by_traversals(w: &Whitted, from: Vec3, ng: Vec3, ls: &LightSample) -> Vec3 {
+    let origin = offset_origin(from, ng, ls.dir);
+    let t_max = if ls.dist.is_finite() {
+        ls.dist * (1.0 - 1e-4) - surface_epsilon(origin)
+    } else {
+        f32::INFINITY
+    };
+    if t_max <= 0.0 {
+        return Vec3::ONE;
+    }
+    let ray = Ray {
+        origin,
+        dir: ls.dir,
+    };
+    let opaque = |shape: u32| {
+        let s = w.surface(shape);
+        !s.is_transmissive() && s.alpha_map.is_none()
+    };
+    if w.accel.occluded(&ray, t_max, opaque) {
+        return Vec3::ZERO;
+    }
+    let mut vis = Vec3::ONE;
+    let mut r = ray;
+    let mut left = t_max;
+    for _ in 0..MAX_CROSSINGS {
+        let Some(hit) = w.accel.closest(&r, left) else {
+            return vis;
+        };
+        let sp = w.scene.surface_point(hit.shape, &r, hit.t, true);
+        if !w.cut_out(hit.shape, &sp) {
+            vis *= w.surface(hit.shape).transmission;
+            if vis.max_element() <= 0.0 {
+                return Vec3::ZERO;
+            }
+        }
+        let next = offset_origin(sp.p, sp.ng, r.dir);
+        left -= (next - r.origin).length();
+        if left <= 0.0 {
+            return vis;
+        }
+        r.origin = next;
+    }
+    vis
+}
+
+/// Glass, filters and cut-outs to cast shadow rays through: spheres (some nested and
+/// overlapping, a row of more than a ray notes), a closed glass mesh whose triangles
+/// share edges, a glass box of rectangles, alpha-masked shapes and opaque blockers.
+fn see_through_scene(with_flat: bool) -> Scene {
+    use crate::scene::{ImageTexture, Texels, TextureSlot, Triangle};
+    let glass = |t: Vec3| Surface {
+        albedo: Albedo::Color(Vec3::ZERO),
+        transmission: t,
+        ior: 1.5,
+        fresnel: true,
+        ..Surface::default()
+    };
+    let masked = |t: Vec3| Surface {
+        alpha_map: Some(TextureSlot {
+            scale: [3.0, 2.0],
+            ..TextureSlot::new(0)
+        }),
+        transmission: t,
+        ..matte(Vec3::new(0.3, 0.6, 0.2))
+    };
+    let sphere = |x: f32, y: f32, z: f32, r: f32| {
+        Shape::Sphere(Sphere {
+            center: Vec3::new(x, y, z),
+            radius: r,
+        })
+    };
+    let mut shapes = vec![
+        (floor(0.0, 20.0), matte(Vec3::ONE)),
+        (sphere(0.0, 1.0, 0.0, 1.0), glass(Vec3::new(0.9, 0.7, 0.8))),
+        (sphere(0.3, 1.2, 0.1, 0.5), glass(Vec3::new(0.5, 0.9, 0.6))),
+        (sphere(1.2, 1.0, -0.4, 0.8), glass(Vec3::splat(0.93))),
+        (sphere(-2.0, 1.5, 1.0, 0.7), matte(Vec3::new(0.8, 0.1, 0.1))),
+        (sphere(-1.0, 2.5, -1.5, 0.6), masked(Vec3::ZERO)),
+        (sphere(2.5, 2.0, 1.5, 0.6), masked(Vec3::new(0.4, 0.8, 0.9))),
+    ];
+    // More see-through spheres in a row than one shadow ray notes.
+    for i in 0..24 {
+        let t = 0.5 + 0.02 * i as f32;
+        shapes.push((
+            sphere(-4.0 + 0.35 * i as f32, 4.0, -3.0, 0.3),
+            glass(Vec3::new(t, 0.9, 1.0 - t * 0.5)),
+        ));
+    }
+    if with_flat {
+        // An octahedron of glass triangles, edge to edge.
+        let (c, r) = (Vec3::new(-1.5, 1.2, 2.0), 1.1);
+        let axes = [Vec3::X, Vec3::Y, Vec3::Z];
+        for i in 0..8 {
+            let s = |k: usize| if i >> k & 1 == 0 { 1.0 } else { -1.0 };
+            let v = [0, 1, 2].map(|k| c + axes[k] * (r * s(k)));
+            shapes.push((
+                Shape::Triangle(Triangle { v }),
+                glass(Vec3::new(0.8, 0.85, 0.6)),
+            ));
+        }
+        // A glass box of six rectangles sharing edges.
+        let (lo, hi) = (Vec3::new(1.0, 0.5, 1.5), Vec3::new(2.2, 1.7, 2.7));
+        let corner = |b: usize| {
+            Vec3::new(
+                if b & 1 == 0 { lo.x } else { hi.x },
+                if b & 2 == 0 { lo.y } else { hi.y },
+                if b & 4 == 0 { lo.z } else { hi.z },
+            )
+        };
+        for f in [
+            [0, 1, 3, 2],
+            [4, 6, 7, 5],
+            [0, 4, 5, 1],
+            [2, 3, 7, 6],
+            [0, 2, 6, 4],
+            [1, 5, 7, 3],
+        ] {
+            shapes.push((
+                Shape::Rectangle(Rectangle { v: f.map(corner) }),
+                glass(Vec3::new(0.7, 0.9, 0.95)),
+            ));
+        }
+        shapes.push((
+            Shape::Rectangle(Rectangle {
+                v: [
+                    Vec3::new(-3.0, 3.0, -1.0),
+                    Vec3::new(3.0, 3.0, -1.0),
+                    Vec3::new(3.0, 3.5, 2.0),
+                    Vec3::new(-3.0, 3.5, 2.0),
+                ],
+            }),
+            masked(Vec3::ZERO),
+        ));
+    }
+    let mut s = scene(shapes, Vec::new(), Background::Black);
+    // A 4 x 4 mask of alternating holes.
+    let texels = (0..16)
+        .map(|i| [0.5, 0.5, 0.5, ((i + i / 4) % 2) as f32])
+        .collect();
+    s.images.push(ImageTexture {
+        name: "mask".into(),
+        width: 4,
+        height: 4,
+        texels: Texels::RgbaF32(texels),
+    });
+    s
+}
+
+#[test]
+fn one_traversal_gives_the_visibility_of_the_walk_by_traversals() {
+    use rand_core::Rng;
+    let mut rng = rand_pcg::Pcg32::new(0x5eed, 7);
+    let mut unit = move || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
+    for with_flat in [false, true] {
+        let s = see_through_scene(with_flat);
+        let surfaces = s.resolved_surfaces();
+        for kind in AccelKind::ALL {
+            let accel = Accel::build(kind, &s.shapes);
+            let w = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
+            let (mut tinted, mut count) = (0, RayCount::default());
+            for i in 0..20_000 {
+                let mut point =
+                    |lo: Vec3, hi: Vec3| lo + (hi - lo) * Vec3::new(unit(), unit(), unit());
+                let from = point(Vec3::new(-5.0, 0.0, -4.0), Vec3::new(5.0, 5.0, 4.0));
+                let to = point(Vec3::new(-3.0, 0.0, -3.5), Vec3::new(3.0, 4.5, 3.0));
+                let ng = (point(Vec3::NEG_ONE, Vec3::ONE)).normalize_or(Vec3::Y);
+                let (dir, dist) = ((to - from).normalize(), (to - from).length());
+                let dist = match i % 4 {
+                    0 => f32::INFINITY,
+                    1 => dist * 3.0,
+                    _ => dist * (0.2 + 1.6 * unit()),
+                };
+                let ls = LightSample {
+                    dir,
+                    dist,
+                    e: Vec3::ONE,
+                };
+                let expected = visibility_by_traversals(&w, from, ng, &ls);
+                let got = w.visibility(from, ng, &ls, &mut count);
+                assert_eq!(
+                    got.to_array().map(f32::to_bits),
+                    expected.to_array().map(f32::to_bits),
+                    "{kind} flat {with_flat}: from {from} dir {dir} dist {dist}: {got} against {expected}"
+                );
+                if expected != Vec3::ZERO && expected != Vec3::ONE {
+                    tinted += 1;
+                }
+            }
+            assert!(tinted > 2_000, "{kind}: only {tinted} tinted shadow rays");
+        }
+    }
+}
