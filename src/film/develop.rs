@@ -7,6 +7,7 @@
 //! so a stray sample can never make an image fail to write.
 
 use super::{Image, quantize};
+use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
 
@@ -158,14 +159,105 @@ impl Develop {
 
     /// 8-bit RGB, rounded to nearest.
     pub fn to_rgb8(&self, image: &Image) -> Vec<u8> {
-        let values = image.pixels.iter().flatten();
-        values.map(|&v| quantize(self.channel(v))).collect()
+        match Cuts8::of(self) {
+            Some(cuts) => develop8(image, |v| cuts.value(v)),
+            None => develop8(image, |v| quantize(self.channel(v))),
+        }
     }
 
     /// 16-bit RGB, rounded to nearest.
     pub fn to_rgb16(&self, image: &Image) -> Vec<u16> {
         let values = image.pixels.iter().flatten();
         values.map(|&v| quantize16(self.channel(v))).collect()
+    }
+}
+
+/// `f` of every channel of `image`, rows in parallel.
+fn develop8(image: &Image, f: impl Fn(f32) -> u8 + Sync) -> Vec<u8> {
+    let mut out = vec![0u8; image.pixels.len() * 3];
+    let row = (image.width as usize).max(1);
+    out.par_chunks_mut(row * 3)
+        .zip(image.pixels.par_chunks(row))
+        .for_each(|(out, pixels)| {
+            for (o, &v) in out.iter_mut().zip(pixels.iter().flatten()) {
+                *o = f(v);
+            }
+        });
+    out
+}
+
+/// Runs of `2^RUN_SHIFT` consecutive positive floats (those sharing their top bits) are
+/// what [`Cuts8`] keeps a starting value for.
+const RUN_SHIFT: u32 = 16;
+
+/// An 8-bit development as cut-offs on radiance: the value of a channel is the number
+/// of cut-offs at or below it, which a table read and a comparison or two find where
+/// the formula takes an f64 `powf` and a rounding.
+///
+/// Exact where the developed value never falls as radiance grows, which holds for the
+/// clamp: an exposure multiplies by a constant and the clamp takes a minimum (both
+/// rounded monotonically), the sRGB curve's `powf` of two neighbouring f32 values
+/// differs by some 10^8 times its f64 error, and the rounding to 8 bits keeps order.
+/// (A test checks `Cuts8` against the formula for every f32 in 0..=1.)
+/// Reinhard's `x / (1 + x)` in f32 can fall by an ulp where `1 + x` rounds up, so the
+/// other tone maps keep the formula.
+struct Cuts8 {
+    /// `cut[k]`: the bits of the least positive radiance that develops above `k`
+    /// (bits order positive floats as their values do); `u32::MAX` where none does.
+    cut: [u32; 255],
+    /// The value of the first float of every run, indexed by `bits >> RUN_SHIFT`.
+    start: Vec<u8>,
+    /// The value of zero, which NaN and negative radiance develop as.
+    zero: u8,
+}
+
+impl Cuts8 {
+    fn of(d: &Develop) -> Option<Cuts8> {
+        if d.tonemap != ToneMap::Clamp {
+            return None;
+        }
+        let value = |bits: u32| quantize(d.channel(f32::from_bits(bits)));
+        let top = f32::INFINITY.to_bits();
+        let mut cut = [u32::MAX; 255];
+        // Each cut-off is found by bisection above the one before it.
+        let mut lo = 1;
+        for k in 0..=254u8 {
+            if value(top) <= k {
+                break;
+            }
+            let mut hi = top;
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                if value(mid) > k {
+                    hi = mid;
+                } else {
+                    lo = mid + 1;
+                }
+            }
+            cut[usize::from(k)] = lo;
+        }
+        let start = (0..=top >> RUN_SHIFT)
+            .map(|run| cut.partition_point(|&c| c <= run << RUN_SHIFT) as u8)
+            .collect();
+        Some(Cuts8 {
+            cut,
+            start,
+            zero: value(0),
+        })
+    }
+
+    #[inline]
+    fn value(&self, radiance: f32) -> u8 {
+        if radiance > 0.0 {
+            let bits = radiance.to_bits();
+            let mut k = self.start[(bits >> RUN_SHIFT) as usize];
+            while k < 255 && self.cut[usize::from(k)] <= bits {
+                k += 1;
+            }
+            k
+        } else {
+            self.zero
+        }
     }
 }
 
@@ -327,6 +419,106 @@ mod tests {
         let pixels: Vec<[f32; 3]> = values.iter().map(|&v| [v, 1.0 - v, v * 0.5]).collect();
         let img = Image::new(pixels.len() as u32, 1, pixels);
         assert_eq!(Develop::classic().to_rgb8(&img), img.to_rgb8());
+    }
+
+    /// Developments the cut-offs must reproduce: both curves, exposures that scale,
+    /// overflow and underflow, and the tone maps that keep the formula.
+    fn developments() -> Vec<Develop> {
+        let mut all = Vec::new();
+        for transfer in [Transfer::Srgb, Transfer::Classic] {
+            for tonemap in ToneMap::ALL {
+                for exposure in [0.0, 1.0, -2.0, 0.37, 7.5, -7.5, 64.0, -64.0, 200.0, -200.0] {
+                    all.push(Develop {
+                        exposure,
+                        tonemap,
+                        transfer,
+                    });
+                }
+            }
+        }
+        all
+    }
+
+    /// What `to_rgb8` gave before the cut-offs: the formula, channel by channel.
+    fn by_formula(d: &Develop, values: &[f32]) -> Vec<u8> {
+        values.iter().map(|&v| quantize(d.channel(v))).collect()
+    }
+
+    /// `values` as an image 61 pixels wide (rows developed in parallel), padded with 0.
+    fn image_of(values: &[f32]) -> (Image, Vec<f32>) {
+        let mut values = values.to_vec();
+        while !values.len().is_multiple_of(3 * 61) {
+            values.push(0.0);
+        }
+        let pixels: Vec<[f32; 3]> = values.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let h = pixels.len() as u32 / 61;
+        (Image::new(61, h, pixels), values)
+    }
+
+    #[test]
+    fn cut_offs_develop_every_value_as_the_formula_does() {
+        use rand_core::Rng;
+        let mut rng = rand_pcg::Pcg32::new(0xc0ffee, 3);
+        let mut values: Vec<f32> = (-400..=20_000).map(|i| i as f32 / (255.0 * 16.0)).collect();
+        values.extend((0..100_000).map(|_| f32::from_bits(rng.next_u32())));
+        values.extend((0..100_000).map(|_| (rng.next_u32() >> 8) as f32 / (1u32 << 23) as f32));
+        values.extend([
+            f32::NAN,
+            -f32::NAN,
+            f32::from_bits(0x7fc0_1234),
+            f32::from_bits(0x7f80_0001),
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            0.0,
+            -0.0,
+            f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            f32::from_bits(0x007f_ffff),
+            -f32::from_bits(1),
+            f32::MAX,
+            f32::MIN,
+            1.0,
+            1.0f32.next_up(),
+            1.0f32.next_down(),
+            0.003_130_8,
+            0.003_130_8f32.next_up(),
+            0.003_130_8f32.next_down(),
+        ]);
+        for d in developments() {
+            let mut all = values.clone();
+            // Around every cut-off, and every 8-bit boundary of the curve's output.
+            if let Some(cuts) = Cuts8::of(&d) {
+                for &c in cuts.cut.iter().filter(|&&c| c != u32::MAX) {
+                    all.extend((c.saturating_sub(300)..c.saturating_add(300)).map(f32::from_bits));
+                }
+            }
+            for k in 0..=255 {
+                let edge = (k as f32 + 0.5) / 255.0;
+                all.extend([edge, edge.next_down(), edge.next_up()]);
+            }
+            let (img, all) = image_of(&all);
+            assert!(
+                d.to_rgb8(&img) == by_formula(&d, &all),
+                "{d:?}: {:?}",
+                all.iter()
+                    .zip(d.to_rgb8(&img))
+                    .find(|&(&v, q)| q != quantize(d.channel(v)))
+            );
+        }
+    }
+
+    /// Every f32 from 0 to 1 through the cut-offs of the clamp with both curves: the
+    /// check behind their exactness for all radiance (some seconds on two cores).
+    #[test]
+    fn cut_offs_match_the_formula_for_every_f32_up_to_1() {
+        for d in [Develop::display(), Develop::classic()] {
+            let cuts = Cuts8::of(&d).unwrap();
+            let bad = (0..=1.0f32.to_bits())
+                .into_par_iter()
+                .map(f32::from_bits)
+                .find_any(|&v| cuts.value(v) != quantize(d.channel(v)));
+            assert_eq!(bad, None, "{d:?}");
+        }
     }
 
     #[test]

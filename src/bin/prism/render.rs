@@ -168,7 +168,16 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         return Err(prism::Error::Interrupted);
     }
     let output_options = output_options(args, &still)?;
-    write_image_with(&image, output, &output_options)?;
+    // Development runs its rows in parallel: on the threads the render was given.
+    let write = || write_image_with(&image, output, &output_options);
+    match args.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| prism::Error::Settings(format!("cannot start threads: {e}")))?
+            .install(write)?,
+        None => write()?,
+    }
     if args.stats {
         println!(
             "rays {}  seconds {:.3}  Mrays/s {:.2}",
