@@ -299,6 +299,44 @@ impl<'a> Renderer<'a> {
         let (x_lo, x_hi) = wx.input_span(region.x, region.x + region.width);
         let row_len = (x_hi - x_lo) as usize;
         let total_rays = AtomicU64::new(0);
+        let trace_row = |y: u32, row: &mut [[f32; 3]]| {
+            if self.cancelled() {
+                return;
+            }
+            let mut count = RayCount::default();
+            if I::PACKETS && rays.rays_per_pixel() == 1 {
+                self.row_in_packets(integrator, accel, &rays, x_lo, y, row, &mut count);
+            } else {
+                for (j, out) in row.iter_mut().enumerate() {
+                    let x = x_lo + j as u32;
+                    *out = self
+                        .pixel(integrator, accel, &rays, x, y, &mut count)
+                        .to_array();
+                }
+            }
+            if plan.aa == 1 {
+                // `+ 0` is what a one-tap resample adds (`0 + 1 p`, turning -0 into
+                // +0), so tracing straight into the image below gives the same bits.
+                for out in row.iter_mut() {
+                    *out = (Vec3::from_array(*out) + Vec3::ZERO).to_array();
+                }
+            }
+            total_rays.fetch_add(count.rays, Ordering::Relaxed);
+            progress(1);
+        };
+        if plan.aa == 1 {
+            // One traced pixel to each output pixel: no band buffers to fill and copy.
+            let mut pixels = vec![[0.0f32; 3]; region.width as usize * region.height as usize];
+            pixels
+                .par_chunks_mut(row_len.max(1))
+                .enumerate()
+                .for_each(|(i, row)| trace_row(region.y + i as u32, row));
+            let stats = RenderStats {
+                rays: total_rays.into_inner(),
+                elapsed: start.elapsed(),
+            };
+            return (Image::new(region.width, region.height, pixels), stats);
+        }
         // Bands run in parallel as well as the rows inside them, so no core waits for
         // a band's last row or for its resampling; each band's pixels stay its own, so
         // the image does not depend on which thread did what.
@@ -309,25 +347,7 @@ impl<'a> Renderer<'a> {
                 let mut band = vec![[0.0f32; 3]; row_len * (hi - lo) as usize];
                 band.par_chunks_mut(row_len)
                     .enumerate()
-                    .for_each(|(i, row)| {
-                        if self.cancelled() {
-                            return;
-                        }
-                        let y = lo + i as u32;
-                        let mut count = RayCount::default();
-                        if I::PACKETS && rays.rays_per_pixel() == 1 {
-                            self.row_in_packets(integrator, accel, &rays, x_lo, y, row, &mut count);
-                        } else {
-                            for (j, out) in row.iter_mut().enumerate() {
-                                let x = x_lo + j as u32;
-                                *out = self
-                                    .pixel(integrator, accel, &rays, x, y, &mut count)
-                                    .to_array();
-                            }
-                        }
-                        total_rays.fetch_add(count.rays, Ordering::Relaxed);
-                        progress(1);
-                    });
+                    .for_each(|(i, row)| trace_row(lo + i as u32, row));
                 resample_window(
                     &band,
                     x_lo,
@@ -479,5 +499,86 @@ mod cancel_tests {
         // Not cancelled: the same renderer's output.
         flag.store(false, Ordering::Relaxed);
         assert!(renderer.render(&|_| {}).is_ok());
+    }
+}
+
+#[cfg(test)]
+mod band_tests {
+    use super::*;
+    use crate::scene::{Light, Material, Shape, Sphere, Surface};
+
+    #[test]
+    fn without_anti_aliasing_the_image_is_the_one_tap_resample_of_the_traced_pixels() {
+        let mut scene = Scene {
+            materials: vec![Material::default_white()],
+            surfaces: vec![Surface {
+                transmission: Vec3::splat(0.5),
+                ior: 1.3,
+                ..Surface::default()
+            }],
+            lights: vec![Light::point(Vec3::new(2.0, 3.0, 4.0), Vec3::ONE)],
+            ..Scene::default()
+        };
+        scene.push_shape(
+            Shape::Sphere(Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            }),
+            0,
+        );
+        let camera = Camera::look_at(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 48, 40);
+        for integrator in [IntegratorKind::Classic, IntegratorKind::Whitted] {
+            for region in [
+                None,
+                Some(Region {
+                    x: 5,
+                    y: 3,
+                    width: 30,
+                    height: 35,
+                }),
+            ] {
+                let settings = RenderSettings {
+                    aa: Some(1),
+                    region,
+                    integrator,
+                    ..RenderSettings::default()
+                };
+                let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+                let (image, _) = renderer.render(&|_| {}).unwrap();
+                // What the band loop gives: traced pixels through the resampler.
+                let r = renderer.region();
+                let plan = &renderer.plan;
+                let rays = CameraRays::new(&plan.camera, 1, plan.dof_rays);
+                let accel = Accel::build(plan.accel, &scene.shapes);
+                let surfaces = scene.resolved_surfaces();
+                let whitted =
+                    Whitted::new(&scene, &accel, &surfaces, plan.max_depth, plan.min_weight);
+                let classic = Classic::new(&scene, &accel, plan.camera.medium_ior);
+                let mut count = RayCount::default();
+                let mut traced = Vec::new();
+                for y in r.y..r.y + r.height {
+                    for x in r.x..r.x + r.width {
+                        let p = match integrator {
+                            IntegratorKind::Classic => {
+                                renderer.pixel(&classic, &accel, &rays, x, y, &mut count)
+                            }
+                            IntegratorKind::Whitted => {
+                                renderer.pixel(&whitted, &accel, &rays, x, y, &mut count)
+                            }
+                        };
+                        traced.push(p.to_array());
+                    }
+                }
+                let (wx, wy) = renderer.weights();
+                let expected = resample_window(
+                    &traced, r.x, r.y, r.width, r.height, &wx, &wy, r.x, r.y, r.width, r.height,
+                );
+                let bits = |p: &[[f32; 3]]| -> Vec<u32> {
+                    p.iter().flatten().map(|v| v.to_bits()).collect()
+                };
+                assert_eq!(bits(&image.pixels), bits(&expected), "{integrator:?}");
+                assert!(image.pixels.iter().flatten().any(|&v| v > 0.0));
+            }
+        }
     }
 }
