@@ -9,12 +9,11 @@
 //! the lower index, so the order shapes are met in does not matter.
 
 use super::packet::Flat;
-use super::{BOX_SLACK, Bvh, Node8, STACK, WIDTH, inverse};
+use super::{BOX_SLACK, Bvh, Entry, Node8, Stack, WIDTH, inverse};
 use crate::accel::Hit;
 use crate::accel::simd::SimdLevel;
 use crate::math::Ray;
 use crate::scene::shape::EDGE_SLACK;
-use std::mem::MaybeUninit;
 
 /// Rays in a packet.
 pub const PACKET_RAYS: usize = 8;
@@ -123,45 +122,6 @@ impl Rays {
     }
 }
 
-#[derive(Clone, Copy)]
-struct Entry {
-    child: u32,
-    count: u32,
-    /// The nearest entry distance of any ray into the child.
-    t: f32,
-}
-
-struct Stack {
-    items: [MaybeUninit<Entry>; STACK],
-    len: usize,
-}
-
-impl Stack {
-    #[inline(always)]
-    fn pop(&mut self) -> Option<Entry> {
-        self.len = self.len.checked_sub(1)?;
-        // SAFETY: slots below `len` were written by `push_sorted`.
-        Some(unsafe { self.items[self.len].assume_init() })
-    }
-
-    /// Pushes `e` among the entries above `base`, farthest first.
-    #[inline(always)]
-    fn push_sorted(&mut self, e: Entry, base: usize) {
-        let mut i = self.len;
-        while i > base {
-            // SAFETY: base <= i - 1 < len, a written slot.
-            let below = unsafe { self.items[i - 1].assume_init() };
-            if below.t >= e.t {
-                break;
-            }
-            self.items[i] = MaybeUninit::new(below);
-            i -= 1;
-        }
-        self.items[i] = MaybeUninit::new(e);
-        self.len += 1;
-    }
-}
-
 impl Bvh {
     /// The closest hit of each of up to [`PACKET_RAYS`] rays with `0 < t < t_max`, into
     /// `hits[i]`: what [`Bvh::closest`] gives each ray, found faster when the rays run
@@ -197,18 +157,11 @@ impl Bvh {
         // Lanes without a ray get -inf, so no box or shape is ever entered for them.
         let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
         bound[..rays.len()].fill(t_max);
-        let mut stack = Stack {
-            items: [const { MaybeUninit::uninit() }; STACK],
-            len: 0,
-        };
-        stack.push_sorted(
-            Entry {
-                child: 0,
-                count: 0,
-                t: 0.0,
-            },
-            0,
-        );
+        let mut stack = Stack::new(Entry {
+            child: 0,
+            count: 0,
+            t: 0.0,
+        });
         while let Some(entry) = stack.pop() {
             let widest = bound.iter().fold(f32::NEG_INFINITY, |m, &b| m.max(b));
             if entry.t > widest * BOX_SLACK {
@@ -304,18 +257,11 @@ impl Bvh {
         // A blocked ray's bound drops to -inf: it needs nothing more.
         let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
         bound[..rays.len()].copy_from_slice(t_max);
-        let mut stack = Stack {
-            items: [const { MaybeUninit::uninit() }; STACK],
-            len: 0,
-        };
-        stack.push_sorted(
-            Entry {
-                child: 0,
-                count: 0,
-                t: 0.0,
-            },
-            0,
-        );
+        let mut stack = Stack::new(Entry {
+            child: 0,
+            count: 0,
+            t: 0.0,
+        });
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
                 let first = entry.child as usize;
