@@ -33,7 +33,9 @@ use crate::format::obj::lines::{count_newlines, decode_name, piece_ranges};
 use crate::format::obj::triangulate::{Method, Triangulator};
 use crate::math::Vec3;
 
-/// Below this, one thread reads the file before the pieces would be set up.
+/// Smaller files stay on one thread: they take a few milliseconds either way, and
+/// setting up pieces and waking threads would be a larger share of that. (At 1.1 MB,
+/// a height field still reads 1.4× as fast on two threads.)
 const MIN_BYTES: usize = 1 << 20;
 
 /// Whether `text` is read on more than one thread.
@@ -389,7 +391,8 @@ fn concat<T>(pieces: &mut [Piece], of: impl Fn(&mut Piece) -> &mut Vec<T>) -> Ve
     all
 }
 
-/// A triangle slot before its face is built; every slot is overwritten.
+/// What a triangle slot holds until its face is built: the slots must exist before the
+/// pieces can share them out, and each is overwritten.
 const UNSET: ObjTriangle = ObjTriangle {
     v: [0; 3],
     vt: None,
