@@ -25,14 +25,17 @@ use super::{
     fan_fallback_message, few_corners_message, index_value, missing_attribute_message,
     missing_relative, missing_vertex, mixed_face_message, parse_normal, parse_position,
     parse_smoothing, parse_texcoord, positive_index, push_position, run_name, short_index,
-    skipped_kind, split_polygon, too_many_triangles_message, triangle_of, unknown_message,
+    skipped_kind, split_polygon, too_many_triangles_message, triangle_limit, triangle_of,
+    unknown_message,
 };
 use crate::Error;
 use crate::format::obj::lines::{count_newlines, decode_name, piece_ranges};
 use crate::format::obj::triangulate::{Method, Triangulator};
 use crate::math::Vec3;
 
-/// Below this, one thread reads the file before the pieces would be set up.
+/// Smaller files stay on one thread: they take a few milliseconds either way, and
+/// setting up pieces and waking threads would be a larger share of that. (At 1.1 MB,
+/// a height field still reads 1.4× as fast on two threads.)
 const MIN_BYTES: usize = 1 << 20;
 
 /// Whether `text` is read on more than one thread.
@@ -60,13 +63,135 @@ const HAS_VT: u8 = 1;
 const HAS_VN: u8 = 2;
 const LOCAL: [u8; 3] = [4, 8, 16];
 
-struct RawFace {
-    /// The (first physical) line of the statement.
-    line: u32,
-    /// One past its last corner in [`Piece::corners`].
-    end: u32,
+/// The faces of a piece, packed into bytes: per face its number of corners, its (first
+/// physical) line and how many positions the piece had read before it, each as the
+/// difference from the face before; then per corner a byte of flags and its indices.
+/// Every number is a LEB128 varint: an index into a million vertices takes 3 bytes, a
+/// line or count difference 1. Plain structs would take four times the memory, and
+/// fresh memory is what the kernel hands over page by page, slowly.
+#[derive(Default)]
+struct Faces {
+    bytes: Vec<u8>,
+    count: u32,
+    /// Corners in all faces so far: the number of the next one.
+    corners: usize,
+    last_line: usize,
+    last_positions: usize,
+}
+
+/// A face read back from [`Faces`].
+struct Face {
+    line: usize,
     /// The piece's positions read before it.
-    positions: u32,
+    positions: usize,
+    /// The number of its first corner in the piece.
+    first_corner: usize,
+}
+
+impl Faces {
+    fn push(&mut self, line: usize, positions: usize, corners: &[RawCorner]) {
+        let out = &mut self.bytes;
+        put_varint(out, corners.len() as u32);
+        put_varint(out, (line - self.last_line) as u32);
+        put_varint(out, (positions - self.last_positions) as u32);
+        for c in corners {
+            out.push(c.flags);
+            put_varint(out, c.index[0]);
+            if c.flags & HAS_VT != 0 {
+                put_varint(out, c.index[1]);
+            }
+            if c.flags & HAS_VN != 0 {
+                put_varint(out, c.index[2]);
+            }
+        }
+        self.count += 1;
+        self.corners += corners.len();
+        self.last_line = line;
+        self.last_positions = positions;
+    }
+
+    fn reader(&self) -> FaceReader<'_> {
+        FaceReader {
+            bytes: &self.bytes,
+            at: 0,
+            line: 0,
+            positions: 0,
+            corners: 0,
+        }
+    }
+}
+
+struct FaceReader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+    line: usize,
+    positions: usize,
+    corners: usize,
+}
+
+impl FaceReader<'_> {
+    /// The next face, its corners into `corners`.
+    #[inline(always)]
+    fn next(&mut self, corners: &mut Vec<RawCorner>) -> Option<Face> {
+        if self.at == self.bytes.len() {
+            return None;
+        }
+        let n = self.varint();
+        self.line += self.varint() as usize;
+        self.positions += self.varint() as usize;
+        corners.clear();
+        for _ in 0..n {
+            let flags = self.bytes[self.at];
+            self.at += 1;
+            let mut corner = RawCorner {
+                index: [self.varint(), 0, 0],
+                flags,
+            };
+            if flags & HAS_VT != 0 {
+                corner.index[1] = self.varint();
+            }
+            if flags & HAS_VN != 0 {
+                corner.index[2] = self.varint();
+            }
+            corners.push(corner);
+        }
+        let face = Face {
+            line: self.line,
+            positions: self.positions,
+            first_corner: self.corners,
+        };
+        self.corners += n as usize;
+        Some(face)
+    }
+
+    #[inline]
+    fn varint(&mut self) -> u32 {
+        let b = self.bytes[self.at];
+        self.at += 1;
+        if b < 0x80 {
+            return b as u32;
+        }
+        let mut value = (b & 0x7f) as u32;
+        let mut shift = 7;
+        loop {
+            let b = self.bytes[self.at];
+            self.at += 1;
+            value |= ((b & 0x7f) as u32) << shift;
+            if b < 0x80 {
+                return value;
+            }
+            shift += 7;
+        }
+    }
+}
+
+#[inline]
+fn put_varint(out: &mut Vec<u8>, mut value: u32) {
+    while value >= 0x80 {
+        out.push(value as u8 | 0x80);
+        value >>= 7;
+    }
+    out.push(value as u8);
 }
 
 /// Something that happened at a statement, in file order. `face` is the number of the
@@ -117,7 +242,7 @@ enum What {
 }
 
 struct Reach {
-    /// The corner in [`Piece::corners`].
+    /// The number of the corner in the piece.
     corner: usize,
     kind: Kind,
     value: i64,
@@ -135,7 +260,8 @@ struct Piece {
     colors: Vec<Vec3>,
     texcoords: Vec<[f32; 2]>,
     normals: Vec<Vec3>,
-    faces: Vec<RawFace>,
+    faces: Faces,
+    /// The corners of the face being read.
     corners: Vec<RawCorner>,
     /// Corners on a later physical line than their statement's first: (corner, line),
     /// for the line a missing index is reported at.
@@ -191,7 +317,7 @@ pub fn read(text: &[u8], path: &Path, options: Options, step: usize) -> Result<O
         })
         .collect();
     let mut reader = Reader::new(path, options);
-    let link = link_pieces(&mut pieces, &mut reader);
+    let link = link_pieces(&pieces, &mut reader);
 
     // An error is certain once a piece failed, a negative index reaches before the file
     // or the triangles are too many: the replay finds which comes first, and building
@@ -265,7 +391,8 @@ fn concat<T>(pieces: &mut [Piece], of: impl Fn(&mut Piece) -> &mut Vec<T>) -> Ve
     all
 }
 
-/// A triangle slot before its face is built; every slot is overwritten.
+/// What a triangle slot holds until its face is built: the slots must exist before the
+/// pieces can share them out, and each is overwritten.
 const UNSET: ObjTriangle = ObjTriangle {
     v: [0; 3],
     vt: None,
@@ -289,7 +416,7 @@ fn read_piece(text: &[u8], first_line: usize, path: &Path) -> Piece {
 impl Piece {
     fn event(&mut self, what: What) {
         self.events.push(Event {
-            face: self.faces.len() as u32,
+            face: self.faces.count,
             what,
         });
     }
@@ -365,13 +492,9 @@ impl Piece {
     }
 
     fn face(&mut self, path: &Path, line: &Line, tokens: Tokens) -> Result<()> {
-        let start = self.corners.len();
-        let result = self.face_corners(path, line, tokens);
-        if result.is_err() {
-            self.corners.truncate(start);
-            return result;
-        }
-        let corners = &self.corners[start..];
+        self.corners.clear();
+        self.face_corners(path, line, tokens)?;
+        let corners = &self.corners;
         let n = corners.len();
         let has = |flag| corners.iter().map(move |c| c.flags & flag != 0);
         let all = [has(HAS_VT).all(|b| b), has(HAS_VN).all(|b| b)];
@@ -399,11 +522,8 @@ impl Piece {
             self.triangles += n - 2;
         }
         // Kept however few its corners: they are checked against the file's vertices.
-        self.faces.push(RawFace {
-            line: line.number as u32,
-            end: self.corners.len() as u32,
-            positions: self.positions.len() as u32,
-        });
+        self.faces
+            .push(line.number, self.positions.len(), &self.corners);
         Ok(())
     }
 
@@ -434,8 +554,8 @@ impl Piece {
             if line.is_joined() {
                 let (number, _) = line.place(token.start);
                 if number != line.number {
-                    self.corner_lines
-                        .push((self.corners.len() as u32, number as u32));
+                    let corner = self.faces.corners + self.corners.len();
+                    self.corner_lines.push((corner as u32, number as u32));
                 }
             }
             self.corners.push(corner);
@@ -444,8 +564,26 @@ impl Piece {
     }
 
     /// Sets the index of `kind` in `corner` from its digits `text` at byte `start`.
-    #[inline]
+    #[inline(always)]
     fn index(
+        &mut self,
+        path: &Path,
+        line: &Line,
+        token: Token,
+        part: Part,
+        kind: Kind,
+        corner: &mut RawCorner,
+    ) -> Result<()> {
+        // The common case: a few digits.
+        if let Some(value) = short_index(part.0) {
+            corner.index[kind as usize] = value as u32 - 1;
+            return Ok(());
+        }
+        self.index_slow(path, line, token, part, kind, corner)
+    }
+
+    #[cold]
+    fn index_slow(
         &mut self,
         path: &Path,
         line: &Line,
@@ -455,10 +593,6 @@ impl Piece {
         corner: &mut RawCorner,
     ) -> Result<()> {
         let k = kind as usize;
-        if let Some(value) = short_index(text) {
-            corner.index[k] = value as u32 - 1;
-            return Ok(());
-        }
         let value = index_value(path, line, token, text, start, kind)?;
         if value > 0 {
             corner.index[k] = positive_index(path, line, text, start, kind, value)?;
@@ -476,7 +610,7 @@ impl Piece {
         } else {
             let (number, column) = line.place(start);
             let reach = Reach {
-                corner: self.corners.len(),
+                corner: self.faces.corners + self.corners.len(),
                 kind,
                 value,
                 defined,
@@ -500,6 +634,9 @@ struct Place {
     /// The material and smoothing group in force at the piece's start, then after each
     /// change within it: (first face it applies to, state).
     states: Vec<(u32, State)>,
+    /// Negative indices reaching back past the piece, resolved: (corner, kind, index),
+    /// in corner order.
+    reaches: Vec<(usize, usize, u32)>,
 }
 
 #[derive(Clone, Copy, Default)]
@@ -515,27 +652,28 @@ struct Link {
     triangles: usize,
     /// A negative index reaches before the first element of its kind.
     reach_error: bool,
-    /// The face (piece, face) whose triangles pass the scene's limit.
-    limit: Option<(usize, usize)>,
+    /// The face whose triangles pass the scene's limit: (piece, face, line).
+    limit: Option<(usize, usize, usize)>,
 }
 
 /// The pass in file order that tells each piece where it starts; it numbers the `usemtl`
 /// names (in the reader, as it would) and resolves the negative indices that reach back
 /// past their piece.
-fn link_pieces(pieces: &mut [Piece], reader: &mut Reader) -> Link {
+fn link_pieces(pieces: &[Piece], reader: &mut Reader) -> Link {
     let mut places = Vec::with_capacity(pieces.len());
     let mut totals = [0usize; 3];
     let mut triangles = 0;
     let mut state = State::default();
     let mut reach_error = false;
     let mut limit = None;
-    for (k, piece) in pieces.iter_mut().enumerate() {
+    for (k, piece) in pieces.iter().enumerate() {
         let materials: Vec<u32> = piece
             .materials
             .iter()
             .map(|name| reader.material_id(name.clone()))
             .collect();
         let mut states = vec![(0, state)];
+        let mut reaches = Vec::new();
         for event in &piece.events {
             match &event.what {
                 What::UseMaterial { name, .. } => {
@@ -551,25 +689,27 @@ fn link_pieces(pieces: &mut [Piece], reader: &mut Reader) -> Link {
                     let resolved = (totals[k] + reach.defined) as i64 + reach.value;
                     if resolved < 0 {
                         reach_error = true;
-                    } else if let Some(corner) = piece.corners.get_mut(reach.corner) {
-                        corner.index[k] = resolved as u32;
-                        corner.flags &= !LOCAL[k];
+                    } else {
+                        reaches.push((reach.corner, k, resolved as u32));
                     }
                 }
                 _ => {}
             }
         }
-        if limit.is_none() && triangles + piece.triangles > crate::scene::MAX_SHAPES {
+        if limit.is_none() && triangles + piece.triangles > triangle_limit() {
             let mut before = triangles;
-            let mut start = 0;
-            for (f, face) in piece.faces.iter().enumerate() {
-                let n = face.end as usize - start;
-                start = face.end as usize;
+            let mut faces = piece.faces.reader();
+            let mut corners = Vec::new();
+            for f in 0.. {
+                let Some(face) = faces.next(&mut corners) else {
+                    break;
+                };
+                let n = corners.len();
                 if n < 3 {
                     continue;
                 }
-                if before + n - 2 > crate::scene::MAX_SHAPES {
-                    limit = Some((k, f));
+                if before + n - 2 > triangle_limit() {
+                    limit = Some((k, f, face.line));
                     break;
                 }
                 before += n - 2;
@@ -580,6 +720,7 @@ fn link_pieces(pieces: &mut [Piece], reader: &mut Reader) -> Link {
             triangles,
             materials,
             states,
+            reaches,
         });
         totals[0] += piece.positions.len();
         totals[1] += piece.texcoords.len();
@@ -620,7 +761,9 @@ fn build(
     slots: &mut [ObjTriangle],
 ) -> Built {
     let faces = std::mem::take(&mut piece.faces);
-    let raw = std::mem::take(&mut piece.corners);
+    let mut faces = faces.reader();
+    let mut raw = Vec::new();
+    let mut reaches = at.reaches.iter().peekable();
     let mut built = Built::default();
     let mut corners: Vec<Corner> = Vec::new();
     let mut triangulator = Triangulator::default();
@@ -628,29 +771,37 @@ fn build(
     let mut local = Vec::new();
     let mut states = at.states.iter().peekable();
     let mut state = State::default();
-    let mut start = 0;
     let mut next_slot = 0;
-    for (f, face) in faces.iter().enumerate() {
+    let mut next_face = 0;
+    while let Some(face) = faces.next(&mut raw) {
+        let f = next_face;
+        next_face += 1;
         while let Some(&&(from, s)) = states.peek()
             && from as usize <= f
         {
             state = s;
             states.next();
         }
-        let end = face.end as usize;
-        if let Some(triangle) = plain_triangle(&raw[start..end], at, totals, state) {
+        while let Some(&&(corner, k, index)) = reaches.peek()
+            && corner < face.first_corner + raw.len()
+        {
+            let raw = &mut raw[corner - face.first_corner];
+            raw.index[k] = index;
+            raw.flags &= !LOCAL[k];
+            reaches.next();
+        }
+        if let Some(triangle) = plain_triangle(&raw, at, totals, state) {
             slots[next_slot] = triangle;
             next_slot += 1;
-            start = end;
             continue;
         }
-        let line = face.line as usize;
+        let line = face.line;
         // Positions the one-thread reader had read when it met the face.
-        let defined = at.index[0] + face.positions as usize;
+        let defined = at.index[0] + face.positions;
         let mut later = false;
         let mut missing = false;
         corners.clear();
-        for (c, raw) in raw[start..end].iter().enumerate() {
+        for (c, raw) in raw.iter().enumerate() {
             let mut index = [None; 3];
             for (k, slot) in index.iter_mut().enumerate() {
                 if k > 0 && raw.flags & [0, HAS_VT, HAS_VN][k] == 0 {
@@ -662,8 +813,9 @@ fn build(
                 }
                 if i >= totals[k] {
                     missing |= k == 0;
+                    let corner = face.first_corner + c;
                     built.missing[k]
-                        .get_or_insert_with(|| (corner_line(piece, start + c, line), i as u32));
+                        .get_or_insert_with(|| (corner_line(piece, corner, line), i as u32));
                 }
                 *slot = Some(i as u32);
             }
@@ -675,7 +827,6 @@ fn build(
                 vn: index[2],
             });
         }
-        start = end;
         let n = corners.len();
         if n < 3 {
             continue;
@@ -827,16 +978,15 @@ fn replay(pieces: &mut [Piece], link: &Link, built: &[Built], reader: &mut Reade
         let error = piece.error.take();
         let piece = &*piece;
         let at = &link.pieces[k];
-        let limit = link.limit.filter(|&(p, _)| p == k).map(|(_, f)| f);
+        let limit = link.limit.filter(|&(p, _, _)| p == k);
         let no_fans = Vec::new();
         let fans = built.get(k).map_or(&no_fans, |b| &b.fans);
         let mut fans = fans.iter().peekable();
         // What faces before `face` did after their own events.
         let mut faces_before = |reader: &mut Reader, face: usize| -> Result<()> {
-            if let Some(f) = limit
+            if let Some((_, f, line)) = limit
                 && f < face
             {
-                let line = piece.faces[f].line as usize;
                 return Err(Error::parse_at(path, line, 1, too_many_triangles_message()));
             }
             while let Some(&&(f, line, n)) = fans.peek()

@@ -239,6 +239,32 @@ fn pieces_of_one_line_each_read_a_large_file_the_same() {
     same_in_pieces(&text, &[1, 64, 4096]).unwrap();
 }
 
+/// The first face past the triangle limit fails where it did, whatever comes before it
+/// in its piece and after it in the file.
+#[test]
+fn the_triangle_limit_fails_at_the_same_face_in_pieces() {
+    super::super::TEST_TRIANGLE_LIMIT.set(Some(40));
+    let mut text = GRID.to_owned();
+    for k in 0..30 {
+        match k % 5 {
+            0 => text.push_str("f 1 2 3 4 5\nusemtl a\n"),
+            1 => text.push_str("f 1/1 2 3\nf 1\n"),
+            2 => text.push_str("f -1 -2 -3 \\\n -4\ng x\n"),
+            _ => text.push_str("f 1 2 3\nfoo\n"),
+        }
+    }
+    text.push_str("v 1\nf 1 2 -99\n");
+    let result = same_in_pieces(&text, STEPS);
+    assert!(result.is_err_and(|e| e.contains("expected at most 40 triangles")));
+    // A face ending exactly at the limit is still read.
+    let text = format!("{GRID}{}", "f 1 2 3 4\n".repeat(20));
+    assert!(same_in_pieces(&text, STEPS).is_ok());
+    let text = format!("{text}f 1 2 3\nv 1\n");
+    let result = same_in_pieces(&text, STEPS);
+    assert!(result.is_err_and(|e| e.starts_with("dir/m.obj:27:1: expected at most 40")));
+    super::super::TEST_TRIANGLE_LIMIT.set(None);
+}
+
 /// One statement, as tokens: mostly well-formed, with errors now and then.
 fn statement() -> impl Strategy<Value = Vec<String>> {
     let coordinate = prop_oneof![
