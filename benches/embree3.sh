@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Prism's BVH against native Embree 3 on the same triangles, rays and threads.
 #
-#   benches/embree3.sh [MESH CAMERA] [--seconds S] [--rounds R] [--threads "1 2"]
+#   benches/embree3.sh [MESH CAMERA] [--seconds S] [--rounds R] [--threads "1 2"] [--json]
 #   benches/embree3.sh dragon [...]    # target/models/stanford-dragon, benches/dragon.cmr
 #
 # Default: the Stanford bunny beside the repository with benches/bunny.cmr. Writes a
@@ -10,7 +10,9 @@
 # EMBREE_CONFIG=isa=avx2 to hold it to AVX2), then runs `prism bench --json` and the
 # harness R times for each thread count, interleaved so that noise on a shared machine
 # hits both, and prints the medians side by side. The ratio is the median of each
-# round's ratio, Prism's run against the Embree run right after it.
+# round's ratio, Prism's run against the Embree run right after it. With --json the
+# medians come out as one JSON object on stdout instead of the table, everything else
+# on stderr (benches/scaling.py reads it).
 #
 # libembree-dev is installed here with apt when missing: it is a dependency of this
 # benchmark only. Prism does not link Embree and CI does not need it. Exit code 3 when
@@ -23,12 +25,14 @@ camera=benches/bunny.cmr
 seconds=1
 rounds=5
 threads="1 2"
+json=0
 positional=()
 while (($#)); do
     case $1 in
     --seconds) seconds=$2; shift 2 ;;
     --rounds) rounds=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
+    --json) json=1; shift ;;
     -h | --help) awk 'NR > 1 && /^#/ { print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) positional+=("$1"); shift ;;
     esac
@@ -41,10 +45,13 @@ elif ((${#positional[@]} == 2)); then
     mesh=${positional[0]}
     camera=${positional[1]}
 elif ((${#positional[@]} != 0)); then
-    echo "usage: $0 [MESH CAMERA | dragon] [--seconds S] [--rounds R] [--threads \"1 2\"]" >&2
+    echo "usage: $0 [MESH CAMERA | dragon] [--seconds S] [--rounds R] [--threads \"1 2\"] [--json]" >&2
     exit 2
 fi
 [[ -f $mesh ]] || { echo "$mesh is absent" >&2; exit 1; }
+# The table (or the JSON) goes to descriptor 3; with --json all else goes to stderr.
+exec 3>&1
+((json)) && exec 1>&2
 
 skip() {
     echo "embree3.sh: $*" >&2
@@ -94,7 +101,7 @@ for round in $(seq "$rounds"); do
     done
 done
 
-python3 - "$results" "$rounds" <<'EOF'
+python3 - "$results" "$rounds" "$json" "$mesh" "$camera" "$seconds" "$config" <<'EOF' >&3
 import json, statistics, sys
 
 rows = [json.loads(line) for line in open(sys.argv[1])]
@@ -106,6 +113,42 @@ def figures(tool, threads, key):
 
 embree = next(r["data"] for r in rows if r["tool"] == "embree")
 prism = next(r["data"] for r in rows if r["tool"] == "prism")
+threads = sorted({r["data"]["threads"] for r in rows})
+if sys.argv[3] == "1":
+    def medians(tool, t):
+        data = [r["data"] for r in rows if r["tool"] == tool and r["data"]["threads"] == t]
+        return {
+            k: statistics.median(d[k] for d in data)
+            for k, v in data[0].items()
+            if isinstance(v, (int, float)) and not isinstance(v, bool) and k != "threads"
+        }
+    def ratios(t):
+        pairs = [
+            ("primary_mrays", "intersect1_mrays"),
+            ("primary_packet_mrays", "intersect16_mrays"),
+            ("shadow_mrays", "occluded1_mrays"),
+            ("shadow_packet_mrays", "occluded1_mrays"),
+            ("build_s", "build_s"),
+        ]
+        return {
+            f"{p}/{e}": statistics.median(a / b for a, b in zip(figures("prism", t, p), figures("embree", t, e)))
+            for p, e in pairs
+        }
+    keep = ["embree_version", "config", "tasking", "packets", "triangles", "rays", "shadow_rays"]
+    summary = {
+        "mesh": sys.argv[4], "camera": sys.argv[5], "seconds": float(sys.argv[6]),
+        "rounds": int(rounds), "embree_config": sys.argv[7], "results": sys.argv[1],
+        "width": prism["width"], "height": prism["height"], "hit_fraction": prism["hit_fraction"],
+        "prism_simd": prism["simd"],
+        **{k: embree[k] for k in keep},
+        "agreement": {k: embree[k] for k in ["hit_or_miss_differs", "other_triangle", "distance_differs", "disagree", "intersect16_differs_from_intersect1", "occluded_differs"]},
+        "medians": [
+            {"threads": t, "prism": medians("prism", t), "embree": medians("embree", t), "ratios": ratios(t)}
+            for t in threads
+        ],
+    }
+    print(json.dumps(summary))
+    sys.exit(0)
 print(
     f"\n{embree['triangles']} triangles, {embree['rays']} primary rays "
     f"({prism['width']}x{prism['height']}), {embree['shadow_rays']} shadow rays; "
@@ -114,7 +157,6 @@ print(
 )
 print("| figure | threads | Prism | Embree 3 | Prism / Embree |")
 print("|---|---:|---:|---:|---:|")
-threads = sorted({r["data"]["threads"] for r in rows})
 lines = [
     ("primary, closest hit, Mrays/s: rtcIntersect1", "primary_mrays", "intersect1_mrays", 1),
     ("primary, Prism packets of 8 (4x2 tiles) vs rtcIntersect16 (4x4 tiles), Mrays/s", "primary_packet_mrays", "intersect16_mrays", 1),
