@@ -140,27 +140,27 @@ def plot(rows, args, title, png):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.ticker import FuncFormatter
+    from matplotlib.ticker import FuncFormatter, NullLocator
 
     def triangles(x, _):
         return f"{x / 1e6:g}M" if x >= 1e6 else f"{x / 1e3:g}k"
 
     panels = len(args.threads)
-    fig, axes = plt.subplots(1, panels, figsize=(9 * panels, 5.6), squeeze=False, sharey=True)
+    fig, axes = plt.subplots(1, panels, figsize=(9 * panels, 6.2), squeeze=False, sharey=True)
     top = max(r[c] for r in rows for c, *_ in SERIES)
     for ax, t in zip(axes[0], args.threads):
         mine = sorted((r for r in rows if r["threads"] == t), key=lambda r: r["triangles"])
         x = [r["triangles"] for r in mine]
         for column, label, colour, style, marker in SERIES:
             ax.plot(x, [r[column] for r in mine], style, color=colour, marker=marker, label=label)
-        for r in mine:
-            ax.annotate(
-                r["label"], (r["triangles"], 0), xytext=(0, 4), textcoords="offset points",
-                rotation=90, ha="center", va="bottom", fontsize=8, color="0.35",
-            )
         ax.set_xscale("log")
         ax.set_xlim(3e3, 2e6)
         ax.xaxis.set_major_formatter(FuncFormatter(triangles))
+        # the meshes' names along the top, at their triangle counts
+        names = ax.secondary_xaxis("top")
+        names.set_xticks(x, labels=[r["label"] for r in mine])
+        names.xaxis.set_minor_locator(NullLocator())
+        names.tick_params(labelrotation=90, labelsize=8, labelcolor="0.3")
         ax.set_ylim(0, top * 1.12)
         ax.set_xlabel("triangles (log scale)")
         ax.set_title(f"{t} thread{'s' if t > 1 else ''}", fontsize=10)
