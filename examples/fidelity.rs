@@ -156,15 +156,17 @@ fn apply_pose(scene: &Scene, camera: &Camera, pose: &Pose) -> (Scene, Camera) {
     let mut scene = scene.clone();
     for (file, new) in FILE_MARBLES.iter().zip(pose.marbles) {
         let file = Vec3::from_array(*file);
-        let sphere = scene
+        let (i, mut sphere) = scene
             .shapes
-            .iter_mut()
-            .find_map(|s| match s {
-                Shape::Sphere(sp) if (sp.center - file).length() < 1e-2 => Some(sp),
+            .iter()
+            .enumerate()
+            .find_map(|(i, s)| match s {
+                Shape::Sphere(sp) if (sp.center - file).length() < 1e-2 => Some((i, sp)),
                 _ => None,
             })
             .unwrap_or_else(|| panic!("scene1 has no marble at {file}"));
         sphere.center = new;
+        scene.shapes.set(i, Shape::Sphere(sphere));
     }
     let mut camera = camera.clone();
     camera.eye = pose.eye;

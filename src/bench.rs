@@ -59,6 +59,8 @@ pub struct BenchReport {
     pub primitives: usize,
     /// Bytes of the shapes, their material indices and the intersector.
     pub bytes: usize,
+    /// Of `bytes`, those of the intersector (nodes and leaves).
+    pub accel_bytes: usize,
     pub primary_mrays: f64,
     pub shadow_mrays: f64,
     /// The same rays traced as packets of [`PACKET_RAYS`] (4 x 2 pixel tiles; the
@@ -88,7 +90,7 @@ impl BenchReport {
         format!(
             concat!(
                 "{{\"accel\":\"{}\",\"threads\":{},\"width\":{},\"height\":{},",
-                "\"build_s\":{:.6},\"primitives\":{},\"bytes\":{},",
+                "\"build_s\":{:.6},\"primitives\":{},\"bytes\":{},\"accel_bytes\":{},",
                 "\"primary_mrays\":{:.4},\"shadow_mrays\":{:.4},",
                 "\"primary_packet_mrays\":{:.4},\"shadow_packet_mrays\":{:.4},",
                 "\"simd\":\"{}\",\"frame_s\":{},",
@@ -101,6 +103,7 @@ impl BenchReport {
             self.build_s,
             self.primitives,
             self.bytes,
+            self.accel_bytes,
             self.primary_mrays,
             self.shadow_mrays,
             self.primary_packet_mrays,
@@ -130,9 +133,11 @@ impl std::fmt::Display for BenchReport {
         writeln!(f, "build        {:.3} s", self.build_s)?;
         writeln!(
             f,
-            "memory       {:.1} MiB ({:.1} bytes per primitive)",
+            "memory       {:.1} MiB ({:.1} bytes per primitive: shapes {:.1}, intersector {:.1})",
             self.bytes as f64 / (1 << 20) as f64,
-            self.bytes_per_primitive()
+            self.bytes_per_primitive(),
+            (self.bytes - self.accel_bytes) as f64 / self.primitives.max(1) as f64,
+            self.accel_bytes as f64 / self.primitives.max(1) as f64,
         )?;
         writeln!(
             f,
@@ -468,9 +473,9 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
     let start = Instant::now();
     let accel = Accel::build(options.accel, &scene.shapes);
     let build_s = start.elapsed().as_secs_f64();
-    let bytes = scene.shapes.len() * size_of::<Shape>()
-        + scene.material_of.len() * size_of::<u32>()
-        + accel.memory_bytes();
+    let accel_bytes = accel.memory_bytes();
+    let bytes =
+        scene.shapes.memory_bytes() + scene.material_of.len() * size_of::<u32>() + accel_bytes;
 
     let rays = primary_rays(camera);
     let min = Duration::from_secs_f64(options.min_seconds);
@@ -551,6 +556,7 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
         build_s,
         primitives: scene.shapes.len(),
         bytes,
+        accel_bytes,
         primary_mrays: primary_s.mrays(),
         shadow_mrays: shadow_s.mrays(),
         frame_s: None,
@@ -656,7 +662,7 @@ mod tests {
         let report = run(&scene, &camera, &options).unwrap();
         let expected = rays
             .iter()
-            .filter(|r| scene.shapes[0].intersect(r, f32::INFINITY).is_some())
+            .filter(|r| scene.shapes.get(0).intersect(r, f32::INFINITY).is_some())
             .count();
         assert!(expected > 0 && expected < 1600);
         assert_eq!(report.hit_fraction, expected as f64 / 1600.0);
@@ -724,8 +730,8 @@ mod tests {
             lights: example.lights.clone(),
             ..Scene::default()
         };
-        for shape in &example.shapes {
-            match *shape {
+        for shape in example.shapes.iter() {
+            match shape {
                 Shape::Triangle(t) => scene.push_shape(Shape::Triangle(t), 0),
                 Shape::Rectangle(r) => {
                     for v in [[r.v[0], r.v[1], r.v[2]], [r.v[0], r.v[2], r.v[3]]] {
@@ -782,7 +788,7 @@ mod tests {
             meta.contains(&format!("\"width\":64,\"height\":{h},")),
             "{meta}"
         );
-        let Shape::Triangle(first) = scene.shapes[0] else {
+        let Shape::Triangle(first) = scene.shapes.get(0) else {
             unreachable!()
         };
         assert_eq!(floats(&triangles)[..3], first.v[0].to_array());

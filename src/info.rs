@@ -40,7 +40,7 @@ impl SceneInfo {
         let mut triangles = 0;
         let mut spheres = 0;
         let mut rectangles = 0;
-        for s in &scene.shapes {
+        for s in scene.shapes.iter() {
             match s {
                 Shape::Triangle(_) => triangles += 1,
                 Shape::Rectangle(_) => rectangles += 1,
@@ -168,10 +168,10 @@ fn summarize(kinds: &[&'static str]) -> String {
 }
 
 /// Distinct corner positions of the triangles and rectangles, and sphere centres.
-fn distinct_corners(shapes: &[Shape]) -> usize {
+fn distinct_corners(shapes: &crate::scene::Shapes) -> usize {
     let mut seen = HashSet::new();
     let key = |v: crate::math::Vec3| v.to_array().map(f32::to_bits);
-    for s in shapes {
+    for s in shapes.iter() {
         match s {
             Shape::Triangle(t) => seen.extend(t.v.iter().map(|&v| key(v))),
             Shape::Rectangle(r) => seen.extend(r.v.iter().map(|&v| key(v))),

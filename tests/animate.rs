@@ -100,7 +100,7 @@ fn shipped_animation_renders_and_the_seed_scene1_orbit_loads() {
         let k = (0..scene.shapes.len() as u32)
             .find(|&k| scene.material(k).name == name)
             .unwrap();
-        let prism::scene::Shape::Sphere(s) = scene.shapes[k as usize] else {
+        let prism::scene::Shape::Sphere(s) = scene.shapes.get(k as usize) else {
             panic!("{name} is a sphere")
         };
         assert!((s.center - *want).length() < 2e-3, "{name}: {:?}", s.center);

@@ -156,11 +156,17 @@ fn scene1_matches_the_report_figure_at_the_animation_pose() {
     let (mut scene, mut camera) = load(&dir);
     for (file, new) in FILE_MARBLES.iter().zip(POSE_MARBLES) {
         let file = Vec3::from_array(*file);
-        let marble = scene.shapes.iter_mut().find_map(|s| match s {
-            Shape::Sphere(sp) if (sp.center - file).length() < 1e-2 => Some(sp),
-            _ => None,
-        });
-        marble.expect("scene1 has its five marbles").center = Vec3::from_array(new);
+        let (i, mut marble) = scene
+            .shapes
+            .iter()
+            .enumerate()
+            .find_map(|(i, s)| match s {
+                Shape::Sphere(sp) if (sp.center - file).length() < 1e-2 => Some((i, sp)),
+                _ => None,
+            })
+            .expect("scene1 has its five marbles");
+        marble.center = Vec3::from_array(new);
+        scene.shapes.set(i, Shape::Sphere(marble));
     }
     camera.eye = Vec3::from_array(POSE_EYE);
     camera.theta_deg = 109.0;

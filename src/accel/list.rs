@@ -3,14 +3,14 @@
 
 use super::Hit;
 use crate::math::Ray;
-use crate::scene::Shape;
+use crate::scene::Shapes;
 
 pub struct ListAccel<'s> {
-    shapes: &'s [Shape],
+    shapes: &'s Shapes,
 }
 
 impl<'s> ListAccel<'s> {
-    pub fn new(shapes: &'s [Shape]) -> ListAccel<'s> {
+    pub fn new(shapes: &'s Shapes) -> ListAccel<'s> {
         ListAccel { shapes }
     }
 

@@ -13,7 +13,7 @@ pub use octree::Octree;
 pub use simd::SimdLevel;
 
 use crate::math::Ray;
-use crate::scene::Shape;
+use crate::scene::Shapes;
 use std::fmt;
 use std::str::FromStr;
 
@@ -90,11 +90,11 @@ impl FromStr for AccelKind {
 pub enum Accel<'s> {
     List(ListAccel<'s>),
     Octree(Octree<'s>),
-    Bvh(Bvh),
+    Bvh(Bvh<'s>),
 }
 
 impl<'s> Accel<'s> {
-    pub fn build(kind: AccelKind, shapes: &'s [Shape]) -> Accel<'s> {
+    pub fn build(kind: AccelKind, shapes: &'s Shapes) -> Accel<'s> {
         match kind {
             AccelKind::List => Accel::List(ListAccel::new(shapes)),
             AccelKind::Octree => Accel::Octree(Octree::build(shapes)),

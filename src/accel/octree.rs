@@ -9,7 +9,8 @@
 
 use super::Hit;
 use crate::math::{Aabb, Ray, Vec3};
-use crate::scene::Shape;
+use crate::scene::Shapes;
+use rayon::prelude::*;
 
 /// A leaf with this many shapes splits (the report's threshold).
 pub const SPLIT_AT: usize = 5;
@@ -36,14 +37,14 @@ impl Node {
 }
 
 pub struct Octree<'s> {
-    shapes: &'s [Shape],
+    shapes: &'s Shapes,
     nodes: Vec<Node>,
     items: Vec<u32>,
 }
 
 impl<'s> Octree<'s> {
-    pub fn build(shapes: &'s [Shape]) -> Octree<'s> {
-        let boxes: Vec<Aabb> = shapes.iter().map(Shape::bounds).collect();
+    pub fn build(shapes: &'s Shapes) -> Octree<'s> {
+        let boxes: Vec<Aabb> = shapes.par_iter().map(|s| s.bounds()).collect();
         let root = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
         let root = if root.is_empty() {
             Aabb {
@@ -131,7 +132,7 @@ impl<'s> Octree<'s> {
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         self.walk(ray, t_max, |shape, _| {
-            let s = &self.shapes[shape as usize];
+            let s = self.shapes.get(shape as usize);
             if let Some(t) = s.intersect(ray, Hit::bound(&best, t_max))
                 && Hit::beats(t, shape, &best)
             {
@@ -146,7 +147,9 @@ impl<'s> Octree<'s> {
         let mut hit = false;
         self.walk(ray, t_max, |shape, t_limit| {
             hit = blocks(shape)
-                && self.shapes[shape as usize]
+                && self
+                    .shapes
+                    .get(shape as usize)
                     .intersect(ray, t_limit)
                     .is_some();
             (hit, t_limit)

@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::math::Vec3;
-use crate::scene::{Rectangle, Sphere, Triangle};
+use crate::scene::{Rectangle, Shape, Shapes, Sphere, Triangle};
 use proptest::prelude::*;
 
 fn v(a: [f32; 3]) -> Vec3 {
@@ -45,6 +45,10 @@ fn ray_strategy() -> impl Strategy<Value = Ray> {
 /// tests give the same distance bit for bit, and ties go to the lower index in all) and
 /// the same shadow answer.
 fn agree_with_brute_force(shapes: &[Shape], rays: &[Ray]) -> Result<(), TestCaseError> {
+    agree_on(&Shapes::from(shapes), rays)
+}
+
+fn agree_on(shapes: &Shapes, rays: &[Ray]) -> Result<(), TestCaseError> {
     let list = Accel::build(AccelKind::List, shapes);
     let fast = [
         ("octree", Accel::build(AccelKind::Octree, shapes)),
@@ -200,21 +204,26 @@ proptest! {
         agree_with_brute_force(&shapes, &aimed_rays(&shapes, &picks))?;
     }
 
-    /// A tessellated grid: every triangle shares its edges, and rays through vertices
-    /// and along edges test the ties.
+    /// A tessellated grid stored as a mesh: every triangle shares its edges and its
+    /// corners, and rays through vertices and along edges test the ties.
     #[test]
     fn intersectors_agree_on_shared_edges(
         n in 1usize..12,
         picks in prop::collection::vec((0i32..24, 0i32..24, -3i32..4, -3i32..4), 32),
     ) {
-        let mut shapes = Vec::new();
+        let positions: Vec<Vec3> = (0..=n)
+            .flat_map(|y| (0..=n).map(move |x| Vec3::new(x as f32, y as f32, 0.0)))
+            .collect();
+        let mut triangles = Vec::new();
         for y in 0..n {
             for x in 0..n {
-                let p = |dx: usize, dy: usize| Vec3::new((x + dx) as f32, (y + dy) as f32, 0.0);
-                shapes.push(Shape::Triangle(Triangle { v: [p(0, 0), p(1, 0), p(1, 1)] }));
-                shapes.push(Shape::Triangle(Triangle { v: [p(0, 0), p(1, 1), p(0, 1)] }));
+                let p = |dx: usize, dy: usize| ((y + dy) * (n + 1) + x + dx) as u32;
+                triangles.push([p(0, 0), p(1, 0), p(1, 1)]);
+                triangles.push([p(0, 0), p(1, 1), p(0, 1)]);
             }
         }
+        let mut shapes = Shapes::new();
+        shapes.push_mesh(&positions, &triangles);
         let rays: Vec<Ray> = picks
             .iter()
             .map(|&(x, y, dx, dy)| {
@@ -223,7 +232,7 @@ proptest! {
                 Ray::new(origin, target - origin)
             })
             .collect();
-        agree_with_brute_force(&shapes, &rays)?;
+        agree_on(&shapes, &rays)?;
     }
 }
 
@@ -241,6 +250,7 @@ fn octree_splits_crowded_cells() {
             })
         })
         .collect();
+    let shapes = Shapes::from(shapes);
     let Accel::Octree(tree) = Accel::build(AccelKind::Octree, &shapes) else {
         unreachable!()
     };

@@ -233,7 +233,7 @@ impl<'s> State<'s> {
         };
         for &i in &s.shapes {
             let x = self.shape_transform(i);
-            match &self.base.shapes[i as usize] {
+            match &self.base.shapes.get(i as usize) {
                 Shape::Sphere(sp) => grow(x.transform_point3(dvec(sp.center)), sp.radius as f64),
                 Shape::Triangle(tr) => {
                     tr.v.iter()
@@ -259,9 +259,14 @@ impl<'s> State<'s> {
     /// moved from its place in the base scene.
     fn write_scene(&self, posed: &mut Scene) {
         let moved = |x: &DAffine3, p: Vec3| fvec(x.transform_point3(dvec(p)));
+        if !self.shapes.is_empty() {
+            // Moved triangles get positions of their own (their corners may be shared
+            // with shapes that stay): start again from the base scene's each frame.
+            posed.shapes.clone_from(&self.base.shapes);
+        }
         for (&i, x) in &self.shapes {
             let i = i as usize;
-            posed.shapes[i] = match self.base.shapes[i] {
+            let placed = match self.base.shapes.get(i) {
                 Shape::Sphere(s) => Shape::Sphere(Sphere {
                     center: moved(x, s.center),
                     radius: s.radius,
@@ -273,6 +278,7 @@ impl<'s> State<'s> {
                     v: re.v.map(|p| moved(x, p)),
                 }),
             };
+            posed.shapes.set(i, placed);
         }
         for (&i, x) in &self.lights {
             let i = i as usize;

@@ -43,7 +43,7 @@ fn a_rotated_object_has_known_vertices_at_a_known_frame() {
     assert_eq!((a.frames, a.fps), (5, 4.0));
     let tri = |frame| {
         let (scene, _) = a.pose(frame).unwrap();
-        match scene.shapes[5] {
+        match scene.shapes.get(5) {
             Shape::Triangle(t) => t.v,
             _ => panic!("shape 5 is the gold triangle"),
         }
@@ -61,7 +61,7 @@ fn a_rotated_object_has_known_vertices_at_a_known_frame() {
     assert_eq!(scene0.shapes, a.scene.shapes);
     assert_eq!(camera0, a.camera);
     let (scene4, _) = a.pose(4).unwrap();
-    assert_eq!(scene4.shapes[..5], a.scene.shapes[..5]);
+    assert_eq!(scene4.shapes.to_vec()[..5], a.scene.shapes.to_vec()[..5]);
     assert_eq!(scene4.lights, a.scene.lights);
 }
 
@@ -124,7 +124,14 @@ fn orbit_keeps_or_turns_an_objects_orientation() {
              axis = [0, 0, 1]\nkeep_orientation = {keep}\nkeys = [[0, 0], [1, 180]]\n"
         )
     };
-    let tri = |keep| match parse_str(&body(keep)).unwrap().pose(1).unwrap().0.shapes[5] {
+    let tri = |keep| match parse_str(&body(keep))
+        .unwrap()
+        .pose(1)
+        .unwrap()
+        .0
+        .shapes
+        .get(5)
+    {
         Shape::Triangle(t) => t.v,
         _ => unreachable!(),
     };
@@ -158,11 +165,15 @@ fn translate_moves_a_group_with_its_light_and_duration_sets_the_frames() {
     assert_eq!(a.frames, 15);
     let (scene, _) = a.pose(5).unwrap();
     assert_eq!(scene.lights[0].position, Vec3::new(5.0, 0.0, 5.0));
-    let Shape::Sphere(s) = scene.shapes[0] else {
+    let Shape::Sphere(s) = scene.shapes.get(0) else {
         panic!()
     };
     assert_eq!(s.center, Vec3::new(0.0, 0.0, 5.0));
-    assert_eq!(scene.shapes[1], a.scene.shapes[1], "not in the group");
+    assert_eq!(
+        scene.shapes.get(1),
+        a.scene.shapes.get(1),
+        "not in the group"
+    );
     let (scene, _) = a.pose(14).unwrap();
     assert_eq!(scene.lights[0].position, Vec3::new(5.0, 0.0, 10.0), "held");
 }
@@ -396,7 +407,7 @@ fn a_camera_only_animation_shares_one_intersector_and_renders_the_same_frames() 
 #[test]
 fn an_intersector_over_other_shapes_is_refused() {
     let a = parse_str("frames = 1\nfps = 1\n[render]\nwidth = 8\nheight = 6\n").unwrap();
-    let empty: Vec<crate::scene::Shape> = Vec::new();
+    let empty = crate::scene::Shapes::new();
     let accel = crate::accel::Accel::build(crate::accel::AccelKind::Bvh, &empty);
     let renderer = Renderer::new(&a.scene, &a.camera, a.settings.clone()).unwrap();
     let e = renderer
@@ -503,7 +514,7 @@ fn a_big_scene_moves_only_its_target_at_every_frame() {
     )
     .unwrap();
     // 300 000 more triangles, none of them moving.
-    let t = a.scene.shapes[0];
+    let t = a.scene.shapes.get(0);
     let m = a.scene.material_of[0];
     for _ in 0..300_000 {
         a.scene.push_shape(t, m);
@@ -513,9 +524,41 @@ fn a_big_scene_moves_only_its_target_at_every_frame() {
     for k in [0, 120, 399] {
         a.pose_into(k, &mut posed).unwrap();
         let moved: Vec<usize> = (0..posed.shapes.len())
-            .filter(|&i| posed.shapes[i] != a.scene.shapes[i])
+            .filter(|&i| posed.shapes.get(i) != a.scene.shapes.get(i))
             .collect();
         let expected: Vec<usize> = if k == 0 { vec![] } else { vec![1] };
         assert_eq!(moved, expected, "frame {k}");
+    }
+}
+
+/// Mesh triangles share corners: moving one must move its own corners only, frame
+/// after frame in the same posed scene, without the scene growing.
+#[test]
+fn moving_one_triangle_of_a_mesh_leaves_its_neighbour_in_place() {
+    let mut a = parse_str(
+        "frames = 2\nfps = 1\n\
+         [[track]]\ntarget = \"shape:1\"\nmotion = \"translate\"\n\
+         keys = [[0, [0, 0, 0]], [1, [10, 0, 0]]]\n",
+    )
+    .unwrap();
+    let quad = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(2.0, 0.0, 0.0),
+        Vec3::new(2.0, 2.0, 0.0),
+        Vec3::new(0.0, 2.0, 0.0),
+    ];
+    a.scene.shapes = crate::scene::Shapes::new();
+    a.scene.shapes.push_mesh(&quad, &[[0, 1, 2], [0, 2, 3]]);
+    a.scene.material_of.truncate(2);
+    let mut posed = a.scene.clone();
+    for k in [1, 1, 0, 1] {
+        a.pose_into(k, &mut posed).unwrap();
+        let shift = Vec3::new(10.0 * k as f32, 0.0, 0.0);
+        assert_eq!(posed.shapes.get(0), a.scene.shapes.get(0), "frame {k}");
+        let Shape::Triangle(moved) = posed.shapes.get(1) else {
+            panic!("shape 1 is a triangle")
+        };
+        assert_eq!(moved.v, [quad[0], quad[2], quad[3]].map(|p| p + shift));
+        assert!(posed.shapes.positions().len() <= 4 + 3, "frame {k}");
     }
 }

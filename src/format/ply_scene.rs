@@ -4,7 +4,7 @@
 use super::ply::{self, PlyMesh};
 use super::{SceneDialect, SceneFile, SourceCounts};
 use crate::Result;
-use crate::scene::{Material, MeshAttributes, Scene, Shape, Surface, Triangle};
+use crate::scene::{Material, MeshAttributes, Scene, Surface};
 use std::path::Path;
 
 pub fn load(path: &Path) -> Result<SceneFile> {
@@ -24,12 +24,8 @@ pub fn from_ply(mesh: PlyMesh, path: &Path) -> SceneFile {
         ..Scene::default()
     };
     let n = mesh.triangles.len();
-    scene.shapes.reserve_exact(n);
-    scene.material_of.reserve_exact(n);
-    for t in &mesh.triangles {
-        let v = t.map(|i| mesh.positions[i as usize]);
-        scene.push_shape(Shape::Triangle(Triangle { v }), 0);
-    }
+    scene.shapes.push_mesh(&mesh.positions, &mesh.triangles);
+    scene.material_of = vec![0; n];
     // PLY attributes are per vertex: every attribute shares the position indices.
     let per_vertex = |present: bool| {
         if present {

@@ -9,8 +9,7 @@ use super::{SceneDialect, SceneFile, SourceCounts};
 use crate::format::text::{shown, shown_path};
 use crate::math::Vec3;
 use crate::scene::{
-    Albedo, Group, ImageTexture, Light, Material, MeshAttributes, Scene, Shape, Surface,
-    TextureSlot, Triangle,
+    Albedo, Group, ImageTexture, Light, Material, MeshAttributes, Scene, Surface, TextureSlot,
 };
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -62,14 +61,9 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
     // the attributes a face lacks are appended in file order, so they stay on one thread.
     let n = obj.triangles.len();
     let positions = &obj.positions;
-    obj.triangles
-        .par_iter()
-        .map(|t| {
-            Shape::Triangle(Triangle {
-                v: t.v.map(|i| positions[i as usize]),
-            })
-        })
-        .collect_into_vec(&mut scene.shapes);
+    let corners: Vec<[u32; 3]> = obj.triangles.par_iter().map(|t| t.v).collect();
+    scene.shapes.push_mesh(positions, &corners);
+    drop(corners);
     obj.triangles
         .par_iter()
         .map(|t| t.material.unwrap_or(default_material))
@@ -83,7 +77,7 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
     };
     if any_vn {
         mesh.normal_indices.reserve_exact(n);
-        for (t, shape) in obj.triangles.iter().zip(&scene.shapes) {
+        for (t, shape) in obj.triangles.iter().zip(scene.shapes.iter()) {
             // Faces without normals keep their flat one: a normal of their own.
             let vn = t.vn.unwrap_or_else(|| {
                 let i = mesh.normals.len() as u32;

@@ -69,7 +69,7 @@ impl<'a> Classic<'a> {
             return;
         };
         let p = r.ray.at(hit.t);
-        let shape = &self.scene.shapes[hit.shape as usize];
+        let shape = &self.scene.shapes.get(hit.shape as usize);
         let m = self.scene.material(hit.shape);
         let n = shape.normal(p);
         let i = r.intensity;

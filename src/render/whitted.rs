@@ -293,7 +293,7 @@ impl<'a> Whitted<'a> {
             if whole_scene.get() {
                 return false;
             }
-            let geometry = &self.scene.shapes[shape as usize];
+            let geometry = &self.scene.shapes.get(shape as usize);
             if !matches!(geometry, Shape::Sphere(_)) {
                 // Triangles of a mesh sit edge to edge: a walk's ray, lifted off one
                 // crossing, can meet a neighbour of the next triangle the segment
@@ -332,8 +332,11 @@ impl<'a> Whitted<'a> {
         self.walk_through(ray, t_max, |r, left| {
             let mut best: Option<Hit> = None;
             for &shape in spheres {
-                if let Some(t) =
-                    self.scene.shapes[shape as usize].intersect(r, Hit::bound(&best, left))
+                if let Some(t) = self
+                    .scene
+                    .shapes
+                    .get(shape as usize)
+                    .intersect(r, Hit::bound(&best, left))
                     && Hit::beats(t, shape, &best)
                 {
                     best = Some(Hit { t, shape });
@@ -378,7 +381,7 @@ impl<'a> Whitted<'a> {
                 // What `surface_point` would give, without the texture coordinates
                 // and mesh attributes nothing here reads.
                 let p = r.at(hit.t);
-                (p, self.scene.shapes[hit.shape as usize].normal(p))
+                (p, self.scene.shapes.get(hit.shape as usize).normal(p))
             };
             let next = offset_origin(p, ng, r.dir);
             left -= (next - r.origin).length();
@@ -529,7 +532,7 @@ impl<'a> Whitted<'a> {
                     let (a, b) = sampler.square_sample(i, n);
                     let k = cdf.partition_point(|&c| c <= a).min(shapes.len() - 1);
                     let shape = shapes[k];
-                    let Shape::Triangle(tri) = self.scene.shapes[shape as usize] else {
+                    let Shape::Triangle(tri) = self.scene.shapes.get(shape as usize) else {
                         continue;
                     };
                     // Reuse the stratified coordinate within the chosen triangle.

@@ -73,12 +73,12 @@ pub enum Falloff {
 impl Light {
     /// An emissive-mesh light over the triangles `shapes` of `scene_shapes` (others
     /// are skipped), or `None` when they have no area.
-    pub fn mesh(scene_shapes: &[super::Shape], shapes: &[u32]) -> Option<Light> {
+    pub fn mesh(scene_shapes: &super::Shapes, shapes: &[u32]) -> Option<Light> {
         let mut kept = Vec::with_capacity(shapes.len());
         let mut cdf = Vec::with_capacity(shapes.len());
         let mut total = 0.0f64;
         for &i in shapes {
-            if let Some(super::Shape::Triangle(t)) = scene_shapes.get(i as usize) {
+            if let Some(super::Shape::Triangle(t)) = scene_shapes.try_get(i as usize) {
                 let [a, b, c] = t.v;
                 let area = 0.5 * f64::from((b - a).cross(c - a).length());
                 if area > 0.0 && area.is_finite() {

@@ -109,7 +109,7 @@ pub fn smooth_normals(scene: &mut super::Scene, shapes: std::ops::Range<u32>) {
     let mut vertex_of: HashMap<[u32; 3], u32> = HashMap::new();
     let mut sums: Vec<Vec3> = Vec::new();
     let mut indices: Vec<[u32; 3]> = Vec::with_capacity(len as usize);
-    for shape in &scene.shapes[shapes.start as usize..shapes.end as usize] {
+    for shape in (shapes.start as usize..shapes.end as usize).map(|i| scene.shapes.get(i)) {
         let super::Shape::Triangle(t) = shape else {
             // Not a triangle: a flat normal of its own.
             let n = sums.len() as u32;

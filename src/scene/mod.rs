@@ -7,6 +7,7 @@ pub mod light;
 pub mod material;
 pub mod mesh;
 pub mod shape;
+pub mod shapes;
 mod surface_point;
 pub mod texture;
 
@@ -16,6 +17,7 @@ pub use light::{Falloff, Light, LightKind};
 pub use material::{Albedo, Highlight, Material, Surface, TextureSlot};
 pub use mesh::MeshAttributes;
 pub use shape::{Rectangle, Shape, Sphere, SurfaceCoords, Triangle};
+pub use shapes::{Shapes, Stored};
 pub use surface_point::SurfacePoint;
 pub use texture::{FillMode, Texture};
 
@@ -56,7 +58,7 @@ pub const MAX_SHAPES: usize = 1 << 28;
 
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
-    pub shapes: Vec<Shape>,
+    pub shapes: Shapes,
     pub material_of: Vec<u32>,
     pub materials: Vec<Material>,
     /// The 2014 textures, read with the 2014 mappings.
@@ -117,9 +119,7 @@ impl Scene {
     }
 
     pub fn bounds(&self) -> Aabb {
-        self.shapes
-            .iter()
-            .fold(Aabb::EMPTY, |b, s| b.union(s.bounds()))
+        self.shapes.bounds()
     }
 
     /// Surface colour at `p` on shape `shape`: its texel, or the material colour where
@@ -128,7 +128,7 @@ impl Scene {
         let m = self.material(shape);
         m.texture
             .and_then(|t| {
-                let coords = self.shapes[shape as usize].surface_coords(p);
+                let coords = self.shapes.get(shape as usize).surface_coords(p);
                 self.textures[t as usize].lookup(&coords)
             })
             .unwrap_or(m.color)

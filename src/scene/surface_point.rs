@@ -49,7 +49,7 @@ impl Scene {
         texture_coords: bool,
     ) -> SurfacePoint {
         let p = ray.at(t);
-        let s = &self.shapes[shape as usize];
+        let s = &self.shapes.get(shape as usize);
         let ng = s.normal(p);
         let mut sp = SurfacePoint {
             p,
@@ -121,7 +121,7 @@ impl Scene {
     /// and rectangles have one. Asked only by normal-mapped surfaces, so ordinary hits
     /// do not pay for it.
     pub fn dpdu(&self, shape: u32) -> Option<Vec3> {
-        match &self.shapes[shape as usize] {
+        match &self.shapes.get(shape as usize) {
             Shape::Triangle(tri) => {
                 let (mesh, i) = self.mesh_of(shape)?;
                 let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];

@@ -8,7 +8,7 @@
 //! bit: a lane repeats the single-ray shape test operation for operation, and ties go to
 //! the lower index, so the order shapes are met in does not matter.
 
-use super::packet::Flat;
+use super::packet::{Flat, Prim};
 use super::{BOX_SLACK, Bvh, Entry, Node8, Stack, WIDTH, inverse};
 use crate::accel::Hit;
 use crate::accel::simd::SimdLevel;
@@ -122,7 +122,7 @@ impl Rays {
     }
 }
 
-impl Bvh {
+impl Bvh<'_> {
     /// The closest hit of each of up to [`PACKET_RAYS`] rays with `0 < t < t_max`, into
     /// `hits[i]`: what [`Bvh::closest`] gives each ray, found faster when the rays run
     /// close together.
@@ -169,10 +169,9 @@ impl Bvh {
             }
             if entry.count > 0 {
                 let first = entry.child as usize;
-                for packet in &self.packets[first..first + entry.count as usize] {
-                    for shape_lane in 0..4 {
-                        let shape = packet.shape(shape_lane);
-                        if let Some(flat) = packet.flat(shape_lane) {
+                for &shape in &self.prims[first..first + entry.count as usize] {
+                    match Prim::of(self.shapes, shape) {
+                        Prim::Flat(flat) => {
                             let (mut mask, t) = lanes.meet(&flat, &bound);
                             while mask != 0 {
                                 let i = mask.trailing_zeros() as usize;
@@ -182,8 +181,8 @@ impl Bvh {
                                     bound[i] = Hit::bound(&best[i], t_max);
                                 }
                             }
-                        } else if packet.sphere_lanes() >> shape_lane & 1 == 1 {
-                            let sphere = packet.sphere(shape_lane);
+                        }
+                        Prim::Sphere(sphere) => {
                             for (i, ray) in rays.iter().enumerate() {
                                 if let Some(t) = sphere.intersect(ray, bound[i])
                                     && Hit::beats(t, shape, &best[i])
@@ -265,34 +264,35 @@ impl Bvh {
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
                 let first = entry.child as usize;
-                for packet in &self.packets[first..first + entry.count as usize] {
-                    for shape_lane in 0..4 {
-                        let shape = packet.shape(shape_lane);
-                        let mut newly = 0;
-                        if let Some(flat) = packet.flat(shape_lane) {
+                for &shape in &self.prims[first..first + entry.count as usize] {
+                    let mut newly = 0;
+                    match Prim::of(self.shapes, shape) {
+                        Prim::Flat(flat) => {
                             let (mask, _) = lanes.meet(&flat, &bound);
                             if mask != 0 && blocks(shape) {
                                 newly = mask;
                             }
-                        } else if packet.sphere_lanes() >> shape_lane & 1 == 1 && blocks(shape) {
-                            let sphere = packet.sphere(shape_lane);
-                            for (i, ray) in rays.iter().enumerate() {
-                                if bound[i] > f32::NEG_INFINITY
-                                    && sphere.intersect(ray, bound[i]).is_some()
-                                {
-                                    newly |= 1 << i;
+                        }
+                        Prim::Sphere(sphere) => {
+                            if blocks(shape) {
+                                for (i, ray) in rays.iter().enumerate() {
+                                    if bound[i] > f32::NEG_INFINITY
+                                        && sphere.intersect(ray, bound[i]).is_some()
+                                    {
+                                        newly |= 1 << i;
+                                    }
                                 }
                             }
                         }
-                        if newly != 0 {
-                            blocked |= newly;
-                            if blocked == all {
-                                return blocked;
-                            }
-                            for (i, b) in bound.iter_mut().enumerate() {
-                                if newly >> i & 1 == 1 {
-                                    *b = f32::NEG_INFINITY;
-                                }
+                    }
+                    if newly != 0 {
+                        blocked |= newly;
+                        if blocked == all {
+                            return blocked;
+                        }
+                        for (i, b) in bound.iter_mut().enumerate() {
+                            if newly >> i & 1 == 1 {
+                                *b = f32::NEG_INFINITY;
                             }
                         }
                     }

@@ -17,7 +17,7 @@ pub use packet::MAX_SHAPES;
 use super::Hit;
 use super::simd::SimdLevel;
 use crate::math::{Aabb, Ray};
-use crate::scene::Shape;
+use crate::scene::Shapes;
 use build::{BinaryBvh, MAX_DEPTH};
 use glam::Vec4;
 use packet::{Packet, PacketRay, padded_bounds};
@@ -40,9 +40,9 @@ const WIDTH: usize = 8;
 struct Node8 {
     min: [[Vec4; 2]; 3],
     max: [[Vec4; 2]; 3],
-    /// Inner child: node index. Leaf child: first packet.
+    /// Inner child: node index. Leaf child: its first entry in `Bvh::prims`.
     child: [u32; WIDTH],
-    /// 0 for an inner child, else the leaf's number of packets.
+    /// 0 for an inner child, else the leaf's number of shapes.
     count: [u32; WIDTH],
 }
 
@@ -251,44 +251,48 @@ impl BoxTest for Boxes8 {
     }
 }
 
-pub struct Bvh {
+pub struct Bvh<'s> {
+    shapes: &'s Shapes,
     nodes: Vec<Node8>,
-    packets: Vec<Packet>,
+    /// Shape indices, leaf by leaf: a leaf names its shapes and the traversal reads
+    /// their corners from the scene, so the tree adds four bytes a shape to the nodes.
+    prims: Vec<u32>,
     shape_count: usize,
     simd: SimdLevel,
 }
 
-impl Bvh {
+impl<'s> Bvh<'s> {
     /// Builds over `shapes`. More than [`MAX_SHAPES`] shapes is the caller's error.
-    pub fn build(shapes: &[Shape]) -> Bvh {
+    pub fn build(shapes: &'s Shapes) -> Bvh<'s> {
         Bvh::build_with(shapes, SimdLevel::current())
     }
 
     /// Builds over `shapes`, to be traversed with `simd` (or the baseline, where the
     /// processor lacks it).
-    pub fn build_with(shapes: &[Shape], simd: SimdLevel) -> Bvh {
+    pub fn build_with(shapes: &'s Shapes, simd: SimdLevel) -> Bvh<'s> {
         assert!(shapes.len() <= MAX_SHAPES, "too many shapes for the BVH");
         let simd = simd.supported();
         if shapes.is_empty() {
             return Bvh {
+                shapes,
                 nodes: Vec::new(),
-                packets: Vec::new(),
+                prims: Vec::new(),
                 shape_count: 0,
                 simd,
             };
         }
-        let boxes: Vec<Aabb> = shapes.par_iter().map(padded_bounds).collect();
+        let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
         let binary = build::build(&boxes);
         let mut bvh = Bvh {
+            shapes,
             nodes: Vec::with_capacity(binary.nodes.len() / 2 + 1),
-            packets: Vec::with_capacity(shapes.len() / 2 + 1),
+            prims: Vec::with_capacity(shapes.len()),
             shape_count: shapes.len(),
             simd,
         };
         bvh.nodes.push(EMPTY_NODE);
-        bvh.collapse(&binary, shapes, 0, 0);
+        bvh.collapse(&binary, 0, 0);
         bvh.nodes.shrink_to_fit();
-        bvh.packets.shrink_to_fit();
         bvh
     }
 
@@ -305,9 +309,9 @@ impl Bvh {
         self.simd
     }
 
-    /// Bytes held by the nodes and the leaf-ordered shape copies.
+    /// Bytes held by the nodes and the leaves' shape indices.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.capacity() * size_of::<Node8>() + self.packets.capacity() * size_of::<Packet>()
+        self.nodes.capacity() * size_of::<Node8>() + self.prims.capacity() * size_of::<u32>()
     }
 
     #[inline]
@@ -347,7 +351,8 @@ impl Bvh {
             }
             if entry.count > 0 {
                 let first = entry.child as usize;
-                for packet in &self.packets[first..first + entry.count as usize] {
+                for four in self.prims[first..first + entry.count as usize].chunks(4) {
+                    let packet = Packet::new(self.shapes, four);
                     let (mut mask, t) = packet.intersect_flat(&lanes, Hit::bound(&best, t_max));
                     while mask != 0 {
                         let lane = mask.trailing_zeros() as usize;
@@ -420,7 +425,8 @@ impl Bvh {
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
                 let first = entry.child as usize;
-                for packet in &self.packets[first..first + entry.count as usize] {
+                for four in self.prims[first..first + entry.count as usize].chunks(4) {
+                    let packet = Packet::new(self.shapes, four);
                     let mut mask = packet.intersect_flat(&lanes, t_max).0;
                     let mut spheres = packet.sphere_lanes();
                     while mask != 0 {
@@ -458,11 +464,11 @@ impl Bvh {
     }
 }
 
-impl Bvh {
+impl Bvh<'_> {
     /// Fills `nodes[slot]` with up to eight descendants of binary node `at`: its
     /// children, then repeatedly the children of the largest inner one among them.
-    /// Leaves become runs of packets.
-    fn collapse(&mut self, binary: &BinaryBvh, shapes: &[Shape], at: usize, slot: usize) {
+    /// Leaves become runs of shape indices.
+    fn collapse(&mut self, binary: &BinaryBvh, at: usize, slot: usize) {
         let src = &binary.nodes;
         let mut members: Vec<usize> = if src[at].is_leaf() {
             vec![at]
@@ -488,10 +494,9 @@ impl Bvh {
             if src[m].is_leaf() {
                 let (first, count) = (src[m].first as usize, src[m].count as usize);
                 let leaf = &binary.order[first..first + count];
-                node.child[lane] = self.packets.len() as u32;
-                node.count[lane] = leaf.len().div_ceil(4) as u32;
-                self.packets
-                    .extend(leaf.chunks(4).map(|four| Packet::new(shapes, four)));
+                node.child[lane] = self.prims.len() as u32;
+                node.count[lane] = leaf.len() as u32;
+                self.prims.extend_from_slice(leaf);
             } else {
                 node.child[lane] = self.nodes.len() as u32;
                 self.nodes.push(EMPTY_NODE);
@@ -500,7 +505,7 @@ impl Bvh {
         }
         self.nodes[slot] = node;
         for (m, child_slot) in inner {
-            self.collapse(binary, shapes, m, child_slot);
+            self.collapse(binary, m, child_slot);
         }
     }
 }
@@ -514,7 +519,7 @@ fn area(b: &Aabb) -> f32 {
 mod tests {
     use super::*;
     use crate::math::Vec3;
-    use crate::scene::{Sphere, Triangle};
+    use crate::scene::{Shape, Sphere, Triangle};
 
     #[test]
     fn a_grid_of_triangles_is_hit_where_it_is_and_nowhere_else() {
@@ -531,6 +536,7 @@ mod tests {
                 }));
             }
         }
+        let shapes = Shapes::from(shapes);
         let bvh = Bvh::build(&shapes);
         assert!(bvh.node_count() > 1);
         let down = |x: f32, y: f32| Ray::new(Vec3::new(x, y, 2.5), Vec3::new(0.0, 0.0, -1.0));
@@ -549,15 +555,16 @@ mod tests {
 
     #[test]
     fn one_shape_and_no_shapes() {
-        let one = [Shape::Sphere(Sphere {
+        let one = Shapes::from(vec![Shape::Sphere(Sphere {
             center: Vec3::new(0.0, 0.0, 10.0),
             radius: 2.0,
-        })];
+        })]);
         let bvh = Bvh::build(&one);
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
         assert_eq!(bvh.closest(&ray, f32::INFINITY).map(|h| h.t), Some(8.0));
-        assert!(Bvh::build(&[]).closest(&ray, f32::INFINITY).is_none());
-        assert!(!Bvh::build(&[]).occluded(&ray, f32::INFINITY, |_| true));
+        let none = Shapes::new();
+        assert!(Bvh::build(&none).closest(&ray, f32::INFINITY).is_none());
+        assert!(!Bvh::build(&none).occluded(&ray, f32::INFINITY, |_| true));
     }
 
     #[test]
@@ -569,7 +576,7 @@ mod tests {
                 Vec3::new(0.0, 1.0, 5.0),
             ],
         });
-        let shapes = vec![tri; 100];
+        let shapes = Shapes::from(vec![tri; 100]);
         let bvh = Bvh::build(&shapes);
         let hit = bvh.closest(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY);
         assert_eq!(hit, Some(Hit { t: 5.0, shape: 0 }));

@@ -13,7 +13,8 @@ use glam::{BVec4A, Vec4};
 
 use crate::math::{Aabb, Ray, Vec3};
 use crate::scene::shape::EDGE_SLACK;
-use crate::scene::{Shape, Sphere};
+use crate::scene::shapes::OTHER;
+use crate::scene::{Shape, Shapes, Sphere, Stored};
 
 /// Shape indices must fit in a lane's `u32` with one value left for an empty lane.
 pub const MAX_SHAPES: usize = 1 << 30;
@@ -59,10 +60,90 @@ impl PacketRay {
     }
 }
 
+/// One shape as a leaf test reads it.
+pub enum Prim {
+    Flat(Flat),
+    Sphere(Sphere),
+}
+
+impl Prim {
+    /// Shape `index` of `shapes`, with the edges the test needs computed from its
+    /// corners (the same subtractions the scalar test makes, so the same bits).
+    #[inline(always)]
+    pub fn of(shapes: &Shapes, index: u32) -> Prim {
+        let flat = |p: Vec3, e1: Vec3, e2: Vec3, max_sum| {
+            Prim::Flat(Flat {
+                p: p.to_array(),
+                e1: e1.to_array(),
+                e2: e2.to_array(),
+                max_sum,
+            })
+        };
+        match shapes.stored(index as usize) {
+            Stored::Triangle(c) => {
+                let v = shapes.positions();
+                let [a, b, c] = c.map(|k| v[k as usize]);
+                flat(a, b - a, c - a, 1.0)
+            }
+            Stored::Other(Shape::Rectangle(r)) => {
+                let [a, b, _, d] = r.v;
+                flat(a, b - a, d - a, 2.0)
+            }
+            Stored::Other(Shape::Sphere(s)) => Prim::Sphere(*s),
+            Stored::Other(Shape::Triangle(t)) => {
+                let [a, b, c] = t.v;
+                flat(a, b - a, c - a, 1.0)
+            }
+        }
+    }
+}
+
 impl Packet {
-    /// Packs `shapes[i]` for each `i` of `indices` (at most four).
-    pub fn new(shapes: &[Shape], indices: &[u32]) -> Packet {
+    /// Gathers `shapes[i]` for each `i` of `indices` (at most four) into lanes.
+    #[inline(always)]
+    pub fn new(shapes: &Shapes, indices: &[u32]) -> Packet {
         debug_assert!(indices.len() <= 4);
+        let corners = shapes.corner_slice();
+        let positions = shapes.positions();
+        let mut shape = [EMPTY_LANE; 4];
+        // Empty lanes keep a triangle of zero edges, which the test rejects.
+        let mut v = [[Vec3::ZERO; 3]; 4];
+        for (lane, &index) in indices.iter().enumerate() {
+            debug_assert!((index as usize) < shapes.len());
+            // SAFETY: the tree only holds indices of `shapes`, which it borrows, so
+            // they cannot go stale.
+            let c = unsafe { *corners.get_unchecked(index as usize) };
+            if c[0] == OTHER {
+                return Packet::mixed(shapes, indices);
+            }
+            shape[lane] = index;
+            // SAFETY: a triangle's corners index `positions` (an invariant of `Shapes`).
+            v[lane] = c.map(|k| unsafe { *positions.get_unchecked(k as usize) });
+        }
+        // Lanes built in registers: writing them one float at a time into the packet
+        // and reading them back as vectors stalled every load.
+        let column = |corner: usize, axis: usize| {
+            Vec4::new(
+                v[0][corner][axis],
+                v[1][corner][axis],
+                v[2][corner][axis],
+                v[3][corner][axis],
+            )
+        };
+        let [a, b, c] = [0, 1, 2].map(|corner| [0, 1, 2].map(|axis| column(corner, axis)));
+        Packet {
+            e1: [0, 1, 2].map(|axis| b[axis] - a[axis]),
+            e2: [0, 1, 2].map(|axis| c[axis] - a[axis]),
+            p: a,
+            max_sum: Vec4::ONE,
+            radius: Vec4::ZERO,
+            shape,
+        }
+    }
+
+    /// [`Packet::new`] where a lane holds a sphere or a rectangle.
+    #[cold]
+    fn mixed(shapes: &Shapes, indices: &[u32]) -> Packet {
         let mut packet = Packet {
             p: [Vec4::ZERO; 3],
             e1: [Vec4::ZERO; 3],
@@ -72,26 +153,23 @@ impl Packet {
             shape: [EMPTY_LANE; 4],
         };
         for (lane, &index) in indices.iter().enumerate() {
-            debug_assert!((index as usize) < MAX_SHAPES);
-            let (p, e1, e2, max_sum, radius) = match shapes[index as usize] {
-                Shape::Triangle(t) => {
-                    let [a, b, c] = t.v;
-                    (a, b - a, c - a, 1.0, 0.0)
-                }
-                Shape::Rectangle(r) => {
-                    let [a, b, _, d] = r.v;
-                    (a, b - a, d - a, 2.0, 0.0)
-                }
-                Shape::Sphere(s) => (s.center, Vec3::ZERO, Vec3::ZERO, 0.0, s.radius),
-            };
-            for axis in 0..3 {
-                packet.p[axis][lane] = p[axis];
-                packet.e1[axis][lane] = e1[axis];
-                packet.e2[axis][lane] = e2[axis];
-            }
-            packet.max_sum[lane] = max_sum;
-            packet.radius[lane] = radius;
             packet.shape[lane] = index;
+            match Prim::of(shapes, index) {
+                Prim::Flat(f) => {
+                    for axis in 0..3 {
+                        packet.p[axis][lane] = f.p[axis];
+                        packet.e1[axis][lane] = f.e1[axis];
+                        packet.e2[axis][lane] = f.e2[axis];
+                    }
+                    packet.max_sum[lane] = f.max_sum;
+                }
+                Prim::Sphere(s) => {
+                    for axis in 0..3 {
+                        packet.p[axis][lane] = s.center[axis];
+                    }
+                    packet.radius[lane] = s.radius;
+                }
+            }
         }
         packet
     }
@@ -137,22 +215,6 @@ impl Packet {
             & (u + v).cmple(self.max_sum + Vec4::splat(EDGE_SLACK));
         let in_range = t.cmpgt(Vec4::ZERO) & t.cmplt(Vec4::splat(t_max));
         ((finite & inside & in_range).bitmask(), t)
-    }
-
-    /// The triangle or rectangle of `lane` as corner, edges and `max_sum`; `None` for a
-    /// sphere or an empty lane.
-    #[inline(always)]
-    pub fn flat(&self, lane: usize) -> Option<Flat> {
-        if self.shape[lane] == EMPTY_LANE || self.radius[lane] > 0.0 {
-            return None;
-        }
-        let at = |v: &[Vec4; 3]| [v[0][lane], v[1][lane], v[2][lane]];
-        Some(Flat {
-            p: at(&self.p),
-            e1: at(&self.e1),
-            e2: at(&self.e2),
-            max_sum: self.max_sum[lane],
-        })
     }
 
     /// Lanes holding a sphere.
@@ -216,7 +278,7 @@ mod tests {
                 ],
             }),
         ];
-        let packet = Packet::new(&shapes, &[0, 1, 2]);
+        let packet = Packet::new(&Shapes::from(&shapes[..]), &[0, 1, 2]);
         assert_eq!(packet.sphere_lanes(), 0b010);
         assert_eq!(
             packet.sphere(1),

@@ -35,7 +35,7 @@ pub use triangulate::MAX_EAR_CLIPPED_CORNERS;
 
 use crate::Result;
 use crate::math::Vec3;
-use crate::scene::{Material, Scene, Shape, Triangle};
+use crate::scene::{Material, Scene};
 
 /// Everything an OBJ file and its material libraries say that Prism can render.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -191,13 +191,9 @@ fn mesh_of(text: &[u8], path: &Path) -> Result<Mesh> {
 fn scene_of(mesh: &Mesh) -> Scene {
     let mut scene = Scene {
         materials: vec![Material::default_white()],
+        material_of: vec![0; mesh.triangles.len()],
         ..Scene::default()
     };
-    scene.shapes.reserve_exact(mesh.triangles.len());
-    scene.material_of.reserve_exact(mesh.triangles.len());
-    for t in &mesh.triangles {
-        let v = t.map(|i| mesh.vertices[i as usize]);
-        scene.push_shape(Shape::Triangle(Triangle { v }), 0);
-    }
+    scene.shapes.push_mesh(&mesh.vertices, &mesh.triangles);
     scene
 }

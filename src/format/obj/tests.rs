@@ -38,8 +38,8 @@ fn messages(obj: &ObjFile) -> Vec<String> {
 }
 
 fn corners(scene: &Scene, i: usize) -> [[f32; 3]; 3] {
-    match scene.shapes[i] {
-        Shape::Triangle(t) => t.v.map(|p| p.to_array()),
+    match scene.shapes.get(i) {
+        crate::scene::Shape::Triangle(t) => t.v.map(|p| p.to_array()),
         _ => panic!("not a triangle"),
     }
 }

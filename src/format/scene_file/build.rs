@@ -302,7 +302,7 @@ impl Builder {
                 i += 1;
                 continue;
             }
-            match self.scene.shapes[i] {
+            match self.scene.shapes.get(i) {
                 Shape::Sphere(s) => {
                     self.scene.lights.push(Light {
                         position: s.center,
@@ -319,7 +319,7 @@ impl Builder {
                     let run_end = (i..end)
                         .find(|&j| {
                             self.scene.material_of[j] != m
-                                || !matches!(self.scene.shapes[j], Shape::Triangle(_))
+                                || !matches!(self.scene.shapes.get(j), Shape::Triangle(_))
                         })
                         .unwrap_or(end);
                     if let Some(light) = mesh_light(&self.scene, i, run_end, emission, samples) {
@@ -404,9 +404,12 @@ impl Builder {
             let t1 = n.any_orthonormal_vector();
             let t2 = n.cross(t1);
             let (a, b) = (t1 * half, t2 * half);
-            self.scene.shapes[i] = Shape::Rectangle(Rectangle {
-                v: [p - a - b, p + a - b, p + a + b, p - a + b],
-            });
+            self.scene.shapes.set(
+                i,
+                Shape::Rectangle(Rectangle {
+                    v: [p - a - b, p + a - b, p + a + b, p - a + b],
+                }),
+            );
         }
     }
 
@@ -416,7 +419,7 @@ impl Builder {
         }
         let group = self.scene.group(name)?;
         let bounds = group.shapes.iter().fold(Aabb::EMPTY, |b, &i| {
-            b.union(self.scene.shapes[i as usize].bounds())
+            b.union(self.scene.shapes.get(i as usize).bounds())
         });
         (!bounds.is_empty()).then(|| bounds.center())
     }
@@ -454,9 +457,7 @@ fn mesh_light(
 ) -> Option<Light> {
     let shapes: Vec<u32> = (first as u32..end as u32).collect();
     let mut light = Light::mesh(&scene.shapes, &shapes)?;
-    let bounds = scene.shapes[first..end]
-        .iter()
-        .fold(Aabb::EMPTY, |b, s| b.union(s.bounds()));
+    let bounds = (first..end).fold(Aabb::EMPTY, |b, i| b.union(scene.shapes.get(i).bounds()));
     light.position = bounds.center();
     light.color = emission;
     light.samples = samples;
@@ -493,34 +494,26 @@ fn merge(
         scene.textures.extend(loaded.textures);
         scene.images.extend(loaded.images);
     }
-    for (shape, m) in loaded.shapes.into_iter().zip(loaded.material_of) {
-        let placed = match shape {
-            Shape::Sphere(mut s) => {
-                let k = scale.ok_or(
-                    "the mesh file holds spheres, which cannot be scaled differently along \
-                     different axes: give one number to `scale`",
-                )?;
-                s.center = t.point_f32(s.center);
-                s.radius = (f64::from(s.radius) * k) as f32;
-                Shape::Sphere(s)
-            }
-            Shape::Triangle(mut tri) => {
-                tri.v = tri.v.map(|p| t.point_f32(p));
-                if mirrors {
-                    tri.v.swap(1, 2);
-                }
-                Shape::Triangle(tri)
-            }
-            Shape::Rectangle(mut r) => {
-                r.v = r.v.map(|p| t.point_f32(p));
-                if mirrors {
-                    r.v.swap(1, 3);
-                }
-                Shape::Rectangle(r)
-            }
-        };
-        scene.push_shape(placed, material.unwrap_or(m + material_base));
-    }
+    // Triangles keep their shared corners; a mirror reverses every winding.
+    scene.shapes.append_placed(
+        &loaded.shapes,
+        |p| t.point_f32(p),
+        mirrors,
+        |mut s| {
+            let k = scale.ok_or(
+                "the mesh file holds spheres, which cannot be scaled differently along \
+                 different axes: give one number to `scale`",
+            )?;
+            s.radius = (f64::from(s.radius) * k) as f32;
+            Ok::<_, &str>(s)
+        },
+    )?;
+    scene.material_of.extend(
+        loaded
+            .material_of
+            .iter()
+            .map(|&m| material.unwrap_or(m + material_base)),
+    );
     for mut mesh in loaded.meshes {
         mesh.first_shape += shape_base;
         for n in &mut mesh.normals {

@@ -64,7 +64,7 @@ fn a_sphere_is_scaled_then_translated() {
         "[[object]]\ntype = \"sphere\"\ncenter = [1, 0, 0]\nradius = 0.5\nscale = 2\n\
          rotate = [0, 0, 1, 90]\ntranslate = [10, 0, 0]\n",
     );
-    let Shape::Sphere(s) = f.scene.shapes[0] else {
+    let Shape::Sphere(s) = f.scene.shapes.get(0) else {
         panic!("{:?}", f.scene.shapes)
     };
     // (1,0,0) * 2 = (2,0,0), turned 90 degrees about z = (0,2,0), moved to (10,2,0).
@@ -79,7 +79,7 @@ fn a_quad_turned_about_y_keeps_its_corners_in_order() {
         "[[object]]\ntype = \"quad\"\ncorner = [0, 0, 0]\nedge1 = [1, 0, 0]\nedge2 = [0, 2, 0]\n\
          rotate = [0, 1, 0, 90]\ntranslate = [0, 0, 5]\n",
     );
-    let Shape::Rectangle(r) = f.scene.shapes[0] else {
+    let Shape::Rectangle(r) = f.scene.shapes.get(0) else {
         panic!()
     };
     // x turns to -z about +y.
@@ -99,7 +99,7 @@ fn several_rotations_apply_in_order() {
         "[[object]]\ntype = \"triangle\"\nvertices = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n\
          rotate = [[0, 0, 1, 90], [1, 0, 0, 90]]\n",
     );
-    let Shape::Triangle(t) = f.scene.shapes[0] else {
+    let Shape::Triangle(t) = f.scene.shapes.get(0) else {
         panic!()
     };
     // x -> y (about z) -> z (about x); y -> -x -> -x; z -> z -> -y.
@@ -114,7 +114,7 @@ fn a_matrix_is_row_major_and_a_mirror_keeps_the_winding() {
         "[[object]]\ntype = \"triangle\"\nvertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\n\
          matrix = [[-1, 0, 0, 3], [0, 1, 0, 4], [0, 0, 1, 5], [0, 0, 0, 1]]\n",
     );
-    let Shape::Triangle(t) = f.scene.shapes[0] else {
+    let Shape::Triangle(t) = f.scene.shapes.get(0) else {
         panic!()
     };
     // Mirrored in x and moved by (3, 4, 5); vertices 1 and 2 swap so the normal
@@ -128,7 +128,7 @@ fn a_box_is_six_rectangles_facing_out() {
     let f = scene("[[object]]\ntype = \"box\"\nmin = [-1, -2, -3]\nmax = [1, 2, 3]\n");
     assert_eq!(f.scene.shapes.len(), 6);
     let mut normals = Vec::new();
-    for s in &f.scene.shapes {
+    for s in f.scene.shapes.iter() {
         let Shape::Rectangle(r) = s else { panic!() };
         let n = (r.v[1] - r.v[0]).cross(r.v[3] - r.v[0]).normalize();
         let centre = (r.v[0] + r.v[2]) * 0.5;
@@ -156,7 +156,7 @@ fn a_disk_is_a_fan_whose_normal_transforms_by_the_inverse_transpose() {
     // (1, 1, 0) under diag(2, 1, 1): inverse transpose diag(1/2, 1, 1) gives (1/2, 1, 0).
     assert_close(mesh.normals[0], v(0.5, 1.0, 0.0).normalize());
     // The geometric normals agree with the smooth one.
-    for s in &f.scene.shapes {
+    for s in f.scene.shapes.iter() {
         let Shape::Triangle(t) = s else { panic!() };
         assert!(close(t.normal(), mesh.normals[0]), "{}", t.normal());
     }
@@ -183,7 +183,7 @@ fn a_cylinder_has_radial_side_normals_and_two_caps() {
         }
     }
     // Caps face down and up.
-    let cap_normal = |i: usize| match f.scene.shapes[i] {
+    let cap_normal = |i: usize| match f.scene.shapes.get(i) {
         Shape::Triangle(t) => t.normal(),
         _ => panic!(),
     };
@@ -201,7 +201,7 @@ fn a_plane_is_a_square_a_hundred_times_the_rest_of_the_scene() {
          [[object]]\ntype = \"plane\"\npoint = [0, -1, 0]\nnormal = [0, 1, 0]\n\
          [[object]]\ntype = \"sphere\"\nradius = 1\n",
     );
-    let Shape::Rectangle(r) = f.scene.shapes[0] else {
+    let Shape::Rectangle(r) = f.scene.shapes.get(0) else {
         panic!()
     };
     // Sphere bounds [-1, 1]^3 grown by the eye (0, 0, 3): extent (2, 2, 4).
@@ -222,7 +222,7 @@ fn a_mesh_file_is_merged_and_placed() {
         "[[object]]\nname = \"tri\"\ntype = \"mesh\"\nfile = \"meshes/tri.obj\"\n\
          translate = [0, 0, -2]\nmaterial = { color = [0, 1, 0] }\n",
     );
-    let Shape::Triangle(t) = f.scene.shapes[0] else {
+    let Shape::Triangle(t) = f.scene.shapes.get(0) else {
         panic!()
     };
     assert_eq!(
