@@ -8,10 +8,11 @@ use rayon::prelude::*;
 use crate::math::{Aabb, Vec3};
 
 const BINS: usize = 32;
-/// Cost of visiting a four-wide node relative to testing one shape (leaves test four
-/// shapes at once, so a node costs about two; measured on the bunny, 1 to 4 are within
-/// a few per cent).
-const TRAVERSAL_COST: f32 = 2.0;
+/// Cost of descending a level relative to testing a leaf's four shapes at once. Leaves
+/// gather their triangles' corners from the scene, which makes them dear: measured on the
+/// bunny and the dragon, 0.5 casts rays 6–12 % faster than 2 for 12 % more tree bytes
+/// (0.25 to 0.75 are within noise).
+const TRAVERSAL_COST: f32 = 0.5;
 /// Leaves hold at most this many shapes unless their centroids cannot be told apart.
 pub const MAX_LEAF: usize = 8;
 /// Deepest level of the binary tree; bounds the traversal stack. A node this deep
