@@ -193,6 +193,26 @@ proptest! {
         agree_with_brute_force(&shapes, &rays)?;
     }
 
+    /// Lens-like packets: origins spread over a small disk, directions all in one
+    /// octant (so the BVH tests nodes once against the packet's frustum).
+    #[test]
+    fn packets_through_a_lens_agree_with_brute_force(
+        shapes in prop::collection::vec(shape_strategy(), 1..300),
+        eye in prop::array::uniform3(-80.0f32..80.0),
+        focus in prop::array::uniform3(-20.0f32..20.0),
+        lens in prop::collection::vec((prop::array::uniform3(-2.0f32..2.0), prop::array::uniform3(-1.0f32..1.0)), 40),
+    ) {
+        let rays: Vec<Ray> = lens
+            .iter()
+            .map(|(o, j)| {
+                let origin = v(eye) + v(*o);
+                Ray::new(origin, v(focus) + v(*j) - origin)
+            })
+            .filter(|r| r.dir.is_finite())
+            .collect();
+        agree_with_brute_force(&shapes, &rays)?;
+    }
+
     #[test]
     fn intersectors_agree_with_brute_force_on_aimed_rays(
         shapes in prop::collection::vec(shape_strategy(), 1..200),

@@ -122,6 +122,90 @@ impl Rays {
     }
 }
 
+/// Bounds over a packet's rays whose directions share their signs on every axis: the
+/// range of their origins and of their inverse directions. A node's eight boxes are
+/// tested once against these ranges instead of once per ray.
+///
+/// The test is conservative: rounding is monotone, so each ray's own slab distances lie
+/// between the products of the ranges' corners, and a box some ray enters is never
+/// culled (it may be entered for none, which only costs time). Leaves still test each
+/// ray exactly, so the answers are the single-ray ones.
+struct Frustum {
+    o_lo: [f32; 3],
+    o_hi: [f32; 3],
+    inv_lo: [f32; 3],
+    inv_hi: [f32; 3],
+    negative: [bool; 3],
+}
+
+impl Frustum {
+    /// The frustum of the first `n` rays, or `None` when a direction changes sign
+    /// across them on some axis (the range of inverses would span infinity) or a value
+    /// is not finite.
+    #[inline(always)]
+    fn of(rays: &Rays, n: usize) -> Option<Frustum> {
+        let mut f = Frustum {
+            o_lo: [f32::INFINITY; 3],
+            o_hi: [f32::NEG_INFINITY; 3],
+            inv_lo: [f32::INFINITY; 3],
+            inv_hi: [f32::NEG_INFINITY; 3],
+            negative: [false; 3],
+        };
+        for axis in 0..3 {
+            let negative = rays.dir[axis][0].is_sign_negative();
+            for i in 0..n {
+                let (o, inv) = (rays.origin[axis][i], rays.inv_dir[axis][i]);
+                if rays.dir[axis][i].is_sign_negative() != negative
+                    || !o.is_finite()
+                    || !inv.is_finite()
+                {
+                    return None;
+                }
+                f.o_lo[axis] = f.o_lo[axis].min(o);
+                f.o_hi[axis] = f.o_hi[axis].max(o);
+                f.inv_lo[axis] = f.inv_lo[axis].min(inv);
+                f.inv_hi[axis] = f.inv_hi[axis].max(inv);
+            }
+            f.negative[axis] = negative;
+        }
+        Some(f)
+    }
+
+    /// Children of `node` (bit `i` for child `i`) some ray may enter before `bound`,
+    /// and a lower bound of every ray's entry distance into each.
+    #[inline(always)]
+    fn enter(&self, node: &Node8, bound: f32) -> (u32, Lanes) {
+        let row = |v: &[glam::Vec4; 2]| {
+            let (a, b) = (v[0].to_array(), v[1].to_array());
+            [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
+        };
+        let mut t_near = [0.0f32; WIDTH];
+        let mut t_far = [bound; WIDTH];
+        for axis in 0..3 {
+            let (near, far) = if self.negative[axis] {
+                (row(&node.max[axis]), row(&node.min[axis]))
+            } else {
+                (row(&node.min[axis]), row(&node.max[axis]))
+            };
+            let (o_lo, o_hi) = (self.o_lo[axis], self.o_hi[axis]);
+            let (i_lo, i_hi) = (self.inv_lo[axis], self.inv_hi[axis]);
+            for lane in 0..WIDTH {
+                let (a, b) = (near[lane] - o_hi, near[lane] - o_lo);
+                let lo = (a * i_lo).min(a * i_hi).min(b * i_lo).min(b * i_hi);
+                let (c, d) = (far[lane] - o_hi, far[lane] - o_lo);
+                let hi = (c * i_lo).max(c * i_hi).max(d * i_lo).max(d * i_hi);
+                t_near[lane] = if lo > t_near[lane] { lo } else { t_near[lane] };
+                t_far[lane] = if hi < t_far[lane] { hi } else { t_far[lane] };
+            }
+        }
+        let mut mask = 0;
+        for lane in 0..WIDTH {
+            mask |= u32::from(t_near[lane] <= t_far[lane] * BOX_SLACK) << lane;
+        }
+        (mask, t_near)
+    }
+}
+
 impl Bvh<'_> {
     /// The closest hit of each of up to [`PACKET_RAYS`] rays with `0 < t < t_max`, into
     /// `hits[i]`: what [`Bvh::closest`] gives each ray, found faster when the rays run
@@ -152,6 +236,7 @@ impl Bvh<'_> {
             return;
         }
         let lanes = Rays::new(rays);
+        let frustum = Frustum::of(&lanes, rays.len());
         let mut best: [Option<Hit>; PACKET_RAYS] = [None; PACKET_RAYS];
         // Each ray's bound: t_max, then just past its best hit so a tie is still seen.
         // Lanes without a ray get -inf, so no box or shape is ever entered for them.
@@ -198,6 +283,20 @@ impl Bvh<'_> {
             }
             let node = &self.nodes[entry.child as usize];
             let base = stack.len;
+            if let Some(frustum) = &frustum {
+                let (mut mask, t) = frustum.enter(node, widest);
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let e = Entry {
+                        child: node.child[lane],
+                        count: node.count[lane],
+                        t: t[lane],
+                    };
+                    stack.push_sorted(e, base);
+                }
+                continue;
+            }
             for lane in 0..WIDTH {
                 let (mask, t) = lanes.enter(node, lane, &bound);
                 if mask != 0 {
@@ -251,6 +350,7 @@ impl Bvh<'_> {
             return 0;
         }
         let lanes = Rays::new(rays);
+        let frustum = Frustum::of(&lanes, rays.len());
         let all = (1u32 << rays.len()) - 1;
         let mut blocked = 0u32;
         // A blocked ray's bound drops to -inf: it needs nothing more.
@@ -301,6 +401,21 @@ impl Bvh<'_> {
             }
             let node = &self.nodes[entry.child as usize];
             let base = stack.len;
+            if let Some(frustum) = &frustum {
+                let widest = bound.iter().fold(f32::NEG_INFINITY, |m, &b| m.max(b));
+                let (mut mask, t) = frustum.enter(node, widest);
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let e = Entry {
+                        child: node.child[lane],
+                        count: node.count[lane],
+                        t: t[lane],
+                    };
+                    stack.push_sorted(e, base);
+                }
+                continue;
+            }
             for lane in 0..WIDTH {
                 let (mask, t) = lanes.enter(node, lane, &bound);
                 if mask != 0 {
