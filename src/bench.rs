@@ -63,7 +63,7 @@ pub struct BenchReport {
     pub accel_bytes: usize,
     pub primary_mrays: f64,
     pub shadow_mrays: f64,
-    /// The same rays traced as packets of [`PACKET_RAYS`] (4 x 2 pixel tiles; the
+    /// The same rays traced as packets of [`PACKET_RAYS`] (4 x 4 pixel tiles; the
     /// shadow rays of a tile's hits together).
     pub primary_packet_mrays: f64,
     pub shadow_packet_mrays: f64,
@@ -170,14 +170,13 @@ impl std::fmt::Display for BenchReport {
     }
 }
 
-/// The camera's pinhole rays, one per pixel, row by row.
-/// Pixel indices (row-major) in tiles of 4 x 2, the packets the benchmark traces;
-/// tiles at the right and bottom edges hold fewer.
+/// Pixel indices (row-major) in tiles of 4 x [`TILE_ROWS`], the packets the benchmark
+/// traces; tiles at the right and bottom edges hold fewer.
 pub fn tile_packets(width: u32, height: u32) -> Vec<Vec<u32>> {
     let mut tiles = Vec::new();
-    for y0 in (0..height).step_by(2) {
+    for y0 in (0..height).step_by(TILE_ROWS as usize) {
         for x0 in (0..width).step_by(4) {
-            let tile: Vec<u32> = (y0..(y0 + 2).min(height))
+            let tile: Vec<u32> = (y0..(y0 + TILE_ROWS).min(height))
                 .flat_map(|y| (x0..(x0 + 4).min(width)).map(move |x| y * width + x))
                 .collect();
             tiles.push(tile);
@@ -186,6 +185,10 @@ pub fn tile_packets(width: u32, height: u32) -> Vec<Vec<u32>> {
     tiles
 }
 
+/// Rows of a benchmark tile: four pixels wide, a packet in all.
+const TILE_ROWS: u32 = (PACKET_RAYS / 4) as u32;
+
+/// The camera's pinhole rays, one per pixel, row by row.
 pub fn primary_rays(camera: &Camera) -> Vec<Ray> {
     let rays = CameraRays::new(camera, 1, 1);
     (0..camera.height)
@@ -504,7 +507,7 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
         points.len()
     });
 
-    // Packets: 4 x 2 pixel tiles, and the shadow rays of each tile's hits together.
+    // Packets: 4 x 4 pixel tiles, and the shadow rays of each tile's hits together.
     let tiles = tile_packets(camera.width, camera.height);
     let tiled: Vec<Ray> = tiles.iter().flatten().map(|&i| rays[i as usize]).collect();
     let mut offsets = Vec::with_capacity(tiles.len() + 1);
@@ -521,7 +524,7 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
             .for_each(|(out, packet)| accel.closest_packet(packet, f32::INFINITY, out));
         tiled.len()
     });
-    // Each tile's hit points become one shadow packet (of up to eight rays).
+    // Each tile's hit points become one shadow packet (of up to sixteen rays).
     let mut shadow_packets: Vec<(Vec<Ray>, Vec<f32>)> = Vec::new();
     for w in offsets.windows(2) {
         let (rs, ls): (Vec<Ray>, Vec<f32>) = (w[0]..w[1])
@@ -601,15 +604,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn tiles_cover_every_pixel_once_four_by_two() {
-        let tiles = tile_packets(5, 3);
-        assert_eq!(tiles[0], [0, 1, 2, 3, 5, 6, 7, 8]);
-        assert_eq!(tiles[1], [4, 9]);
-        assert_eq!(tiles[2], [10, 11, 12, 13]);
-        assert_eq!(tiles[3], [14]);
+    fn tiles_cover_every_pixel_once_four_by_four() {
+        let tiles = tile_packets(5, 6);
+        assert_eq!(
+            tiles[0],
+            [0, 1, 2, 3, 5, 6, 7, 8, 10, 11, 12, 13, 15, 16, 17, 18]
+        );
+        assert_eq!(tiles[1], [4, 9, 14, 19]);
+        assert_eq!(tiles[2], [20, 21, 22, 23, 25, 26, 27, 28]);
+        assert_eq!(tiles[3], [24, 29]);
         let mut all: Vec<u32> = tiles.concat();
         all.sort_unstable();
-        assert_eq!(all, (0..15).collect::<Vec<u32>>());
+        assert_eq!(all, (0..30).collect::<Vec<u32>>());
         assert!(tiles.iter().all(|t| t.len() <= PACKET_RAYS));
     }
     use crate::scene::{Light, Material, Sphere, Triangle};

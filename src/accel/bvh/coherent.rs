@@ -1,8 +1,9 @@
-//! Coherent rays traced together: up to eight rays (a tile's camera rays, one pixel's
+//! Coherent rays traced together: up to sixteen rays (a tile's camera rays, one pixel's
 //! lens rays, shadow rays toward one light) walk the tree as one packet. A node is
-//! fetched once for all of them and each child box is tested against every ray at once
-//! (the rays are the lanes: eight on AVX2, two halves of four on SSE2); a child is
-//! entered when any ray still needs it.
+//! fetched once for all of them. When the rays' directions share their signs, its eight
+//! child boxes are tested once against the packet's frustum; otherwise each child box is
+//! tested against every ray at once (the rays are the lanes). A child is entered when
+//! any ray may still need it.
 //!
 //! Each ray's answer is the one [`Bvh::closest`] / [`Bvh::occluded`] gives it, bit for
 //! bit: a lane repeats the single-ray shape test operation for operation, and ties go to
@@ -16,7 +17,7 @@ use crate::math::Ray;
 use crate::scene::shape::EDGE_SLACK;
 
 /// Rays in a packet.
-pub const PACKET_RAYS: usize = 8;
+pub const PACKET_RAYS: usize = 16;
 
 type Lanes = [f32; PACKET_RAYS];
 
@@ -174,7 +175,7 @@ impl Frustum {
     /// Children of `node` (bit `i` for child `i`) some ray may enter before `bound`,
     /// and a lower bound of every ray's entry distance into each.
     #[inline(always)]
-    fn enter(&self, node: &Node8, bound: f32) -> (u32, Lanes) {
+    fn enter(&self, node: &Node8, bound: f32) -> (u32, [f32; WIDTH]) {
         let row = |v: &[glam::Vec4; 2]| {
             let (a, b) = (v[0].to_array(), v[1].to_array());
             [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
