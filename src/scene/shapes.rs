@@ -64,6 +64,12 @@ impl Shapes {
         (i < self.len()).then(|| self.get(i))
     }
 
+    /// Whether shape `i` is a triangle (of a mesh or not).
+    #[inline]
+    pub fn is_triangle(&self, i: usize) -> bool {
+        self.corners[i][0] != OTHER
+    }
+
     /// Shape `i` as stored. Panics when `i` is out of range.
     #[inline]
     pub fn stored(&self, i: usize) -> Stored<'_> {

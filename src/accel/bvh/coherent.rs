@@ -10,11 +10,36 @@
 //! the lower index, so the order shapes are met in does not matter.
 
 use super::packet::{Flat, Prim};
-use super::{BOX_SLACK, Bvh, Entry, Node8, Stack, WIDTH, inverse};
+use super::{BOX_SLACK, Bvh, Entry, Node8, PACKED, Stack, WIDTH, inverse};
 use crate::accel::Hit;
 use crate::accel::simd::SimdLevel;
 use crate::math::Ray;
 use crate::scene::shape::EDGE_SLACK;
+
+/// Runs `$body` with each shape of the leaf `$entry` as `$shape` (its index) and
+/// `$prim`, whether the leaf lists indices or holds packets. A macro, not a closure:
+/// the body must be compiled into the caller, with the caller's instruction set.
+macro_rules! for_each_shape {
+    ($bvh:ident, $entry:expr, |$shape:ident, $prim:ident| $body:block) => {{
+        let first = $entry.child as usize;
+        if $entry.count & PACKED != 0 {
+            let n = ($entry.count & !PACKED) as usize;
+            for packet in &$bvh.packets[first..first + n] {
+                for lane in 0..4 {
+                    if let Some($prim) = packet.prim(lane) {
+                        let $shape = packet.shape(lane);
+                        $body
+                    }
+                }
+            }
+        } else {
+            for &$shape in &$bvh.prims[first..first + $entry.count as usize] {
+                let $prim = Prim::of($bvh.shapes, $shape);
+                $body
+            }
+        }
+    }};
+}
 
 /// Rays in a packet.
 pub const PACKET_RAYS: usize = 16;
@@ -254,9 +279,8 @@ impl Bvh<'_> {
                 continue;
             }
             if entry.count > 0 {
-                let first = entry.child as usize;
-                for &shape in &self.prims[first..first + entry.count as usize] {
-                    match Prim::of(self.shapes, shape) {
+                for_each_shape!(self, entry, |shape, prim| {
+                    match prim {
                         Prim::Flat(flat) => {
                             let (mut mask, t) = lanes.meet(&flat, &bound);
                             while mask != 0 {
@@ -279,7 +303,7 @@ impl Bvh<'_> {
                             }
                         }
                     }
-                }
+                });
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
@@ -364,10 +388,9 @@ impl Bvh<'_> {
         });
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
-                let first = entry.child as usize;
-                for &shape in &self.prims[first..first + entry.count as usize] {
+                for_each_shape!(self, entry, |shape, prim| {
                     let mut newly = 0;
-                    match Prim::of(self.shapes, shape) {
+                    match prim {
                         Prim::Flat(flat) => {
                             let (mask, _) = lanes.meet(&flat, &bound);
                             if mask != 0 && blocks(shape) {
@@ -397,7 +420,7 @@ impl Bvh<'_> {
                             }
                         }
                     }
-                }
+                });
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
@@ -432,3 +455,4 @@ impl Bvh<'_> {
         blocked
     }
 }
+

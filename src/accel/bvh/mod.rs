@@ -31,6 +31,8 @@ const BOX_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// Children per node.
 const WIDTH: usize = 8;
+/// Marks a leaf stored as precomputed packets rather than shape indices.
+const PACKED: u32 = 1 << 31;
 
 /// Eight child boxes, one lane each (two halves of four, so SSE2 reads a half and AVX2
 /// the whole row). A lane whose box is empty (min +inf, max -inf) is never hit, which is
@@ -42,7 +44,8 @@ struct Node8 {
     max: [[Vec4; 2]; 3],
     /// Inner child: node index. Leaf child: its first entry in `Bvh::prims`.
     child: [u32; WIDTH],
-    /// 0 for an inner child, else the leaf's number of shapes.
+    /// 0 for an inner child; for a leaf its number of shapes (in `Bvh::prims`), or
+    /// [`PACKED`] and its number of packets (in `Bvh::packets`).
     count: [u32; WIDTH],
 }
 
@@ -257,6 +260,10 @@ pub struct Bvh<'s> {
     /// Shape indices, leaf by leaf: a leaf names its shapes and the traversal reads
     /// their corners from the scene, so the tree adds four bytes a shape to the nodes.
     prims: Vec<u32>,
+    /// Leaves holding a sphere or a rectangle, copied into packets with their edges
+    /// precomputed: such shapes are few, and gathering them cost a 2014 scene a tenth of
+    /// its time.
+    packets: Vec<Packet>,
     shape_count: usize,
     simd: SimdLevel,
 }
@@ -277,6 +284,7 @@ impl<'s> Bvh<'s> {
                 shapes,
                 nodes: Vec::new(),
                 prims: Vec::new(),
+                packets: Vec::new(),
                 shape_count: 0,
                 simd,
             };
@@ -287,12 +295,14 @@ impl<'s> Bvh<'s> {
             shapes,
             nodes: Vec::with_capacity(binary.nodes.len() / 2 + 1),
             prims: Vec::with_capacity(shapes.len()),
+            packets: Vec::new(),
             shape_count: shapes.len(),
             simd,
         };
         bvh.nodes.push(EMPTY_NODE);
         bvh.collapse(&binary, 0, 0);
         bvh.nodes.shrink_to_fit();
+        bvh.packets.shrink_to_fit();
         bvh
     }
 
@@ -311,7 +321,9 @@ impl<'s> Bvh<'s> {
 
     /// Bytes held by the nodes and the leaves' shape indices.
     pub fn memory_bytes(&self) -> usize {
-        self.nodes.capacity() * size_of::<Node8>() + self.prims.capacity() * size_of::<u32>()
+        self.nodes.capacity() * size_of::<Node8>()
+            + self.prims.capacity() * size_of::<u32>()
+            + self.packets.capacity() * size_of::<Packet>()
     }
 
     #[inline]
@@ -351,28 +363,15 @@ impl<'s> Bvh<'s> {
             }
             if entry.count > 0 {
                 let first = entry.child as usize;
-                for four in self.prims[first..first + entry.count as usize].chunks(4) {
-                    let packet = Packet::new(self.shapes, four);
-                    let (mut mask, t) = packet.intersect_flat(&lanes, Hit::bound(&best, t_max));
-                    while mask != 0 {
-                        let lane = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let shape = packet.shape(lane);
-                        if Hit::beats(t[lane], shape, &best) {
-                            best = Some(Hit { t: t[lane], shape });
-                        }
+                if entry.count & PACKED != 0 {
+                    let n = (entry.count & !PACKED) as usize;
+                    for packet in &self.packets[first..first + n] {
+                        packet_closest(packet, &lanes, ray, t_max, &mut best);
                     }
-                    let mut spheres = packet.sphere_lanes();
-                    while spheres != 0 {
-                        let lane = spheres.trailing_zeros() as usize;
-                        spheres &= spheres - 1;
-                        let shape = packet.shape(lane);
-                        if let Some(t) =
-                            packet.sphere(lane).intersect(ray, Hit::bound(&best, t_max))
-                            && Hit::beats(t, shape, &best)
-                        {
-                            best = Some(Hit { t, shape });
-                        }
+                } else {
+                    for four in self.prims[first..first + entry.count as usize].chunks(4) {
+                        let packet = Packet::new(self.shapes, four);
+                        packet_closest(&packet, &lanes, ray, t_max, &mut best);
                     }
                 }
                 continue;
@@ -425,23 +424,17 @@ impl<'s> Bvh<'s> {
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
                 let first = entry.child as usize;
-                for four in self.prims[first..first + entry.count as usize].chunks(4) {
-                    let packet = Packet::new(self.shapes, four);
-                    let mut mask = packet.intersect_flat(&lanes, t_max).0;
-                    let mut spheres = packet.sphere_lanes();
-                    while mask != 0 {
-                        let lane = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        if blocks(packet.shape(lane)) {
+                if entry.count & PACKED != 0 {
+                    let n = (entry.count & !PACKED) as usize;
+                    for packet in &self.packets[first..first + n] {
+                        if packet_blocks(packet, &lanes, ray, t_max, &blocks) {
                             return true;
                         }
                     }
-                    while spheres != 0 {
-                        let lane = spheres.trailing_zeros() as usize;
-                        spheres &= spheres - 1;
-                        if blocks(packet.shape(lane))
-                            && packet.sphere(lane).intersect(ray, t_max).is_some()
-                        {
+                } else {
+                    for four in self.prims[first..first + entry.count as usize].chunks(4) {
+                        let packet = Packet::new(self.shapes, four);
+                        if packet_blocks(&packet, &lanes, ray, t_max, &blocks) {
                             return true;
                         }
                     }
@@ -462,6 +455,65 @@ impl<'s> Bvh<'s> {
         }
         false
     }
+}
+
+/// Updates `best` with the hits of one leaf packet.
+#[inline(always)]
+fn packet_closest(
+    packet: &Packet,
+    lanes: &PacketRay,
+    ray: &Ray,
+    t_max: f32,
+    best: &mut Option<Hit>,
+) {
+    let (mut mask, t) = packet.intersect_flat(lanes, Hit::bound(best, t_max));
+    while mask != 0 {
+        let lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        let shape = packet.shape(lane);
+        if Hit::beats(t[lane], shape, best) {
+            *best = Some(Hit { t: t[lane], shape });
+        }
+    }
+    let mut spheres = packet.sphere_lanes();
+    while spheres != 0 {
+        let lane = spheres.trailing_zeros() as usize;
+        spheres &= spheres - 1;
+        let shape = packet.shape(lane);
+        if let Some(t) = packet.sphere(lane).intersect(ray, Hit::bound(best, t_max))
+            && Hit::beats(t, shape, best)
+        {
+            *best = Some(Hit { t, shape });
+        }
+    }
+}
+
+/// Whether a shape of one leaf packet for which `blocks` holds meets the ray.
+#[inline(always)]
+fn packet_blocks(
+    packet: &Packet,
+    lanes: &PacketRay,
+    ray: &Ray,
+    t_max: f32,
+    blocks: &impl Fn(u32) -> bool,
+) -> bool {
+    let mut mask = packet.intersect_flat(lanes, t_max).0;
+    while mask != 0 {
+        let lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        if blocks(packet.shape(lane)) {
+            return true;
+        }
+    }
+    let mut spheres = packet.sphere_lanes();
+    while spheres != 0 {
+        let lane = spheres.trailing_zeros() as usize;
+        spheres &= spheres - 1;
+        if blocks(packet.shape(lane)) && packet.sphere(lane).intersect(ray, t_max).is_some() {
+            return true;
+        }
+    }
+    false
 }
 
 impl Bvh<'_> {
@@ -494,9 +546,16 @@ impl Bvh<'_> {
             if src[m].is_leaf() {
                 let (first, count) = (src[m].first as usize, src[m].count as usize);
                 let leaf = &binary.order[first..first + count];
-                node.child[lane] = self.prims.len() as u32;
-                node.count[lane] = leaf.len() as u32;
-                self.prims.extend_from_slice(leaf);
+                if leaf.iter().all(|&i| self.shapes.is_triangle(i as usize)) {
+                    node.child[lane] = self.prims.len() as u32;
+                    node.count[lane] = leaf.len() as u32;
+                    self.prims.extend_from_slice(leaf);
+                } else {
+                    node.child[lane] = self.packets.len() as u32;
+                    node.count[lane] = PACKED | leaf.len().div_ceil(4) as u32;
+                    self.packets
+                        .extend(leaf.chunks(4).map(|four| Packet::mixed(self.shapes, four)));
+                }
             } else {
                 node.child[lane] = self.nodes.len() as u32;
                 self.nodes.push(EMPTY_NODE);

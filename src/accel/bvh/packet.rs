@@ -114,6 +114,8 @@ impl Packet {
             // they cannot go stale.
             let c = unsafe { *corners.get_unchecked(index as usize) };
             if c[0] == OTHER {
+                // Leaves with other shapes are stored as packets; this serves callers
+                // that mix them all the same.
                 return Packet::mixed(shapes, indices);
             }
             shape[lane] = index;
@@ -141,9 +143,8 @@ impl Packet {
         }
     }
 
-    /// [`Packet::new`] where a lane holds a sphere or a rectangle.
-    #[cold]
-    fn mixed(shapes: &Shapes, indices: &[u32]) -> Packet {
+    /// [`Packet::new`] for any shapes, spheres and rectangles too, one lane at a time.
+    pub fn mixed(shapes: &Shapes, indices: &[u32]) -> Packet {
         let mut packet = Packet {
             p: [Vec4::ZERO; 3],
             e1: [Vec4::ZERO; 3],
@@ -215,6 +216,24 @@ impl Packet {
             & (u + v).cmple(self.max_sum + Vec4::splat(EDGE_SLACK));
         let in_range = t.cmpgt(Vec4::ZERO) & t.cmplt(Vec4::splat(t_max));
         ((finite & inside & in_range).bitmask(), t)
+    }
+
+    /// The shape of `lane` as a leaf test reads it; `None` for an empty lane.
+    #[inline(always)]
+    pub fn prim(&self, lane: usize) -> Option<Prim> {
+        if self.shape[lane] == EMPTY_LANE {
+            return None;
+        }
+        if self.radius[lane] > 0.0 {
+            return Some(Prim::Sphere(self.sphere(lane)));
+        }
+        let at = |v: &[Vec4; 3]| [v[0][lane], v[1][lane], v[2][lane]];
+        Some(Prim::Flat(Flat {
+            p: at(&self.p),
+            e1: at(&self.e1),
+            e2: at(&self.e2),
+            max_sum: self.max_sum[lane],
+        }))
     }
 
     /// Lanes holding a sphere.
