@@ -159,7 +159,7 @@ print("| figure | threads | Prism | Embree 3 | Prism / Embree |")
 print("|---|---:|---:|---:|---:|")
 lines = [
     ("primary, closest hit, Mrays/s: rtcIntersect1", "primary_mrays", "intersect1_mrays", 1),
-    ("primary, Prism packets of 8 (4x2 tiles) vs rtcIntersect16 (4x4 tiles), Mrays/s", "primary_packet_mrays", "intersect16_mrays", 1),
+    ("primary, Prism packets of 16 vs rtcIntersect16, 4x4 tiles, Mrays/s", "primary_packet_mrays", "intersect16_mrays", 1),
     ("shadow, any hit, Mrays/s: rtcOccluded1", "shadow_mrays", "occluded1_mrays", 1),
     ("shadow, Prism packets of a tile's hits vs rtcOccluded1, Mrays/s", "shadow_packet_mrays", "occluded1_mrays", 1),
     ("build, ms (time: above 1 is slower)", "build_s", "build_s", 1000),

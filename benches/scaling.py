@@ -64,7 +64,7 @@ COLUMNS = [
 # the plotted series: CSV column, label, colour, line style, marker
 SERIES = [
     ("prism_primary_mrays", "Prism, single rays", "tab:blue", "-", "o"),
-    ("prism_packet_mrays", "Prism, packets of 8 (4×2 tiles)", "tab:blue", "--", "s"),
+    ("prism_packet_mrays", "Prism, packets of 16 (4×4 tiles)", "tab:blue", "--", "s"),
     ("embree_intersect1_mrays", "Embree 3, rtcIntersect1", "tab:orange", "-", "o"),
     ("embree_intersect16_mrays", "Embree 3, rtcIntersect16 (4×4 tiles)", "tab:orange", "--", "s"),
 ]
