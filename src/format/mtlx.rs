@@ -27,9 +27,9 @@
 //! Comment lines start with `#`; blank lines are skipped; any other line is an error, as
 //! is a name defined twice (also across several files read into one library).
 
-use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use super::text::{At, data_lines, index_u32, read_text, shown};
 use crate::Result;
@@ -184,16 +184,34 @@ impl MaterialLibrary {
     /// order is the error.
     fn decode_pending(&mut self, path: &Path) -> Result<()> {
         let pending = std::mem::take(&mut self.pending);
-        let decoded: Vec<Option<std::result::Result<Texture, String>>> = pending
-            .par_iter()
-            // One image per task: they differ in size, and work stealing evens them out.
-            .with_max_len(1)
-            .map(|p| match &p.source {
-                Source::Decode(canonical) => Some(decode_image(canonical, p.fill)),
+        // Largest file first, each image one task taken in that order by whichever
+        // thread is free: the big images do not end up last, on one thread.
+        let mut order: Vec<(u64, usize)> = pending
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| match &p.source {
+                Source::Decode(canonical) => {
+                    let bytes = std::fs::metadata(canonical).map_or(0, |m| m.len());
+                    Some((bytes, i))
+                }
                 Source::SameAs(_) => None,
             })
             .collect();
+        order.sort_by(|a, b| b.cmp(a));
+        let decoded: Vec<OnceLock<std::result::Result<Texture, String>>> =
+            pending.iter().map(|_| OnceLock::new()).collect();
+        rayon::scope_fifo(|scope| {
+            for &(_, i) in &order {
+                let (p, slot) = (&pending[i], &decoded[i]);
+                if let Source::Decode(canonical) = &p.source {
+                    scope.spawn_fifo(move |_| {
+                        let _ = slot.set(decode_image(canonical, p.fill));
+                    });
+                }
+            }
+        });
         for (p, texture) in pending.into_iter().zip(decoded) {
+            let texture = texture.into_inner();
             let at = At { path, line: p.line };
             let texture = match (texture, p.source) {
                 (Some(Ok(texture)), _) => texture,
