@@ -52,6 +52,33 @@ fn image_is_identical_for_any_thread_count_and_intersector() {
     );
 }
 
+/// scene1 has eleven JPEG textures, decoded in parallel: on one thread or two, the same
+/// texels and so the same PNG, byte for byte.
+#[test]
+fn a_textured_scene_gives_the_same_file_on_one_thread_and_two() {
+    let Some(scene1) = seed_scene("scene1") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let render = |threads: &str| {
+        let out = dir.path().join(format!("t{threads}.png"));
+        let o = run(prism()
+            .arg("render")
+            .args([
+                scene1.join("scene.objx"),
+                scene1.join("scene.cmr"),
+                out.clone(),
+            ])
+            .args(["--width", "96", "--aa", "2", "--dof-rays", "1", "--quiet"])
+            .args(["--threads", threads]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        fs::read(out).unwrap()
+    };
+    let one = render("1");
+    assert_eq!(one, render("2"));
+    assert_eq!(one, render("3"));
+}
+
 #[test]
 fn region_is_the_same_window_of_the_full_frame() {
     let dir = tempfile::tempdir().unwrap();

@@ -165,10 +165,18 @@ impl Develop {
         }
     }
 
-    /// 16-bit RGB, rounded to nearest.
+    /// 16-bit RGB, rounded to nearest; rows in parallel.
     pub fn to_rgb16(&self, image: &Image) -> Vec<u16> {
-        let values = image.pixels.iter().flatten();
-        values.map(|&v| quantize16(self.channel(v))).collect()
+        let mut out = vec![0u16; image.pixels.len() * 3];
+        let row = (image.width as usize).max(1);
+        out.par_chunks_mut(row * 3)
+            .zip(image.pixels.par_chunks(row))
+            .for_each(|(out, pixels)| {
+                for (o, &v) in out.iter_mut().zip(pixels.iter().flatten()) {
+                    *o = quantize16(self.channel(v));
+                }
+            });
+        out
     }
 }
 
@@ -287,6 +295,35 @@ mod tests {
 
     fn gray(v: f32) -> Image {
         Image::new(1, 1, vec![[v; 3]])
+    }
+
+    /// Rows are developed in parallel: on one thread or three, every channel is what
+    /// the formula gives it, in place.
+    #[test]
+    fn rows_develop_in_place_on_any_number_of_threads() {
+        let (w, h) = (37, 23);
+        let pixels = (0..w * h)
+            .map(|i| {
+                let v = i as f32 / (w * h) as f32;
+                [v * 1.3, 1.0 - v, (i % 7) as f32 * 0.2 - 0.1]
+            })
+            .collect();
+        let image = Image::new(w, h, pixels);
+        let d = Develop {
+            exposure: 0.5,
+            ..Develop::display()
+        };
+        let flat: Vec<f32> = image.pixels.iter().flatten().copied().collect();
+        let want16: Vec<u16> = flat.iter().map(|&v| quantize16(d.channel(v))).collect();
+        let want8: Vec<u8> = flat.iter().map(|&v| quantize(d.channel(v))).collect();
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            assert_eq!(pool.install(|| d.to_rgb16(&image)), want16, "{threads}");
+            assert_eq!(pool.install(|| d.to_rgb8(&image)), want8, "{threads}");
+        }
     }
 
     fn rgb8(d: Develop, v: f32) -> u8 {

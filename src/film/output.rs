@@ -164,9 +164,9 @@ pub fn write_image_with(image: &Image, path: &Path, options: &OutputOptions) -> 
         OutputFormat::Png if options.png_bits == PngBits::Sixteen => {
             let rgb16 = options.develop.to_rgb16(image);
             // The encoder takes native-endian samples and stores them big-endian.
-            let bytes: Vec<u8> = rgb16.iter().flat_map(|v| v.to_ne_bytes()).collect();
+            let bytes: &[u8] = bytemuck::cast_slice(&rgb16);
             PngEncoder::new(out)
-                .write_image(&bytes, w, h, ExtendedColorType::Rgb16)
+                .write_image(bytes, w, h, ExtendedColorType::Rgb16)
                 .map_err(|e| cannot_encode(&e))
         }
         // Binary PPM (`P6`), which every tool reads, rather than the image crate's

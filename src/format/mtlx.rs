@@ -29,6 +29,7 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 use super::text::{At, data_lines, index_u32, read_text, shown};
 use crate::Result;
@@ -41,6 +42,10 @@ const SYNTAX: &str =
 
 /// Materials and textures read from one or more material files, in file order, with
 /// what is needed to reject duplicate names and to decode each image only once.
+///
+/// A file's images are decoded together once all its lines are read, in parallel (on
+/// the current rayon pool): decoding is most of the time a textured scene takes to load.
+/// Errors are the ones reading line by line would give, the first line's first.
 #[derive(Debug, Default)]
 pub struct MaterialLibrary {
     materials: Vec<Material>,
@@ -52,6 +57,26 @@ pub struct MaterialLibrary {
     /// First texture decoded from each canonical image path: another fill mode of the
     /// same image copies its texels instead of decoding the file again.
     image_of: HashMap<PathBuf, u32>,
+    /// Textures of the file being read, not decoded yet: they follow `textures`.
+    pending: Vec<Pending>,
+}
+
+/// A texture a line asked for, decoded when the whole file has been read.
+#[derive(Debug)]
+struct Pending {
+    /// The line that asked for it and the image path it gave, for errors.
+    line: usize,
+    file: PathBuf,
+    fill: FillMode,
+    source: Source,
+}
+
+#[derive(Debug)]
+enum Source {
+    /// Decode the image at this canonical path.
+    Decode(PathBuf),
+    /// The same image as an earlier texture, with another fill mode: copy its texels.
+    SameAs(u32),
 }
 
 #[derive(Debug)]
@@ -129,38 +154,95 @@ impl MaterialLibrary {
         Ok(())
     }
 
-    /// Index of the texture for image `file` (already resolved) with `fill`, decoding
-    /// the image unless the same file was decoded before.
+    /// Index of the texture for image `file` (already resolved) with `fill`. The image
+    /// is decoded by [`MaterialLibrary::decode_pending`], unless the same file was
+    /// asked for before.
     fn texture(&mut self, at: At, file: &Path, fill: FillMode) -> Result<u32> {
-        let cannot = |why: &dyn std::fmt::Display| {
-            at.error(format!("cannot load texture {}: {why}", file.display()))
-        };
-        let canonical = std::fs::canonicalize(file).map_err(|e| cannot(&e))?;
+        let canonical = std::fs::canonicalize(file).map_err(|e| cannot_load(at, file, &e))?;
         let key = (canonical, fill_key(fill));
         if let Some(&index) = self.texture_of.get(&key) {
             return Ok(index);
         }
-        let texture = match self.image_of.get(&key.0) {
-            Some(&same_image) => Texture {
-                fill,
-                ..self.textures[same_image as usize].clone()
-            },
-            None => decode_image(&key.0, fill).map_err(|why| cannot(&why))?,
+        let index = index_u32(at, self.textures.len() + self.pending.len(), "textures")?;
+        let source = match self.image_of.get(&key.0) {
+            Some(&same_image) => Source::SameAs(same_image),
+            None => Source::Decode(key.0.clone()),
         };
-        let index = index_u32(at, self.textures.len(), "textures")?;
-        self.textures.push(texture);
+        self.pending.push(Pending {
+            line: at.line,
+            file: file.to_path_buf(),
+            fill,
+            source,
+        });
         self.image_of.entry(key.0.clone()).or_insert(index);
         self.texture_of.insert(key, index);
         Ok(index)
     }
+
+    /// Decodes the images the lines of material file `path` asked for, all at once in
+    /// parallel, and appends their textures in line order. The first failure in line
+    /// order is the error.
+    fn decode_pending(&mut self, path: &Path) -> Result<()> {
+        let pending = std::mem::take(&mut self.pending);
+        // Largest file first, each image one task taken in that order by whichever
+        // thread is free: the big images do not end up last, on one thread.
+        let mut order: Vec<(u64, usize)> = pending
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| match &p.source {
+                Source::Decode(canonical) => {
+                    let bytes = std::fs::metadata(canonical).map_or(0, |m| m.len());
+                    Some((bytes, i))
+                }
+                Source::SameAs(_) => None,
+            })
+            .collect();
+        order.sort_by(|a, b| b.cmp(a));
+        let decoded: Vec<OnceLock<std::result::Result<Texture, String>>> =
+            pending.iter().map(|_| OnceLock::new()).collect();
+        rayon::scope_fifo(|scope| {
+            for &(_, i) in &order {
+                let (p, slot) = (&pending[i], &decoded[i]);
+                if let Source::Decode(canonical) = &p.source {
+                    scope.spawn_fifo(move |_| {
+                        let _ = slot.set(decode_image(canonical, p.fill));
+                    });
+                }
+            }
+        });
+        for (p, texture) in pending.into_iter().zip(decoded) {
+            let texture = texture.into_inner();
+            let at = At { path, line: p.line };
+            let texture = match (texture, p.source) {
+                (Some(Ok(texture)), _) => texture,
+                (Some(Err(why)), _) => return Err(cannot_load(at, &p.file, &why)),
+                (None, Source::SameAs(same_image)) => Texture {
+                    fill: p.fill,
+                    ..self.textures[same_image as usize].clone()
+                },
+                (None, Source::Decode(_)) => unreachable!("every image to decode was decoded"),
+            };
+            self.textures.push(texture);
+        }
+        Ok(())
+    }
+}
+
+fn cannot_load(at: At, file: &Path, why: &dyn std::fmt::Display) -> crate::Error {
+    at.error(format!("cannot load texture {}: {why}", file.display()))
 }
 
 /// Decodes an image file into an 8-bit RGB texture. The format is taken from the
 /// content when it can be, so a PNG named `.jpg` still loads.
 fn decode_image(path: &Path, fill: FillMode) -> std::result::Result<Texture, String> {
-    let image = super::image_file::read_image(path)?.to_rgb8();
+    // `into_rgb8` keeps an RGB image's buffer (most JPEGs) instead of copying it.
+    let image = super::image_file::read_image(path)?.into_rgb8();
     let (width, height) = image.dimensions();
-    let texels = image.pixels().map(|p| p.0).collect();
+    let texels = image
+        .as_raw()
+        .chunks_exact(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
     Ok(Texture::new(width, height, texels, fill))
 }
 
@@ -178,9 +260,13 @@ pub fn parse(text: &str, path: &Path, library: &mut MaterialLibrary) -> Result<(
             path,
             line: line.number,
         };
-        parse_line(at, &line.tokens, folder, library)?;
+        if let Err(e) = parse_line(at, &line.tokens, folder, library) {
+            // An image of an earlier line that does not decode is the first error.
+            library.decode_pending(path)?;
+            return Err(e);
+        }
     }
-    Ok(())
+    library.decode_pending(path)
 }
 
 fn parse_line(at: At, tokens: &[&str], folder: &Path, library: &mut MaterialLibrary) -> Result<()> {
@@ -458,6 +544,135 @@ mod tests {
             "/nonexistent-prism/m.mtlx:2: material `a` is already defined at \
              /nonexistent-prism/m.mtlx:1"
         );
+    }
+
+    /// Writes `n` PNG images of different sizes and contents into `dir`: `t0.png`..
+    fn write_images(dir: &Path, n: u32) {
+        for i in 0..n {
+            let (w, h) = (3 + 5 * i, 2 + 3 * i);
+            let image = image::RgbImage::from_fn(w, h, |x, y| {
+                image::Rgb([
+                    (x * 37 + i) as u8,
+                    (y * 91 + 7 * i) as u8,
+                    (x ^ y ^ i) as u8,
+                ])
+            });
+            image.save(dir.join(format!("t{i}.png"))).unwrap();
+        }
+    }
+
+    /// Parses `text` as `m.mtlx` in `dir` on a pool of `threads` threads.
+    fn parse_on(threads: usize, dir: &Path, text: &str) -> Result<MaterialLibrary> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let mut library = MaterialLibrary::new();
+                parse(text, &dir.join("m.mtlx"), &mut library)?;
+                Ok(library)
+            })
+    }
+
+    #[test]
+    fn images_decoded_together_give_each_line_its_own_texels() {
+        let dir = tempfile::tempdir().unwrap();
+        write_images(dir.path(), 6);
+        // Six images, one of them twice with another fill mode, one line without.
+        let mut text = String::new();
+        for i in 0..6 {
+            text += &format!("newmtl m{i} 0 0 0 1 1 1 1 1 0 0 0 t{i}.png 0.5\n");
+        }
+        text += "newmtl plain 9 9 9 1 1 1 1 1 0 0 0\n";
+        text += "newmtl again 0 0 0 1 1 1 1 1 0 0 0 t2.png fit\n";
+        text += "newmtl same 0 0 0 1 1 1 1 1 0 0 0 t4.png 0.5\n";
+        let one = parse_on(1, dir.path(), &text).unwrap();
+        for threads in [2, 4] {
+            let many = parse_on(threads, dir.path(), &text).unwrap();
+            assert_eq!(many.materials(), one.materials(), "{threads} threads");
+            assert_eq!(many.textures(), one.textures(), "{threads} threads");
+        }
+        // What each line names, decoded alone.
+        let textures = one.textures();
+        assert_eq!(textures.len(), 7);
+        for i in 0..6u32 {
+            let m = &one.materials()[i as usize];
+            let t = &textures[m.texture.unwrap() as usize];
+            let image = image::open(dir.path().join(format!("t{i}.png")))
+                .unwrap()
+                .into_rgb8();
+            assert_eq!((t.width, t.height), image.dimensions());
+            let texels: Vec<[u8; 3]> = image.pixels().map(|p| p.0).collect();
+            assert_eq!(t.texels, texels, "t{i}.png");
+            assert_eq!(t.fill, FillMode::Tile { scale: 0.5 });
+        }
+        let again = &textures[one.materials()[7].texture.unwrap() as usize];
+        assert_eq!(again.fill, FillMode::Fit);
+        assert_eq!(again.texels, textures[2].texels);
+        assert_eq!(one.materials()[8].texture, one.materials()[4].texture);
+        assert_eq!(one.materials()[6].texture, None);
+    }
+
+    #[test]
+    fn the_first_bad_line_is_the_error_whenever_its_image_is_decoded() {
+        let dir = tempfile::tempdir().unwrap();
+        write_images(dir.path(), 3);
+        std::fs::write(
+            dir.path().join("bad.png"),
+            b"\x89PNG\r\n\x1a\n not an image",
+        )
+        .unwrap();
+        let good = |i: u32| format!("newmtl g{i} 0 0 0 1 1 1 1 1 0 0 0 t{i}.png\n");
+        let bad_image = "newmtl b 0 0 0 1 1 1 1 1 0 0 0 bad.png\n";
+        let bad_line = "newmtl x 0 0 0 1 1 1 1 1 0 0 7\n";
+        for threads in [1, 2] {
+            // The image that does not decode comes first: it is the error, not the line
+            // read after it.
+            let text = good(0) + bad_image + &good(1) + bad_line + &good(2);
+            let e = parse_on(threads, dir.path(), &text)
+                .err()
+                .unwrap()
+                .to_string();
+            assert!(
+                e.contains("m.mtlx:2: cannot load texture") && e.contains("bad.png"),
+                "{e}"
+            );
+            // The bad line comes first: the image after it is never the error.
+            let text = good(0) + bad_line + bad_image + &good(1);
+            let e = parse_on(threads, dir.path(), &text)
+                .err()
+                .unwrap()
+                .to_string();
+            assert!(e.contains("m.mtlx:2: expected 0 or 1"), "{e}");
+            // An image that does not decode on the last line.
+            let text = good(0) + &good(1) + bad_image;
+            let e = parse_on(threads, dir.path(), &text)
+                .err()
+                .unwrap()
+                .to_string();
+            assert!(e.contains("m.mtlx:3: cannot load texture"), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_second_file_numbers_its_textures_after_the_first() {
+        let dir = tempfile::tempdir().unwrap();
+        write_images(dir.path(), 3);
+        let mut library = MaterialLibrary::new();
+        let first =
+            "newmtl a 0 0 0 1 1 1 1 1 0 0 0 t0.png\nnewmtl b 0 0 0 1 1 1 1 1 0 0 0 t1.png\n";
+        parse(first, &dir.path().join("a.mtlx"), &mut library).unwrap();
+        let second =
+            "newmtl c 0 0 0 1 1 1 1 1 0 0 0 t2.png\nnewmtl d 0 0 0 1 1 1 1 1 0 0 0 t0.png fit\n";
+        parse(second, &dir.path().join("b.mtlx"), &mut library).unwrap();
+        let texture = |name: &str| {
+            let m = &library.materials()[library.find(name).unwrap() as usize];
+            &library.textures()[m.texture.unwrap() as usize]
+        };
+        assert_eq!(library.textures().len(), 4);
+        assert_eq!(texture("c").width, 13);
+        assert_eq!(texture("d").texels, texture("a").texels);
+        assert_eq!(texture("d").fill, FillMode::Fit);
     }
 
     /// A material line with random fields, mostly well formed.

@@ -330,6 +330,7 @@ impl<'a> Renderer<'a> {
             pixels
                 .par_chunks_mut(row_len.max(1))
                 .enumerate()
+                .with_max_len(1)
                 .for_each(|(i, row)| trace_row(region.y + i as u32, row));
             let stats = RenderStats {
                 rays: total_rays.into_inner(),
@@ -339,14 +340,19 @@ impl<'a> Renderer<'a> {
         }
         // Bands run in parallel as well as the rows inside them, so no core waits for
         // a band's last row or for its resampling; each band's pixels stay its own, so
-        // the image does not depend on which thread did what.
+        // the image does not depend on which thread did what. Every band and every row
+        // is a task of its own (`with_max_len(1)`): rayon would otherwise hand a thread
+        // a run of rows to trace in turn, which no other thread can take from, and the
+        // frame's last run kept one core busy for some 15 ms while the other waited.
         let bands: Vec<_> = self.bands(&wy, region).collect();
         let done: Vec<Vec<[f32; 3]>> = bands
             .par_iter()
+            .with_max_len(1)
             .map(|&(y0, y1, lo, hi)| {
                 let mut band = vec![[0.0f32; 3]; row_len * (hi - lo) as usize];
                 band.par_chunks_mut(row_len)
                     .enumerate()
+                    .with_max_len(1)
                     .for_each(|(i, row)| trace_row(lo + i as u32, row));
                 resample_window(
                     &band,

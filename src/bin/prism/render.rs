@@ -153,7 +153,20 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         min_weight: args.min_weight,
         max_memory: args.max_memory,
     };
-    let still = prism::still::prepare(scene_path, &options)?;
+    // Loading (texture images decode in parallel) and development run on the threads
+    // the render is given, so `--threads 1` is one thread throughout.
+    let pool = match args.threads {
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| prism::Error::Settings(format!("cannot start threads: {e}")))?,
+        ),
+        None => None,
+    };
+    let still = on_threads(pool.as_ref(), || {
+        prism::still::prepare(scene_path, &options)
+    })?;
     if !args.quiet {
         for w in &still.warnings {
             eprintln!("warning: {w}");
@@ -168,16 +181,10 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         return Err(prism::Error::Interrupted);
     }
     let output_options = output_options(args, &still)?;
-    // Development runs its rows in parallel: on the threads the render was given.
-    let write = || write_image_with(&image, output, &output_options);
-    match args.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| prism::Error::Settings(format!("cannot start threads: {e}")))?
-            .install(write)?,
-        None => write()?,
-    }
+    // Development runs its rows in parallel.
+    on_threads(pool.as_ref(), || {
+        write_image_with(&image, output, &output_options)
+    })?;
     if args.stats {
         println!(
             "rays {}  seconds {:.3}  Mrays/s {:.2}",
@@ -187,6 +194,14 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         );
     }
     Ok(())
+}
+
+/// Runs `f` on `pool`, or on rayon's global pool (every core) without one.
+fn on_threads<T: Send>(pool: Option<&rayon::ThreadPool>, f: impl FnOnce() -> T + Send) -> T {
+    match pool {
+        Some(pool) => pool.install(f),
+        None => f(),
+    }
 }
 
 /// How the image is stored: the classic model's values as the 2014 program wrote them
