@@ -132,7 +132,16 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 100);
-        for v in [0.0, -0.0, -0.25, 0.999_999_9, -1.0, f32::MAX, f32::MIN, f32::INFINITY] {
+        for v in [
+            0.0,
+            -0.0,
+            -0.25,
+            0.999_999_9,
+            -1.0,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+        ] {
             assert!(floor(v) == v.floor(), "{v}");
         }
         assert!(floor(f32::NAN).is_nan());
