@@ -307,21 +307,12 @@ impl Bvh<'_> {
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
-            let base = stack.len;
             if let Some(frustum) = &frustum {
-                let (mut mask, t) = frustum.enter(node, widest);
-                while mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let e = Entry {
-                        child: node.child[lane],
-                        count: node.count[lane],
-                        t: t[lane],
-                    };
-                    stack.push_sorted(e, base);
-                }
+                let (mask, t) = frustum.enter(node, widest);
+                stack.push_children(node, mask, &t);
                 continue;
             }
+            let base = stack.len;
             for lane in 0..WIDTH {
                 let (mask, t) = lanes.enter(node, lane, &bound);
                 if mask != 0 {
@@ -424,22 +415,13 @@ impl Bvh<'_> {
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
-            let base = stack.len;
             if let Some(frustum) = &frustum {
                 let widest = bound.iter().fold(f32::NEG_INFINITY, |m, &b| m.max(b));
-                let (mut mask, t) = frustum.enter(node, widest);
-                while mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let e = Entry {
-                        child: node.child[lane],
-                        count: node.count[lane],
-                        t: t[lane],
-                    };
-                    stack.push_sorted(e, base);
-                }
+                let (mask, t) = frustum.enter(node, widest);
+                stack.push_children(node, mask, &t);
                 continue;
             }
+            let base = stack.len;
             for lane in 0..WIDTH {
                 let (mask, t) = lanes.enter(node, lane, &bound);
                 if mask != 0 {

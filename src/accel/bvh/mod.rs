@@ -104,6 +104,23 @@ impl Stack {
         self.len += 1;
     }
 
+    /// Pushes the children of `node` in `mask` (bit `i` for child `i`), entered at
+    /// `t[i]`, so the nearest is popped first.
+    #[inline(always)]
+    fn push_children(&mut self, node: &Node8, mut mask: u32, t: &[f32; WIDTH]) {
+        let base = self.len;
+        while mask != 0 {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            let e = Entry {
+                child: node.child[lane],
+                count: node.count[lane],
+                t: t[lane],
+            };
+            self.push_sorted(e, base);
+        }
+    }
+
     /// Pushes `e` among the entries above `base`, kept farthest first, so the nearest
     /// is popped next.
     #[inline]
@@ -377,18 +394,8 @@ impl<'s> Bvh<'s> {
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
-            let (mut mask, t_near) = boxes.hit(node, bound);
-            let base = stack.len;
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let e = Entry {
-                    child: node.child[lane],
-                    count: node.count[lane],
-                    t: t_near[lane],
-                };
-                stack.push_sorted(e, base);
-            }
+            let (mask, t_near) = boxes.hit(node, bound);
+            stack.push_children(node, mask, &t_near);
         }
         best
     }
