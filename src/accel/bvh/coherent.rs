@@ -258,7 +258,7 @@ impl Bvh<'_> {
     #[inline(always)]
     fn closest_packet_in(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<Hit>]) {
         hits.fill(None);
-        if self.nodes.is_empty() {
+        if self.shape_count == 0 {
             return;
         }
         let lanes = Rays::new(rays);
@@ -268,11 +268,7 @@ impl Bvh<'_> {
         // Lanes without a ray get -inf, so no box or shape is ever entered for them.
         let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
         bound[..rays.len()].fill(t_max);
-        let mut stack = Stack::new(Entry {
-            child: 0,
-            count: 0,
-            t: 0.0,
-        });
+        let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
             let widest = bound.iter().fold(f32::NEG_INFINITY, |m, &b| m.max(b));
             if entry.t > widest * BOX_SLACK {
@@ -362,7 +358,7 @@ impl Bvh<'_> {
     /// The mask of blocked rays (bit `i` for ray `i`).
     #[inline(always)]
     fn occluded_packet_in(&self, rays: &[Ray], t_max: &[f32], blocks: impl Fn(u32) -> bool) -> u32 {
-        if self.nodes.is_empty() {
+        if self.shape_count == 0 {
             return 0;
         }
         let lanes = Rays::new(rays);
@@ -372,11 +368,7 @@ impl Bvh<'_> {
         // A blocked ray's bound drops to -inf: it needs nothing more.
         let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
         bound[..rays.len()].copy_from_slice(t_max);
-        let mut stack = Stack::new(Entry {
-            child: 0,
-            count: 0,
-            t: 0.0,
-        });
+        let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
                 for_each_shape!(self, entry, |shape, prim| {

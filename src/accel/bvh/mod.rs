@@ -33,6 +33,14 @@ const BOX_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 const WIDTH: usize = 8;
 /// Marks a leaf stored as precomputed packets rather than shape indices.
 const PACKED: u32 = 1 << 31;
+/// Scenes of at most this many shapes are one leaf: every ray tests them all.
+const TINY_SCENE: usize = 16;
+/// The root of a tree with inner nodes: node 0.
+const EMPTY_ROOT: Entry = Entry {
+    child: 0,
+    count: 0,
+    t: 0.0,
+};
 
 /// Eight child boxes, one lane each (two halves of four, so SSE2 reads a half and AVX2
 /// the whole row). A lane whose box is empty (min +inf, max -inf) is never hit, which is
@@ -273,6 +281,9 @@ impl BoxTest for Boxes8 {
 
 pub struct Bvh<'s> {
     shapes: &'s Shapes,
+    /// Where every ray starts: node 0, or for a scene of a few shapes one leaf of them
+    /// all (a node test would cost more than it culls).
+    root: Entry,
     nodes: Vec<Node8>,
     /// Shape indices, leaf by leaf: a leaf names its shapes and the traversal reads
     /// their corners from the scene, so the tree adds four bytes a shape to the nodes.
@@ -299,6 +310,7 @@ impl<'s> Bvh<'s> {
         if shapes.is_empty() {
             return Bvh {
                 shapes,
+                root: EMPTY_ROOT,
                 nodes: Vec::new(),
                 prims: Vec::new(),
                 packets: Vec::new(),
@@ -306,10 +318,25 @@ impl<'s> Bvh<'s> {
                 simd,
             };
         }
+        if shapes.len() <= TINY_SCENE {
+            let all: Vec<u32> = (0..shapes.len() as u32).collect();
+            let mut bvh = Bvh {
+                shapes,
+                root: EMPTY_ROOT,
+                nodes: Vec::new(),
+                prims: Vec::new(),
+                packets: Vec::new(),
+                shape_count: shapes.len(),
+                simd,
+            };
+            bvh.root = bvh.leaf(&all);
+            return bvh;
+        }
         let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
         let binary = build::build(&boxes);
         let mut bvh = Bvh {
             shapes,
+            root: EMPTY_ROOT,
             nodes: Vec::with_capacity(binary.nodes.len() / 2 + 1),
             prims: Vec::with_capacity(shapes.len()),
             packets: Vec::new(),
@@ -362,17 +389,13 @@ impl<'s> Bvh<'s> {
 
     #[inline(always)]
     fn closest_in<B: BoxTest>(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        if self.nodes.is_empty() {
+        if self.shape_count == 0 {
             return None;
         }
         let boxes = B::new(ray);
         let lanes = PacketRay::new(ray);
         let mut best: Option<Hit> = None;
-        let mut stack = Stack::new(Entry {
-            child: 0,
-            count: 0,
-            t: 0.0,
-        });
+        let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
             let bound = Hit::bound(&best, t_max);
             if entry.t > bound * BOX_SLACK {
@@ -418,16 +441,12 @@ impl<'s> Bvh<'s> {
 
     #[inline(always)]
     fn occluded_in<B: BoxTest>(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
-        if self.nodes.is_empty() {
+        if self.shape_count == 0 {
             return false;
         }
         let boxes = B::new(ray);
         let lanes = PacketRay::new(ray);
-        let mut stack = Stack::new(Entry {
-            child: 0,
-            count: 0,
-            t: 0.0,
-        });
+        let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
                 let first = entry.child as usize;
@@ -524,6 +543,29 @@ fn packet_blocks(
 }
 
 impl Bvh<'_> {
+    /// Stores the shapes `leaf` as a leaf: their indices when all are triangles, else
+    /// packets with precomputed edges.
+    fn leaf(&mut self, leaf: &[u32]) -> Entry {
+        if leaf.iter().all(|&i| self.shapes.is_triangle(i as usize)) {
+            let child = self.prims.len() as u32;
+            self.prims.extend_from_slice(leaf);
+            Entry {
+                child,
+                count: leaf.len() as u32,
+                t: 0.0,
+            }
+        } else {
+            let child = self.packets.len() as u32;
+            self.packets
+                .extend(leaf.chunks(4).map(|four| Packet::mixed(self.shapes, four)));
+            Entry {
+                child,
+                count: PACKED | leaf.len().div_ceil(4) as u32,
+                t: 0.0,
+            }
+        }
+    }
+
     /// Fills `nodes[slot]` with up to eight descendants of binary node `at`: its
     /// children, then repeatedly the children of the largest inner one among them.
     /// Leaves become runs of shape indices.
@@ -553,16 +595,9 @@ impl Bvh<'_> {
             if src[m].is_leaf() {
                 let (first, count) = (src[m].first as usize, src[m].count as usize);
                 let leaf = &binary.order[first..first + count];
-                if leaf.iter().all(|&i| self.shapes.is_triangle(i as usize)) {
-                    node.child[lane] = self.prims.len() as u32;
-                    node.count[lane] = leaf.len() as u32;
-                    self.prims.extend_from_slice(leaf);
-                } else {
-                    node.child[lane] = self.packets.len() as u32;
-                    node.count[lane] = PACKED | leaf.len().div_ceil(4) as u32;
-                    self.packets
-                        .extend(leaf.chunks(4).map(|four| Packet::mixed(self.shapes, four)));
-                }
+                let e = self.leaf(leaf);
+                node.child[lane] = e.child;
+                node.count[lane] = e.count;
             } else {
                 node.child[lane] = self.nodes.len() as u32;
                 self.nodes.push(EMPTY_NODE);
