@@ -396,7 +396,9 @@ impl<'s> Bvh<'s> {
         let lanes = PacketRay::new(ray);
         let mut best: Option<Hit> = None;
         let mut stack = Stack::new(self.root);
-        while let Some(entry) = stack.pop() {
+        // A node with one child hit goes straight on to it, past the stack.
+        let mut next: Option<Entry> = None;
+        while let Some(entry) = next.take().or_else(|| stack.pop()) {
             let bound = Hit::bound(&best, t_max);
             if entry.t > bound * BOX_SLACK {
                 continue;
@@ -418,6 +420,15 @@ impl<'s> Bvh<'s> {
             }
             let node = &self.nodes[entry.child as usize];
             let (mask, t_near) = boxes.hit(node, bound);
+            if mask != 0 && mask & (mask - 1) == 0 {
+                let lane = mask.trailing_zeros() as usize;
+                next = Some(Entry {
+                    child: node.child[lane],
+                    count: node.count[lane],
+                    t: t_near[lane],
+                });
+                continue;
+            }
             stack.push_children(node, mask, &t_near);
         }
         best
