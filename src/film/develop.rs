@@ -160,29 +160,20 @@ impl Develop {
     /// 8-bit RGB, rounded to nearest.
     pub fn to_rgb8(&self, image: &Image) -> Vec<u8> {
         match Cuts8::of(self) {
-            Some(cuts) => develop8(image, |v| cuts.value(v)),
-            None => develop8(image, |v| quantize(self.channel(v))),
+            Some(cuts) => develop(image, |v| cuts.value(v)),
+            None => develop(image, |v| quantize(self.channel(v))),
         }
     }
 
     /// 16-bit RGB, rounded to nearest; rows in parallel.
     pub fn to_rgb16(&self, image: &Image) -> Vec<u16> {
-        let mut out = vec![0u16; image.pixels.len() * 3];
-        let row = (image.width as usize).max(1);
-        out.par_chunks_mut(row * 3)
-            .zip(image.pixels.par_chunks(row))
-            .for_each(|(out, pixels)| {
-                for (o, &v) in out.iter_mut().zip(pixels.iter().flatten()) {
-                    *o = quantize16(self.channel(v));
-                }
-            });
-        out
+        develop(image, |v| quantize16(self.channel(v)))
     }
 }
 
 /// `f` of every channel of `image`, rows in parallel.
-fn develop8(image: &Image, f: impl Fn(f32) -> u8 + Sync) -> Vec<u8> {
-    let mut out = vec![0u8; image.pixels.len() * 3];
+fn develop<T: Copy + Default + Send>(image: &Image, f: impl Fn(f32) -> T + Sync) -> Vec<T> {
+    let mut out = vec![T::default(); image.pixels.len() * 3];
     let row = (image.width as usize).max(1);
     out.par_chunks_mut(row * 3)
         .zip(image.pixels.par_chunks(row))

@@ -306,43 +306,27 @@ impl<'s> Bvh<'s> {
     /// processor lacks it).
     pub fn build_with(shapes: &'s Shapes, simd: SimdLevel) -> Bvh<'s> {
         assert!(shapes.len() <= MAX_SHAPES, "too many shapes for the BVH");
-        let simd = simd.supported();
+        let mut bvh = Bvh {
+            shapes,
+            root: EMPTY_ROOT,
+            nodes: Vec::new(),
+            prims: Vec::new(),
+            packets: Vec::new(),
+            shape_count: shapes.len(),
+            simd: simd.supported(),
+        };
         if shapes.is_empty() {
-            return Bvh {
-                shapes,
-                root: EMPTY_ROOT,
-                nodes: Vec::new(),
-                prims: Vec::new(),
-                packets: Vec::new(),
-                shape_count: 0,
-                simd,
-            };
+            return bvh;
         }
         if shapes.len() <= TINY_SCENE {
             let all: Vec<u32> = (0..shapes.len() as u32).collect();
-            let mut bvh = Bvh {
-                shapes,
-                root: EMPTY_ROOT,
-                nodes: Vec::new(),
-                prims: Vec::new(),
-                packets: Vec::new(),
-                shape_count: shapes.len(),
-                simd,
-            };
             bvh.root = bvh.leaf(&all);
             return bvh;
         }
         let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
         let binary = build::build(&boxes);
-        let mut bvh = Bvh {
-            shapes,
-            root: EMPTY_ROOT,
-            nodes: Vec::with_capacity(binary.nodes.len() / 2 + 1),
-            prims: Vec::with_capacity(shapes.len()),
-            packets: Vec::new(),
-            shape_count: shapes.len(),
-            simd,
-        };
+        bvh.nodes.reserve_exact(binary.nodes.len() / 2 + 1);
+        bvh.prims.reserve_exact(shapes.len());
         bvh.nodes.push(EMPTY_NODE);
         bvh.collapse(&binary, 0, 0);
         bvh.nodes.shrink_to_fit();

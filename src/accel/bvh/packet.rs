@@ -90,10 +90,7 @@ impl Prim {
                 flat(a, b - a, d - a, 2.0)
             }
             Stored::Other(Shape::Sphere(s)) => Prim::Sphere(*s),
-            Stored::Other(Shape::Triangle(t)) => {
-                let [a, b, c] = t.v;
-                flat(a, b - a, c - a, 1.0)
-            }
+            Stored::Other(Shape::Triangle(_)) => unreachable!("triangles are indexed"),
         }
     }
 }
