@@ -176,7 +176,9 @@ pub fn refract(d: Vec3, n: Vec3, ray_ior: f32, material_ior: f32) -> Option<(Vec
 
 impl Integrator for Classic<'_> {
     /// Shading draws nothing from the sampler: camera rays may be traced ahead.
-    const PACKETS: bool = true;
+    fn lens_packets(&self) -> bool {
+        true
+    }
 
     #[inline]
     fn trace_camera_hit(

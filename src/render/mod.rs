@@ -68,10 +68,12 @@ pub struct RayCount {
 /// A shading model: what one camera ray adds to its pixel. `sampler` is the pixel's
 /// random stream (area lights draw from it), so the image does not depend on threads.
 pub trait Integrator: Sync {
-    /// Whether camera rays may be traced as packets ahead of their shading: true when
-    /// shading a camera ray draws nothing from the pixel's sampler, so generating a
-    /// pixel's rays first leaves every sample, and the image, as it was.
-    const PACKETS: bool = false;
+    /// Whether a pixel's camera rays may be traced as a packet ahead of their shading:
+    /// true when shading draws nothing from the pixel's sampler, so generating all its
+    /// rays first leaves every sample, and the image, as it was. (Pixels with one camera
+    /// ray each are always traced a row at a time: that ray is drawn before its shading
+    /// either way.)
+    fn lens_packets(&self) -> bool;
 
     fn trace_camera_ray(
         &self,
@@ -82,17 +84,15 @@ pub trait Integrator: Sync {
     );
 
     /// [`Integrator::trace_camera_ray`] with the ray's closest hit already found (in a
-    /// packet). Models that trace no packets need not override it.
+    /// packet).
     fn trace_camera_hit(
         &self,
         ray: Ray,
-        _hit: Option<Hit>,
+        hit: Option<Hit>,
         sampler: &mut PixelSampler,
         acc: &mut WeightedColor,
         count: &mut RayCount,
-    ) {
-        self.trace_camera_ray(ray, sampler, acc, count);
-    }
+    );
 }
 
 /// A ray to fill unused packet slots.
@@ -304,7 +304,7 @@ impl<'a> Renderer<'a> {
                 return;
             }
             let mut count = RayCount::default();
-            if I::PACKETS && rays.rays_per_pixel() == 1 {
+            if rays.rays_per_pixel() == 1 {
                 self.row_in_packets(integrator, accel, &rays, x_lo, y, row, &mut count);
             } else {
                 for (j, out) in row.iter_mut().enumerate() {
@@ -391,7 +391,7 @@ impl<'a> Renderer<'a> {
     ) -> Vec3 {
         let mut sampler = PixelSampler::new(self.plan.seed, x, y);
         let mut acc = WeightedColor::default();
-        if !I::PACKETS || rays.rays_per_pixel() == 1 {
+        if !integrator.lens_packets() || rays.rays_per_pixel() == 1 {
             rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
                 integrator.trace_camera_ray(ray, sampler, &mut acc, count)
             });
@@ -418,7 +418,7 @@ impl<'a> Renderer<'a> {
         acc.mean()
     }
 
-    /// One row of supersampled pixels with one camera ray each, eight neighbours to a
+    /// One row of supersampled pixels with one camera ray each, sixteen neighbours to a
     /// packet; each pixel keeps its own sampler, as in [`Renderer::pixel`].
     #[allow(clippy::too_many_arguments)]
     fn row_in_packets<I: Integrator>(
@@ -505,6 +505,91 @@ mod cancel_tests {
         // Not cancelled: the same renderer's output.
         flag.store(false, Ordering::Relaxed);
         assert!(renderer.render(&|_| {}).is_ok());
+    }
+}
+
+#[cfg(test)]
+mod lens_packet_tests {
+    use super::*;
+    use crate::scene::{Light, LightKind, Material, Rectangle, Shape, Sphere, Surface};
+
+    /// A pixel's lens rays traced as packets (where the model allows) give the pixel
+    /// each ray gives traced alone, in order, from the pixel's stream.
+    #[test]
+    fn lens_rays_in_packets_shade_as_each_ray_traced_alone() {
+        let glass = Surface {
+            transmission: Vec3::splat(0.8),
+            ior: 1.5,
+            fresnel: true,
+            ..Surface::default()
+        };
+        let mut scene = Scene {
+            materials: vec![Material::default_white(); 2],
+            surfaces: vec![glass, Surface::default()],
+            ..Scene::default()
+        };
+        let ball = Shape::Sphere(Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        });
+        scene.push_shape(ball, 0);
+        let floor = Shape::Rectangle(Rectangle {
+            v: [
+                Vec3::new(-4.0, -1.0, 4.0),
+                Vec3::new(4.0, -1.0, 4.0),
+                Vec3::new(4.0, -1.0, -4.0),
+                Vec3::new(-4.0, -1.0, -4.0),
+            ],
+        });
+        scene.push_shape(floor, 1);
+        let mut camera =
+            Camera::look_at(Vec3::new(0.5, 1.0, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 12, 10);
+        camera.aperture = 0.2;
+        camera.focal_length = 3.0;
+        let point = Light::point(Vec3::new(2.0, 3.0, 4.0), Vec3::ONE);
+        let quad = Light {
+            kind: LightKind::Quad {
+                u: Vec3::new(1.0, 0.0, 0.0),
+                v: Vec3::new(0.0, 0.0, 1.0),
+            },
+            samples: 4,
+            ..Light::point(Vec3::new(-1.0, 3.0, 1.0), Vec3::ONE)
+        };
+        for (lights, packets) in [(vec![point.clone()], true), (vec![point, quad], false)] {
+            scene.lights = lights;
+            let settings = RenderSettings {
+                aa: Some(1),
+                dof_rays: Some(21),
+                integrator: IntegratorKind::Whitted,
+                ..RenderSettings::default()
+            };
+            let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+            let plan = &renderer.plan;
+            let rays = CameraRays::new(&plan.camera, 1, plan.dof_rays);
+            let accel = Accel::build(plan.accel, &scene.shapes);
+            let surfaces = scene.resolved_surfaces();
+            let whitted = Whitted::new(&scene, &accel, &surfaces, plan.max_depth, plan.min_weight);
+            assert_eq!(whitted.lens_packets(), packets);
+            let mut count = RayCount::default();
+            let mut lit = 0;
+            for y in 0..camera.height {
+                for x in 0..camera.width {
+                    let pixel = renderer.pixel(&whitted, &accel, &rays, x, y, &mut count);
+                    let mut sampler = PixelSampler::new(plan.seed, x, y);
+                    let mut acc = WeightedColor::default();
+                    rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
+                        whitted.trace_camera_ray(ray, sampler, &mut acc, &mut count)
+                    });
+                    let alone = acc.mean();
+                    assert_eq!(
+                        pixel.to_array().map(f32::to_bits),
+                        alone.to_array().map(f32::to_bits)
+                    );
+                    lit += usize::from(pixel.max_element() > 0.0);
+                }
+            }
+            assert!(lit > 60, "{lit} pixels lit");
+        }
     }
 }
 

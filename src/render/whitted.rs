@@ -35,6 +35,9 @@ pub struct Whitted<'a> {
     /// Whether any surface lets light through or cuts out: otherwise a shadow ray is a
     /// plain occlusion query.
     see_through: bool,
+    /// Whether any light is sampled (an area light): shading then draws from the
+    /// pixel's sampler.
+    samples_lights: bool,
 }
 
 /// One sample of a light as seen from a shading point.
@@ -58,6 +61,7 @@ impl<'a> Whitted<'a> {
         let see_through = surfaces
             .iter()
             .any(|s| s.is_transmissive() || s.alpha_map.is_some());
+        let samples_lights = scene.lights.iter().any(Light::is_area);
         Whitted {
             scene,
             accel,
@@ -65,6 +69,7 @@ impl<'a> Whitted<'a> {
             max_depth,
             min_weight,
             see_through,
+            samples_lights,
         }
     }
 
@@ -83,8 +88,22 @@ impl<'a> Whitted<'a> {
         sampler: &mut PixelSampler,
         count: &mut RayCount,
     ) -> Vec3 {
+        let hit = self.accel.closest(ray, f32::INFINITY);
+        self.radiance_from(ray, hit, depth, weight, sampler, count)
+    }
+
+    /// [`Whitted::radiance`] with the ray's closest hit already found (in a packet).
+    fn radiance_from(
+        &self,
+        ray: &Ray,
+        hit: Option<Hit>,
+        depth: u32,
+        weight: Vec3,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) -> Vec3 {
         count.rays += 1;
-        let Some((hit, sp)) = self.first_hit(ray) else {
+        let Some((hit, sp)) = self.first_hit(ray, hit) else {
             return self.background(ray.dir);
         };
         let s = self.surface(hit.shape);
@@ -177,12 +196,17 @@ impl<'a> Whitted<'a> {
         absorbed * l
     }
 
-    /// The first surface along `ray` that is not cut out by its alpha map.
-    fn first_hit(&self, ray: &Ray) -> Option<(Hit, SurfacePoint)> {
+    /// The first surface along `ray` that is not cut out by its alpha map, given the
+    /// ray's closest hit.
+    fn first_hit(&self, ray: &Ray, closest: Option<Hit>) -> Option<(Hit, SurfacePoint)> {
         let mut r = *ray;
         let mut travelled = 0.0;
+        let mut known = Some(closest);
         for _ in 0..MAX_CROSSINGS {
-            let hit = self.accel.closest(&r, f32::INFINITY)?;
+            let hit = match known.take() {
+                Some(hit) => hit,
+                None => self.accel.closest(&r, f32::INFINITY),
+            }?;
             let uv = self.surface(hit.shape).reads_texture_coords();
             let sp = self.scene.surface_point(hit.shape, &r, hit.t, uv);
             if !self.cut_out(hit.shape, &sp) {
@@ -601,6 +625,12 @@ fn smoothstep(lo: f32, hi: f32, x: f32) -> f32 {
 }
 
 impl Integrator for Whitted<'_> {
+    /// Point, spot and directional lights draw nothing from the sampler; area lights
+    /// do, so with one in the scene a pixel's lens rays are shaded as they are made.
+    fn lens_packets(&self) -> bool {
+        !self.samples_lights
+    }
+
     #[inline]
     fn trace_camera_ray(
         &self,
@@ -609,7 +639,20 @@ impl Integrator for Whitted<'_> {
         acc: &mut WeightedColor,
         count: &mut RayCount,
     ) {
-        let l = self.radiance(&ray, 0, Vec3::ONE, sampler, count);
+        let hit = self.accel.closest(&ray, f32::INFINITY);
+        self.trace_camera_hit(ray, hit, sampler, acc, count);
+    }
+
+    #[inline]
+    fn trace_camera_hit(
+        &self,
+        ray: Ray,
+        hit: Option<Hit>,
+        sampler: &mut PixelSampler,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        let l = self.radiance_from(&ray, hit, 0, Vec3::ONE, sampler, count);
         // Every camera ray counts once: the pixel is the plain mean of its rays.
         let l = if l.is_finite() { l } else { Vec3::ZERO };
         acc.sum += l;

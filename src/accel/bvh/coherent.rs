@@ -14,6 +14,7 @@ use super::{BOX_SLACK, Bvh, Entry, Node8, PACKED, Stack, WIDTH, inverse};
 use crate::accel::Hit;
 use crate::accel::simd::SimdLevel;
 use crate::math::Ray;
+use crate::scene::Sphere;
 use crate::scene::shape::EDGE_SLACK;
 
 /// Runs `$body` with each shape of the leaf `$entry` as `$shape` (its index) and
@@ -143,6 +144,44 @@ impl Rays {
             let inside = (u >= lo) & (u <= hi) & (v >= lo) & (v <= hi) & (u + v <= max_sum);
             let in_range = (t[i] > 0.0) & (t[i] < bound[i]);
             mask |= u32::from(finite & inside & in_range) << i;
+        }
+        (mask, t)
+    }
+
+    /// Rays that meet `sphere` before their bound, with the distances:
+    /// [`Sphere::intersect`] with rays for lanes, operation for operation, its branches
+    /// turned into selects so the loop runs on vector lanes.
+    #[inline(always)]
+    fn meet_sphere(&self, sphere: &Sphere, bound: &Lanes) -> (u32, Lanes) {
+        let [dx, dy, dz] = &self.dir;
+        let c = sphere.center;
+        let r2 = sphere.radius * sphere.radius;
+        let mut t = [0.0f32; PACKET_RAYS];
+        let mut mask = 0;
+        for i in 0..PACKET_RAYS {
+            let ox = self.origin[0][i] - c.x;
+            let oy = self.origin[1][i] - c.y;
+            let oz = self.origin[2][i] - c.z;
+            let b = ox * dx[i] + oy * dy[i] + oz * dz[i];
+            let (px, py, pz) = (ox - b * dx[i], oy - b * dy[i], oz - b * dz[i]);
+            let disc = r2 - (px * px + py * py + pz * pz);
+            let c = (ox * ox + oy * oy + oz * oz) - r2;
+            let sign = if b.is_sign_negative() { -1.0f32 } else { 1.0 };
+            let q = -b - sign * disc.sqrt();
+            let a = c / q;
+            let (t0, t1) = if q == 0.0 {
+                (0.0, 0.0)
+            } else if a < q {
+                (a, q)
+            } else {
+                (q, a)
+            };
+            let first = (t0 > 0.0) & (t0 < bound[i]);
+            let second = (t1 > 0.0) & (t1 < bound[i]);
+            t[i] = if first { t0 } else { t1 };
+            // A NaN discriminant, which the scalar test lets through, gives NaN roots
+            // and no hit there either.
+            mask |= u32::from((disc >= 0.0) & (first | second)) << i;
         }
         (mask, t)
     }
@@ -289,11 +328,12 @@ impl Bvh<'_> {
                             }
                         }
                         Prim::Sphere(sphere) => {
-                            for (i, ray) in rays.iter().enumerate() {
-                                if let Some(t) = sphere.intersect(ray, bound[i])
-                                    && Hit::beats(t, shape, &best[i])
-                                {
-                                    best[i] = Some(Hit { t, shape });
+                            let (mut mask, t) = lanes.meet_sphere(&sphere, &bound);
+                            while mask != 0 {
+                                let i = mask.trailing_zeros() as usize;
+                                mask &= mask - 1;
+                                if Hit::beats(t[i], shape, &best[i]) {
+                                    best[i] = Some(Hit { t: t[i], shape });
                                     bound[i] = Hit::bound(&best[i], t_max);
                                 }
                             }
@@ -381,14 +421,9 @@ impl Bvh<'_> {
                             }
                         }
                         Prim::Sphere(sphere) => {
-                            if blocks(shape) {
-                                for (i, ray) in rays.iter().enumerate() {
-                                    if bound[i] > f32::NEG_INFINITY
-                                        && sphere.intersect(ray, bound[i]).is_some()
-                                    {
-                                        newly |= 1 << i;
-                                    }
-                                }
+                            let (mask, _) = lanes.meet_sphere(&sphere, &bound);
+                            if mask != 0 && blocks(shape) {
+                                newly = mask;
                             }
                         }
                     }
