@@ -6,10 +6,11 @@
 //! with the ray's intensity, which each reflection or refraction scales by the material's
 //! ratio. Light colours are not used.
 
-use super::{Integrator, PixelSampler, RayCount, WeightedColor};
+use super::shadows::{KnownShadows, trace_ahead};
+use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, reflect, surface_epsilon};
-use crate::scene::Scene;
+use crate::scene::{Light, Scene};
 
 /// Rays weaker than this are not traced.
 pub const MIN_INTENSITY: f32 = 0.1;
@@ -53,14 +54,16 @@ impl<'a> Classic<'a> {
         }
         count.rays += 1;
         let hit = self.accel.closest(&r.ray, f32::INFINITY);
-        self.shade(r, hit, depth, acc, count);
+        self.shade(r, hit, KnownShadows::NONE, depth, acc, count);
     }
 
-    /// Adds the contributions of `r`, whose closest hit is `hit`, and its children.
+    /// Adds the contributions of `r`, whose closest hit is `hit`, and its children;
+    /// `known` holds the answers of shadow rays already traced from the hit.
     fn shade(
         &self,
         r: ClassicRay,
         hit: Option<Hit>,
+        known: KnownShadows,
         depth: u32,
         acc: &mut WeightedColor,
         count: &mut RayCount,
@@ -76,7 +79,13 @@ impl<'a> Classic<'a> {
 
         acc.add(self.scene.surface_color(hit.shape, p), i * m.ambient);
         acc.add(Vec3::ONE, i * m.diffuse);
-        self.add_lights(r.ray.dir, p, n, i, m.specular, m.shininess, acc, count);
+        let shading = Highlight {
+            view_dir: r.ray.dir,
+            n,
+            specular: m.specular,
+            shininess: m.shininess,
+        };
+        self.add_lights(p, &shading, i, known, acc, count);
 
         let d = r.ray.dir;
         if m.reflect != 0.0 {
@@ -109,48 +118,68 @@ impl<'a> Classic<'a> {
         }
     }
 
-    /// Shadow (black, weight 3 I) or highlight (white) of each light at `p`. Shadow rays
-    /// go from the light toward the point and pass through transparent shapes.
-    #[allow(clippy::too_many_arguments)]
+    /// Shadow (black, weight 3 I) or highlight (white) of each light at `p`.
     fn add_lights(
         &self,
-        view_dir: Vec3,
         p: Vec3,
-        n: Vec3,
+        h: &Highlight,
         i: f32,
-        specular: f32,
-        shininess: f32,
+        known: KnownShadows,
         acc: &mut WeightedColor,
         count: &mut RayCount,
     ) {
-        for light in &self.scene.lights {
-            let to_point = p - light.position;
-            let dist = to_point.length();
-            if dist == 0.0 {
+        for (j, light) in self.scene.lights.iter().enumerate() {
+            let Some((shadow, t_max)) = shadow_ray(light, p) else {
                 continue;
-            }
-            let l = to_point / dist;
-            count.rays += 1;
-            let shadow = Ray {
-                origin: light.position,
-                dir: l,
             };
-            let blocks = |s: u32| !self.scene.material(s).transparent;
-            if self
-                .accel
-                .occluded(&shadow, dist - surface_epsilon(p), blocks)
-            {
+            count.rays += 1;
+            let blocked = match known.blocked(j) {
+                Some(blocked) => blocked,
+                None => self.accel.occluded(&shadow, t_max, |s| self.blocks(s)),
+            };
+            if blocked {
                 acc.add(Vec3::ZERO, SHADOW_WEIGHT * i);
                 continue;
             }
-            let r = reflect(l, n);
-            let r_dot_v = -r.dot(view_dir);
-            if r_dot_v >= 0.0 && specular != 0.0 {
-                let w = specular * r_dot_v.powf(shininess) / n.dot(l).abs().max(MIN_COS);
+            let l = shadow.dir;
+            let r = reflect(l, h.n);
+            let r_dot_v = -r.dot(h.view_dir);
+            if r_dot_v >= 0.0 && h.specular != 0.0 {
+                let w = h.specular * r_dot_v.powf(h.shininess) / h.n.dot(l).abs().max(MIN_COS);
                 acc.add(Vec3::ONE, i * w);
             }
         }
     }
+
+    /// Whether shape `s` stops light: transparent shapes let it through.
+    #[inline]
+    fn blocks(&self, s: u32) -> bool {
+        !self.scene.material(s).transparent
+    }
+}
+
+/// What the highlight of a light at a hit depends on besides the light.
+struct Highlight {
+    view_dir: Vec3,
+    n: Vec3,
+    specular: f32,
+    shininess: f32,
+}
+
+/// The shadow ray of `light` toward the point `p` and the distance it must cover: from
+/// the light to just short of the point. `None` for a point on the light.
+#[inline]
+fn shadow_ray(light: &Light, p: Vec3) -> Option<(Ray, f32)> {
+    let to_point = p - light.position;
+    let dist = to_point.length();
+    if dist == 0.0 {
+        return None;
+    }
+    let ray = Ray {
+        origin: light.position,
+        dir: to_point / dist,
+    };
+    Some((ray, dist - surface_epsilon(p)))
 }
 
 /// Refraction across a surface with geometric normal `n` (SPEC 3.3). A ray going along
@@ -180,23 +209,39 @@ impl Integrator for Classic<'_> {
         true
     }
 
-    #[inline]
-    fn trace_camera_hit(
+    /// The shadow rays of the hits go toward each light as one packet: they share the
+    /// light as origin, and their directions differ little.
+    fn trace_camera_packet(
         &self,
-        ray: Ray,
-        hit: Option<Hit>,
-        _sampler: &mut PixelSampler,
-        acc: &mut WeightedColor,
+        rays: &[Ray],
+        hits: &[Option<Hit>],
+        samplers: &mut [PixelSampler],
+        accs: &mut [WeightedColor],
         count: &mut RayCount,
     ) {
-        let r = ClassicRay {
-            ray,
-            intensity: 1.0,
-            ior: self.camera_ior,
-        };
-        // What `trace` does at depth 0, with the closest hit already found.
-        count.rays += 1;
-        self.shade(r, hit, 0, acc, count);
+        let n = rays.len();
+        let mut known = [KnownShadows::NONE; super::PACKET_RAYS];
+        trace_ahead(
+            self.accel,
+            self.scene.lights.len(),
+            &mut known[..n],
+            |i, j| {
+                let hit = hits[i]?;
+                shadow_ray(&self.scene.lights[j], rays[i].at(hit.t))
+            },
+            |s| self.blocks(s),
+        );
+        for i in 0..n {
+            let r = ClassicRay {
+                ray: rays[i],
+                intensity: 1.0,
+                ior: self.camera_ior,
+            };
+            // What `trace` does at depth 0, with the closest hit already found.
+            count.rays += 1;
+            let k = slot(samplers, i);
+            self.shade(r, hits[i], known[i], 0, &mut accs[k], count);
+        }
     }
 
     #[inline]

@@ -7,6 +7,7 @@ pub mod memory;
 pub mod optics;
 pub mod sampler;
 mod settings;
+pub mod shadows;
 pub mod whitted;
 
 pub use camera::CameraRays;
@@ -83,20 +84,30 @@ pub trait Integrator: Sync {
         count: &mut RayCount,
     );
 
-    /// [`Integrator::trace_camera_ray`] with the ray's closest hit already found (in a
-    /// packet).
-    fn trace_camera_hit(
+    /// [`Integrator::trace_camera_ray`] for up to [`PACKET_RAYS`] camera rays whose
+    /// closest hits were found together, shaded in order: ray `i` draws from
+    /// `samplers[i]` and adds to `accs[i]`, or every ray from the one sampler and
+    /// accumulator when only one is given (the lens rays of a pixel). Shadow rays of
+    /// the hits may be traced together as well.
+    fn trace_camera_packet(
         &self,
-        ray: Ray,
-        hit: Option<Hit>,
-        sampler: &mut PixelSampler,
-        acc: &mut WeightedColor,
+        rays: &[Ray],
+        hits: &[Option<Hit>],
+        samplers: &mut [PixelSampler],
+        accs: &mut [WeightedColor],
         count: &mut RayCount,
     );
 }
 
+/// Which entry of a packet's samplers and accumulators ray `i` uses: its own, or the
+/// one shared by every ray.
+#[inline]
+fn slot(shared: &[impl Sized], i: usize) -> usize {
+    if shared.len() == 1 { 0 } else { i }
+}
+
 /// A ray to fill unused packet slots.
-const NO_RAY: Ray = Ray {
+pub(crate) const NO_RAY: Ray = Ray {
     origin: Vec3::ZERO,
     dir: Vec3::Z,
 };
@@ -440,11 +451,17 @@ impl<'a> Renderer<'a> {
                 *ray = rays.pinhole(x0 + i as u32, y);
             }
             accel.closest_packet(&batch[..n], f32::INFINITY, &mut hits[..n]);
-            for (i, out) in pixels.iter_mut().enumerate() {
-                let x = x0 + i as u32;
-                let mut sampler = PixelSampler::new(self.plan.seed, x, y);
-                let mut acc = WeightedColor::default();
-                integrator.trace_camera_hit(batch[i], hits[i], &mut sampler, &mut acc, count);
+            let mut samplers: [PixelSampler; PACKET_RAYS] =
+                std::array::from_fn(|i| PixelSampler::new(self.plan.seed, x0 + i as u32, y));
+            let mut accs = [WeightedColor::default(); PACKET_RAYS];
+            integrator.trace_camera_packet(
+                &batch[..n],
+                &hits[..n],
+                &mut samplers[..n],
+                &mut accs[..n],
+                count,
+            );
+            for (out, acc) in pixels.iter_mut().zip(&accs) {
                 *out = acc.mean().to_array();
             }
         }
@@ -464,9 +481,13 @@ fn trace_packet<I: Integrator>(
     let mut hits = [None; PACKET_RAYS];
     let hits = &mut hits[..batch.len()];
     accel.closest_packet(batch, f32::INFINITY, hits);
-    for (&ray, &hit) in batch.iter().zip(hits.iter()) {
-        integrator.trace_camera_hit(ray, hit, sampler, acc, count);
-    }
+    integrator.trace_camera_packet(
+        batch,
+        hits,
+        std::slice::from_mut(sampler),
+        std::slice::from_mut(acc),
+        count,
+    );
 }
 
 #[cfg(test)]
@@ -570,26 +591,42 @@ mod lens_packet_tests {
             let surfaces = scene.resolved_surfaces();
             let whitted = Whitted::new(&scene, &accel, &surfaces, plan.max_depth, plan.min_weight);
             assert_eq!(whitted.lens_packets(), packets);
-            let mut count = RayCount::default();
-            let mut lit = 0;
-            for y in 0..camera.height {
-                for x in 0..camera.width {
-                    let pixel = renderer.pixel(&whitted, &accel, &rays, x, y, &mut count);
-                    let mut sampler = PixelSampler::new(plan.seed, x, y);
-                    let mut acc = WeightedColor::default();
-                    rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
-                        whitted.trace_camera_ray(ray, sampler, &mut acc, &mut count)
-                    });
-                    let alone = acc.mean();
-                    assert_eq!(
-                        pixel.to_array().map(f32::to_bits),
-                        alone.to_array().map(f32::to_bits)
-                    );
-                    lit += usize::from(pixel.max_element() > 0.0);
-                }
-            }
-            assert!(lit > 60, "{lit} pixels lit");
+            assert_same_pixels(&renderer, &whitted, &accel, &rays);
+            // The classic model traces lens packets whatever the lights, and their
+            // shadow rays toward each light as packets too.
+            let classic = Classic::new(&scene, &accel, plan.camera.medium_ior);
+            assert!(classic.lens_packets());
+            assert_same_pixels(&renderer, &classic, &accel, &rays);
         }
+    }
+
+    fn assert_same_pixels<I: Integrator>(
+        renderer: &Renderer,
+        integrator: &I,
+        accel: &Accel,
+        rays: &CameraRays,
+    ) {
+        let mut count = RayCount::default();
+        let mut lit = 0;
+        let camera = renderer.camera();
+        for y in 0..camera.height {
+            for x in 0..camera.width {
+                let pixel = renderer.pixel(integrator, accel, rays, x, y, &mut count);
+                let mut sampler = PixelSampler::new(renderer.plan.seed, x, y);
+                let mut acc = WeightedColor::default();
+                rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
+                    integrator.trace_camera_ray(ray, sampler, &mut acc, &mut count)
+                });
+                let alone = acc.mean();
+                assert_eq!(
+                    pixel.to_array().map(f32::to_bits),
+                    alone.to_array().map(f32::to_bits),
+                    "pixel ({x}, {y})"
+                );
+                lit += usize::from(pixel.max_element() > 0.0);
+            }
+        }
+        assert!(lit > 60, "{lit} pixels lit");
     }
 }
 

@@ -8,7 +8,7 @@
 //! ```
 
 use super::optics::{fresnel_dielectric, refract};
-use super::{Integrator, PixelSampler, RayCount, WeightedColor};
+use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, reflect, surface_epsilon};
 use crate::scene::{
@@ -639,25 +639,35 @@ impl Integrator for Whitted<'_> {
         acc: &mut WeightedColor,
         count: &mut RayCount,
     ) {
-        let hit = self.accel.closest(&ray, f32::INFINITY);
-        self.trace_camera_hit(ray, hit, sampler, acc, count);
+        let l = self.radiance(&ray, 0, Vec3::ONE, sampler, count);
+        add_camera_sample(acc, l);
     }
 
-    #[inline]
-    fn trace_camera_hit(
+    /// Each hit is shaded alone. (Its shadow rays start where the hits lie, spread
+    /// along a row; as a packet they measured slower than one at a time.)
+    fn trace_camera_packet(
         &self,
-        ray: Ray,
-        hit: Option<Hit>,
-        sampler: &mut PixelSampler,
-        acc: &mut WeightedColor,
+        rays: &[Ray],
+        hits: &[Option<Hit>],
+        samplers: &mut [PixelSampler],
+        accs: &mut [WeightedColor],
         count: &mut RayCount,
     ) {
-        let l = self.radiance_from(&ray, hit, 0, Vec3::ONE, sampler, count);
-        // Every camera ray counts once: the pixel is the plain mean of its rays.
-        let l = if l.is_finite() { l } else { Vec3::ZERO };
-        acc.sum += l;
-        acc.weight += 1.0;
+        for (i, (ray, &hit)) in rays.iter().zip(hits).enumerate() {
+            let k = slot(samplers, i);
+            let l = self.radiance_from(ray, hit, 0, Vec3::ONE, &mut samplers[k], count);
+            add_camera_sample(&mut accs[k], l);
+        }
     }
+}
+
+/// Adds a camera ray's radiance to its pixel: every camera ray counts once, so the
+/// pixel is the plain mean of its rays.
+#[inline]
+fn add_camera_sample(acc: &mut WeightedColor, l: Vec3) {
+    let l = if l.is_finite() { l } else { Vec3::ZERO };
+    acc.sum += l;
+    acc.weight += 1.0;
 }
 
 #[cfg(test)]
