@@ -52,6 +52,44 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     d - 2.0 * d.dot(n) * n
 }
 
+/// `x.powf(y)` for a cosine `x` and a highlight exponent `y`, without the C library's
+/// slow path for results that round to zero (with exponents in the hundreds, most
+/// highlights vanish): where `x^y` is surely below 2^-151, the answer is +0, which is
+/// what `powf` returns there, correctly rounded. Any other case is `powf`'s.
+#[inline]
+pub fn highlight_pow(x: f32, y: f32) -> f32 {
+    /// log2(1 + (k + 1) / 16), rounded up: bounds log2 of a mantissa whose top four
+    /// bits are k.
+    const LOG2_MANTISSA_ABOVE: [f64; 16] = [
+        0.08746284125133941,
+        0.16992500144331238,
+        0.2479275134445855,
+        0.3219280948883623,
+        0.3923174227797603,
+        0.45943161863829723,
+        0.5235619560580128,
+        0.5849625007221562,
+        0.6438561897757247,
+        0.7004397181420922,
+        0.7548875021644685,
+        0.807354922058604,
+        0.8579809951285721,
+        0.9068905956095185,
+        0.9541963103878752,
+        1.000000000001,
+    ];
+    if (f32::MIN_POSITIVE..1.0).contains(&x) && y > 0.0 && y.is_finite() {
+        let bits = x.to_bits();
+        let exponent = f64::from((bits >> 23) as i32 - 127);
+        let log2_above = exponent + LOG2_MANTISSA_ABOVE[(bits >> 19 & 0xf) as usize];
+        // log2(x) < log2_above <= 0, so y log2(x) < y log2_above.
+        if f64::from(y) * log2_above <= -152.0 {
+            return 0.0;
+        }
+    }
+    x.powf(y)
+}
+
 /// Axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -127,6 +165,42 @@ fn nan_to(x: f32, fallback: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn highlight_pow_is_powf_bit_for_bit() {
+        use rand_core::Rng;
+        let mut rng = rand_pcg::Pcg32::new(9, 0x0a02_bdbf_7bb3_c0a7);
+        let exponents = [
+            0.5, 1.0, 2.0, 7.5, 20.0, 60.0, 128.0, 200.0, 1000.0, 1e4, 1e6,
+        ];
+        let mut zeros = 0;
+        for _ in 0..20_000 {
+            // Any float in [0, 1], and the range where x^200 crosses 2^-150.
+            let x = f32::from_bits(rng.next_u32() % (1.0f32.to_bits() + 1));
+            let near = 0.55 + 0.07 * (rng.next_u32() >> 8) as f32 / (1 << 24) as f32;
+            for x in [x, near] {
+                for &y in &exponents {
+                    let (ours, libm) = (highlight_pow(x, y), x.powf(y));
+                    assert_eq!(ours.to_bits(), libm.to_bits(), "{x}^{y}");
+                    zeros += usize::from(ours == 0.0);
+                }
+            }
+        }
+        assert!(zeros > 10_000, "{zeros}");
+        for (x, y) in [
+            (1.0, 3.0),
+            (0.0, 5.0),
+            (-0.5, 3.0),
+            (f32::NAN, 2.0),
+            (0.5, f32::INFINITY),
+        ] {
+            assert_eq!(
+                highlight_pow(x, y).to_bits(),
+                x.powf(y).to_bits(),
+                "{x}^{y}"
+            );
+        }
+    }
 
     #[test]
     fn ray_direction_is_normalised() {

@@ -9,7 +9,7 @@
 use super::shadows::{KnownShadows, trace_ahead};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::{Ray, Vec3, offset_origin, reflect, surface_epsilon};
+use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect, surface_epsilon};
 use crate::scene::{Light, Scene};
 
 /// Rays weaker than this are not traced.
@@ -145,7 +145,8 @@ impl<'a> Classic<'a> {
             let r = reflect(l, h.n);
             let r_dot_v = -r.dot(h.view_dir);
             if r_dot_v >= 0.0 && h.specular != 0.0 {
-                let w = h.specular * r_dot_v.powf(h.shininess) / h.n.dot(l).abs().max(MIN_COS);
+                let w = h.specular * highlight_pow(r_dot_v, h.shininess)
+                    / h.n.dot(l).abs().max(MIN_COS);
                 acc.add(Vec3::ONE, i * w);
             }
         }

@@ -10,7 +10,7 @@
 use super::optics::{fresnel_dielectric, refract};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::{Ray, Vec3, offset_origin, reflect, surface_epsilon};
+use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect, surface_epsilon};
 use crate::scene::{
     Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
     material::srgb_to_linear,
@@ -431,8 +431,15 @@ impl<'a> Whitted<'a> {
                 let scale = scale.max(f32::MIN_POSITIVE);
                 let inside = sp.p - sp.ng * (scale * 1e-3);
                 let q = (inside / scale).floor();
-                let parity = (q.x + q.y + q.z).rem_euclid(2.0);
-                if parity < 0.5 { *a } else { *b }
+                let sum = q.x + q.y + q.z;
+                // `sum` is a whole number (not a costly `rem_euclid` away from its
+                // parity), and every float from 2^24 up is even.
+                let even = if sum.abs() < 16_777_216.0 {
+                    (sum as i32) & 1 == 0
+                } else {
+                    sum.is_finite()
+                };
+                if even { *a } else { *b }
             }
             Albedo::Classic => srgb_to_linear(self.scene.surface_color(shape, sp.p)),
         }
@@ -611,7 +618,7 @@ fn highlight(s: &Surface, n: Vec3, l: Vec3, v: Vec3) -> f32 {
     if cos <= 0.0 {
         return 0.0;
     }
-    let value = cos.powf(s.shininess);
+    let value = highlight_pow(cos, s.shininess);
     if s.normalized { value * norm } else { value }
 }
 
