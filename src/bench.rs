@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use crate::accel::{Accel, AccelKind, Hit, PACKET_RAYS};
-use crate::math::{Ray, Vec3, surface_epsilon};
+use crate::math::{Ray, Vec3};
 use crate::render::{CameraRays, RenderSettings, Renderer};
 use crate::scene::{Camera, Scene, Shape};
 use crate::{Error, Result};
@@ -410,17 +410,7 @@ pub fn closest_hit_mrays(accel: &Accel, rays: &[Ray], min_seconds: f64) -> f64 {
 
 /// The shadow ray the classic model casts for point `p` and a light: from the light
 /// toward `p`, stopping just short of it. `None` when `p` is the light.
-pub fn shadow_ray(light: Vec3, p: Vec3) -> Option<(Ray, f32)> {
-    let to_point = p - light;
-    let dist = to_point.length();
-    (dist > 0.0).then(|| {
-        let ray = Ray {
-            origin: light,
-            dir: to_point / dist,
-        };
-        (ray, dist - surface_epsilon(p))
-    })
-}
+pub use crate::render::shadows::from_light as shadow_ray;
 
 /// Measures `scene` seen by `camera`.
 pub fn run(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Result<BenchReport> {

@@ -6,11 +6,11 @@
 //! with the ray's intensity, which each reflection or refraction scales by the material's
 //! ratio. Light colours are not used.
 
-use super::shadows::{KnownShadows, trace_ahead};
+use super::shadows::{KnownShadows, from_light, trace_ahead};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect, surface_epsilon};
-use crate::scene::{Light, Scene};
+use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect};
+use crate::scene::Scene;
 
 /// Rays weaker than this are not traced.
 pub const MIN_INTENSITY: f32 = 0.1;
@@ -129,7 +129,7 @@ impl<'a> Classic<'a> {
         count: &mut RayCount,
     ) {
         for (j, light) in self.scene.lights.iter().enumerate() {
-            let Some((shadow, t_max)) = shadow_ray(light, p) else {
+            let Some((shadow, t_max)) = from_light(light.position, p) else {
                 continue;
             };
             count.rays += 1;
@@ -165,22 +165,6 @@ struct Highlight {
     n: Vec3,
     specular: f32,
     shininess: f32,
-}
-
-/// The shadow ray of `light` toward the point `p` and the distance it must cover: from
-/// the light to just short of the point. `None` for a point on the light.
-#[inline]
-fn shadow_ray(light: &Light, p: Vec3) -> Option<(Ray, f32)> {
-    let to_point = p - light.position;
-    let dist = to_point.length();
-    if dist == 0.0 {
-        return None;
-    }
-    let ray = Ray {
-        origin: light.position,
-        dir: to_point / dist,
-    };
-    Some((ray, dist - surface_epsilon(p)))
 }
 
 /// Refraction across a surface with geometric normal `n` (SPEC 3.3). A ray going along
@@ -228,7 +212,7 @@ impl Integrator for Classic<'_> {
             &mut known[..n],
             |i, j| {
                 let hit = hits[i]?;
-                shadow_ray(&self.scene.lights[j], rays[i].at(hit.t))
+                from_light(self.scene.lights[j].position, rays[i].at(hit.t))
             },
             |s| self.blocks(s),
         );

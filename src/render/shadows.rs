@@ -6,7 +6,7 @@
 //! image does not change; a shadow ray nobody traced ahead is traced when it is needed.
 
 use crate::accel::{Accel, PACKET_RAYS};
-use crate::math::Ray;
+use crate::math::{Ray, Vec3, surface_epsilon};
 
 /// Lights a camera hit holds answers for: the first this many of the scene.
 pub const KNOWN_LIGHTS: usize = 32;
@@ -72,6 +72,24 @@ pub fn trace_ahead(
             known[i].set(light, blocked >> k & 1 == 1);
         }
     }
+}
+
+/// The classic model's shadow ray of a point light at `light` for the point `p`, and
+/// the distance it must cover: from the light toward `p`, stopping just short of it.
+/// `None` when `p` is the light. Such rays toward nearby points share their origin,
+/// which makes their packets tight.
+#[inline]
+pub fn from_light(light: Vec3, p: Vec3) -> Option<(Ray, f32)> {
+    let to_point = p - light;
+    let dist = to_point.length();
+    if dist == 0.0 {
+        return None;
+    }
+    let ray = Ray {
+        origin: light,
+        dir: to_point / dist,
+    };
+    Some((ray, dist - surface_epsilon(p)))
 }
 
 #[cfg(test)]
