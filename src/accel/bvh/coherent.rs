@@ -314,6 +314,8 @@ impl Bvh<'_> {
                 continue;
             }
             if entry.count > 0 {
+                // Each arm updates the hits itself: one loop after a `match` that
+                // returns the distances measured 7 % slower (they went through memory).
                 for_each_shape!(self, entry, |shape, prim| {
                     match prim {
                         Prim::Flat(flat) => {
@@ -412,21 +414,11 @@ impl Bvh<'_> {
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
                 for_each_shape!(self, entry, |shape, prim| {
-                    let mut newly = 0;
-                    match prim {
-                        Prim::Flat(flat) => {
-                            let (mask, _) = lanes.meet(&flat, &bound);
-                            if mask != 0 && blocks(shape) {
-                                newly = mask;
-                            }
-                        }
-                        Prim::Sphere(sphere) => {
-                            let (mask, _) = lanes.meet_sphere(&sphere, &bound);
-                            if mask != 0 && blocks(shape) {
-                                newly = mask;
-                            }
-                        }
-                    }
+                    let (mask, _) = match prim {
+                        Prim::Flat(flat) => lanes.meet(&flat, &bound),
+                        Prim::Sphere(sphere) => lanes.meet_sphere(&sphere, &bound),
+                    };
+                    let newly = if mask != 0 && blocks(shape) { mask } else { 0 };
                     if newly != 0 {
                         blocked |= newly;
                         if blocked == all {
