@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use crate::accel::{Accel, AccelKind, Hit, PACKET_RAYS};
 use crate::math::{Ray, Vec3};
-use crate::render::{CameraRays, RenderSettings, Renderer};
+use crate::render::{CameraRays, RenderSettings, Renderer, TILE_COLUMNS, TILE_ROWS};
 use crate::scene::{Camera, Scene, Shape};
 use crate::{Error, Result};
 
@@ -170,23 +170,21 @@ impl std::fmt::Display for BenchReport {
     }
 }
 
-/// Pixel indices (row-major) in tiles of 4 x [`TILE_ROWS`], the packets the benchmark
-/// traces; tiles at the right and bottom edges hold fewer.
+/// Pixel indices (row-major) in tiles of [`TILE_COLUMNS`] x [`TILE_ROWS`], the packets
+/// renders and the benchmark trace; tiles at the right and bottom edges hold fewer.
 pub fn tile_packets(width: u32, height: u32) -> Vec<Vec<u32>> {
+    let (columns, rows) = (TILE_COLUMNS as u32, TILE_ROWS as u32);
     let mut tiles = Vec::new();
-    for y0 in (0..height).step_by(TILE_ROWS as usize) {
-        for x0 in (0..width).step_by(4) {
-            let tile: Vec<u32> = (y0..(y0 + TILE_ROWS).min(height))
-                .flat_map(|y| (x0..(x0 + 4).min(width)).map(move |x| y * width + x))
+    for y0 in (0..height).step_by(TILE_ROWS) {
+        for x0 in (0..width).step_by(TILE_COLUMNS) {
+            let tile: Vec<u32> = (y0..(y0 + rows).min(height))
+                .flat_map(|y| (x0..(x0 + columns).min(width)).map(move |x| y * width + x))
                 .collect();
             tiles.push(tile);
         }
     }
     tiles
 }
-
-/// Rows of a benchmark tile: four pixels wide, a packet in all.
-const TILE_ROWS: u32 = (PACKET_RAYS / 4) as u32;
 
 /// The camera's pinhole rays, one per pixel, row by row.
 pub fn primary_rays(camera: &Camera) -> Vec<Ray> {

@@ -129,6 +129,11 @@ impl RenderStats {
 /// both sides of a band are a small share of it, small enough to bound memory.
 const BAND_ROWS: u32 = 32;
 
+/// Pixels across a tile of camera rays traced as one packet.
+pub const TILE_COLUMNS: usize = 4;
+/// Rows of a tile of camera rays: a packet in all.
+pub const TILE_ROWS: usize = PACKET_RAYS / TILE_COLUMNS;
+
 /// Renders a scene seen by a camera with given settings.
 pub struct Renderer<'a> {
     scene: &'a Scene,
@@ -310,16 +315,28 @@ impl<'a> Renderer<'a> {
         let (x_lo, x_hi) = wx.input_span(region.x, region.x + region.width);
         let row_len = (x_hi - x_lo) as usize;
         let total_rays = AtomicU64::new(0);
-        let trace_row = |y: u32, row: &mut [[f32; 3]]| {
+        // Rows go a strip of `TILE_ROWS` at a time, so that camera rays make packets
+        // of square tiles (a row of sixteen pixels traced 1.25x slower on the bunny).
+        let row_len = row_len.max(1);
+        let trace_strip = |y0: u32, strip: &mut [[f32; 3]]| {
             if self.cancelled() {
                 return;
             }
             let mut count = RayCount::default();
             if rays.rays_per_pixel() == 1 {
-                self.row_in_packets(integrator, accel, &rays, x_lo, y, row, &mut count);
+                self.strip_in_packets(
+                    integrator,
+                    accel,
+                    &rays,
+                    (x_lo, y0),
+                    row_len,
+                    strip,
+                    &mut count,
+                );
             } else {
-                for (j, out) in row.iter_mut().enumerate() {
-                    let x = x_lo + j as u32;
+                for (k, out) in strip.iter_mut().enumerate() {
+                    let x = x_lo + (k % row_len) as u32;
+                    let y = y0 + (k / row_len) as u32;
                     *out = self
                         .pixel(integrator, accel, &rays, x, y, &mut count)
                         .to_array();
@@ -328,21 +345,21 @@ impl<'a> Renderer<'a> {
             if plan.aa == 1 {
                 // `+ 0` is what a one-tap resample adds (`0 + 1 p`, turning -0 into
                 // +0), so tracing straight into the image below gives the same bits.
-                for out in row.iter_mut() {
+                for out in strip.iter_mut() {
                     *out = (Vec3::from_array(*out) + Vec3::ZERO).to_array();
                 }
             }
             total_rays.fetch_add(count.rays, Ordering::Relaxed);
-            progress(1);
+            progress((strip.len() / row_len) as u64);
         };
         if plan.aa == 1 {
             // One traced pixel to each output pixel: no band buffers to fill and copy.
             let mut pixels = vec![[0.0f32; 3]; region.width as usize * region.height as usize];
             pixels
-                .par_chunks_mut(row_len.max(1))
+                .par_chunks_mut(row_len * TILE_ROWS)
                 .enumerate()
                 .with_max_len(1)
-                .for_each(|(i, row)| trace_row(region.y + i as u32, row));
+                .for_each(|(i, strip)| trace_strip(region.y + (i * TILE_ROWS) as u32, strip));
             let stats = RenderStats {
                 rays: total_rays.into_inner(),
                 elapsed: start.elapsed(),
@@ -361,10 +378,10 @@ impl<'a> Renderer<'a> {
             .with_max_len(1)
             .map(|&(y0, y1, lo, hi)| {
                 let mut band = vec![[0.0f32; 3]; row_len * (hi - lo) as usize];
-                band.par_chunks_mut(row_len)
+                band.par_chunks_mut(row_len * TILE_ROWS)
                     .enumerate()
                     .with_max_len(1)
-                    .for_each(|(i, row)| trace_row(lo + i as u32, row));
+                    .for_each(|(i, strip)| trace_strip(lo + (i * TILE_ROWS) as u32, strip));
                 resample_window(
                     &band,
                     x_lo,
@@ -429,30 +446,46 @@ impl<'a> Renderer<'a> {
         acc.mean()
     }
 
-    /// One row of supersampled pixels with one camera ray each, sixteen neighbours to a
-    /// packet; each pixel keeps its own sampler, as in [`Renderer::pixel`].
+    /// A strip of supersampled rows (starting at pixel `origin`, `row_len` pixels
+    /// each) with one camera ray per pixel, traced in packets of [`TILE_COLUMNS`] x
+    /// [`TILE_ROWS`] pixels; each pixel keeps its own sampler, as in
+    /// [`Renderer::pixel`].
     #[allow(clippy::too_many_arguments)]
-    fn row_in_packets<I: Integrator>(
+    fn strip_in_packets<I: Integrator>(
         &self,
         integrator: &I,
         accel: &Accel,
         rays: &CameraRays,
-        x_lo: u32,
-        y: u32,
-        row: &mut [[f32; 3]],
+        origin: (u32, u32),
+        row_len: usize,
+        strip: &mut [[f32; 3]],
         count: &mut RayCount,
     ) {
+        let rows = strip.len() / row_len;
         let mut batch = [NO_RAY; PACKET_RAYS];
         let mut hits = [None; PACKET_RAYS];
-        for (c, pixels) in row.chunks_mut(PACKET_RAYS).enumerate() {
-            let x0 = x_lo + (c * PACKET_RAYS) as u32;
-            let n = pixels.len();
-            for (i, ray) in batch[..n].iter_mut().enumerate() {
-                *ray = rays.pinhole(x0 + i as u32, y);
+        let mut at = [0usize; PACKET_RAYS];
+        let pixel = |k: usize| {
+            (
+                origin.0 + (k % row_len) as u32,
+                origin.1 + (k / row_len) as u32,
+            )
+        };
+        for x0 in (0..row_len).step_by(TILE_COLUMNS) {
+            let mut n = 0;
+            for r in 0..rows {
+                for c in x0..(x0 + TILE_COLUMNS).min(row_len) {
+                    at[n] = r * row_len + c;
+                    let (x, y) = pixel(at[n]);
+                    batch[n] = rays.pinhole(x, y);
+                    n += 1;
+                }
             }
             accel.closest_packet(&batch[..n], f32::INFINITY, &mut hits[..n]);
-            let mut samplers: [PixelSampler; PACKET_RAYS] =
-                std::array::from_fn(|i| PixelSampler::new(self.plan.seed, x0 + i as u32, y));
+            let mut samplers: [PixelSampler; PACKET_RAYS] = std::array::from_fn(|i| {
+                let (x, y) = pixel(at[i]);
+                PixelSampler::new(self.plan.seed, x, y)
+            });
             let mut accs = [WeightedColor::default(); PACKET_RAYS];
             integrator.trace_camera_packet(
                 &batch[..n],
@@ -461,8 +494,8 @@ impl<'a> Renderer<'a> {
                 &mut accs[..n],
                 count,
             );
-            for (out, acc) in pixels.iter_mut().zip(&accs) {
-                *out = acc.mean().to_array();
+            for (&k, acc) in at[..n].iter().zip(&accs) {
+                strip[k] = acc.mean().to_array();
             }
         }
     }
@@ -634,6 +667,38 @@ mod lens_packet_tests {
 mod band_tests {
     use super::*;
     use crate::scene::{Light, Material, Shape, Sphere, Surface};
+
+    #[test]
+    fn progress_counts_every_traced_row_once() {
+        let mut scene = Scene {
+            materials: vec![Material::default_white()],
+            lights: vec![Light::point(Vec3::new(2.0, 3.0, 4.0), Vec3::ONE)],
+            ..Scene::default()
+        };
+        let ball = Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        scene.push_shape(Shape::Sphere(ball), 0);
+        // Heights that leave a short last strip of rows, with and without anti-aliasing.
+        let camera = Camera::look_at(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 37, 23);
+        for (aa, dof_rays) in [(1, 1), (3, 1), (2, 3)] {
+            let settings = RenderSettings {
+                aa: Some(aa),
+                dof_rays: Some(dof_rays),
+                ..RenderSettings::default()
+            };
+            let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+            let rows = AtomicU64::new(0);
+            renderer
+                .render(&|n| {
+                    rows.fetch_add(n, Ordering::Relaxed);
+                })
+                .unwrap();
+            assert_eq!(rows.into_inner(), renderer.rows_to_trace(), "aa {aa}");
+            assert!(renderer.rows_to_trace() >= u64::from(23 * aa));
+        }
+    }
 
     #[test]
     fn without_anti_aliasing_the_image_is_the_one_tap_resample_of_the_traced_pixels() {
