@@ -530,7 +530,9 @@ fn packet_blocks(
     while spheres != 0 {
         let lane = spheres.trailing_zeros() as usize;
         spheres &= spheres - 1;
-        if blocks(packet.shape(lane)) && packet.sphere(lane).intersect(ray, t_max).is_some() {
+        // Hit first: `blocks` may note the shapes it is asked about (the whitted
+        // model's walk through glass), and a sphere the ray misses is not on its way.
+        if packet.sphere(lane).intersect(ray, t_max).is_some() && blocks(packet.shape(lane)) {
             return true;
         }
     }
