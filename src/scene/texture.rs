@@ -82,8 +82,6 @@ impl Texture {
     }
 }
 
-/// `v mod n` for a whole number `v`; the saturating cast keeps huge and non-finite
-/// coordinates in range (NaN becomes 0).
 /// `x.floor()` without a call into libm (baseline x86-64 has no rounding instruction,
 /// and texel lookups were 3 % of a 2014 render); equal to it except that -0 gives +0,
 /// which indexes the same texel.
@@ -98,6 +96,8 @@ fn floor(x: f32) -> f32 {
     }
 }
 
+/// `v mod n` for a whole number `v`; the saturating cast keeps huge and non-finite
+/// coordinates in range (NaN becomes 0).
 fn wrap(v: f32, n: u32) -> u32 {
     (v as i64).rem_euclid(i64::from(n)) as u32
 }
@@ -112,6 +112,43 @@ fn clamp_index(v: f32, n: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wrap_is_the_euclidean_remainder() {
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            5.0,
+            6.0,
+            7.0,
+            -1.0,
+            -6.0,
+            -7.0,
+            1e9,
+            -1e9,
+            4_294_967_295.0,
+            4_294_967_296.0,
+            1e30,
+            -1e30,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ];
+        for n in [1, 6, 7, u32::MAX] {
+            for &v in &values {
+                let w = wrap(v, n);
+                assert!(w < n, "{v} mod {n}");
+                if v.is_finite() && v.abs() < 1e15 {
+                    // v - w is a multiple of n.
+                    assert_eq!((f64::from(v) - f64::from(w)).rem_euclid(f64::from(n)), 0.0);
+                }
+            }
+        }
+        assert_eq!(wrap(-1.0, 6), 5);
+        assert_eq!(wrap(-7.0, 6), 5);
+        assert_eq!(wrap(f32::NAN, 6), 0);
+    }
 
     #[test]
     fn floor_is_libm_floor() {
