@@ -7,10 +7,10 @@
 //! ratio. Light colours are not used.
 
 use super::shadows::{KnownShadows, from_light, trace_ahead};
-use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
+use super::{Integrator, NO_RAY, PACKET_RAYS, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect};
-use crate::scene::Scene;
+use crate::scene::{Material, Scene};
 
 /// Rays weaker than this are not traced.
 pub const MIN_INTENSITY: f32 = 0.1;
@@ -54,21 +54,41 @@ impl<'a> Classic<'a> {
         }
         count.rays += 1;
         let hit = self.accel.closest(&r.ray, f32::INFINITY);
-        self.shade(r, hit, KnownShadows::NONE, depth, acc, count);
+        let found = Found {
+            hit,
+            shadows: KnownShadows::NONE,
+        };
+        self.shade(r, found, None, depth, acc, count);
     }
 
-    /// Adds the contributions of `r`, whose closest hit is `hit`, and its children;
-    /// `known` holds the answers of shadow rays already traced from the hit.
-    fn shade(
+    /// [`Classic::trace`] for a ray whose hit was found ahead.
+    fn trace_found(
         &self,
         r: ClassicRay,
-        hit: Option<Hit>,
-        known: KnownShadows,
+        found: Found,
         depth: u32,
         acc: &mut WeightedColor,
         count: &mut RayCount,
     ) {
-        let Some(hit) = hit else {
+        if depth > MAX_DEPTH || r.intensity < MIN_INTENSITY {
+            return;
+        }
+        count.rays += 1;
+        self.shade(r, found, None, depth, acc, count);
+    }
+
+    /// Adds the contributions of `r`, whose closest hit and shadow answers are
+    /// `found`, and its children (`children` holds what theirs found ahead).
+    fn shade(
+        &self,
+        r: ClassicRay,
+        found: Found,
+        children: Option<&[Option<Found>; 2]>,
+        depth: u32,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        let Some(hit) = found.hit else {
             return;
         };
         let p = r.ray.at(hit.t);
@@ -85,37 +105,49 @@ impl<'a> Classic<'a> {
             specular: m.specular,
             shininess: m.shininess,
         };
-        self.add_lights(p, &shading, i, known, acc, count);
+        self.add_lights(p, &shading, i, found.shadows, acc, count);
 
-        let d = r.ray.dir;
-        if m.reflect != 0.0 {
-            let dir = reflect(d, n);
-            let child = ClassicRay {
-                ray: Ray::new(offset_origin(p, n, dir), dir),
-                intensity: i * m.reflect,
-                ior: r.ior,
+        for (k, child) in child_rays(&r, p, n, m).into_iter().enumerate() {
+            let Some(child) = child else {
+                continue;
             };
-            self.trace(child, depth + 1, acc, count);
+            match children.and_then(|c| c[k]) {
+                Some(found) => self.trace_found(child, found, depth + 1, acc, count),
+                None => self.trace(child, depth + 1, acc, count),
+            }
         }
-        if m.refract != 0.0 {
-            let child = match refract(d, n, r.ior, m.ior) {
-                Some((dir, ior)) => ClassicRay {
-                    ray: Ray::new(offset_origin(p, n, dir), dir),
-                    intensity: i * m.refract,
-                    ior,
-                },
-                // Total internal reflection: the refracted share is reflected instead.
-                None => {
-                    let dir = reflect(d, n);
-                    ClassicRay {
-                        ray: Ray::new(offset_origin(p, n, dir), dir),
-                        intensity: i * m.refract,
-                        ior: r.ior,
-                    }
-                }
-            };
-            self.trace(child, depth + 1, acc, count);
-        }
+    }
+
+    /// Where the hit of camera ray `r` sends its reflected and refracted rays, when
+    /// [`Classic::trace`] would trace them.
+    fn children_of(&self, r: &ClassicRay, hit: Option<Hit>) -> [Option<ClassicRay>; 2] {
+        let Some(hit) = hit else {
+            return [None; 2];
+        };
+        let p = r.ray.at(hit.t);
+        let n = self.scene.shapes.get(hit.shape as usize).normal(p);
+        let m = self.scene.material(hit.shape);
+        child_rays(r, p, n, m).map(|c| c.filter(|c| 1 <= MAX_DEPTH && c.intensity >= MIN_INTENSITY))
+    }
+
+    /// The rays' hits, given, with their shadow rays toward each light traced ahead
+    /// as one packet per light.
+    fn found_ahead(&self, rays: &[Ray], hits: &[Option<Hit>]) -> [Found; PACKET_RAYS] {
+        let mut shadows = [KnownShadows::NONE; PACKET_RAYS];
+        trace_ahead(
+            self.accel,
+            self.scene.lights.len(),
+            &mut shadows[..rays.len()],
+            |i, j| {
+                let hit = hits[i]?;
+                from_light(self.scene.lights[j].position, rays[i].at(hit.t))
+            },
+            |s| self.blocks(s),
+        );
+        std::array::from_fn(|i| Found {
+            hit: hits.get(i).copied().flatten(),
+            shadows: shadows[i],
+        })
     }
 
     /// Shadow (black, weight 3 I) or highlight (white) of each light at `p`.
@@ -159,6 +191,45 @@ impl<'a> Classic<'a> {
     }
 }
 
+/// A ray's closest hit and the answers of its shadow rays, found ahead in packets.
+#[derive(Clone, Copy)]
+struct Found {
+    hit: Option<Hit>,
+    shadows: KnownShadows,
+}
+
+/// The reflected and refracted rays of `r`'s hit at `p` (normal `n`, material `m`), in
+/// the order they are traced; `None` where the material has no such share.
+#[inline]
+fn child_rays(r: &ClassicRay, p: Vec3, n: Vec3, m: &Material) -> [Option<ClassicRay>; 2] {
+    let (d, i) = (r.ray.dir, r.intensity);
+    let reflected = (m.reflect != 0.0).then(|| {
+        let dir = reflect(d, n);
+        ClassicRay {
+            ray: Ray::new(offset_origin(p, n, dir), dir),
+            intensity: i * m.reflect,
+            ior: r.ior,
+        }
+    });
+    let refracted = (m.refract != 0.0).then(|| match refract(d, n, r.ior, m.ior) {
+        Some((dir, ior)) => ClassicRay {
+            ray: Ray::new(offset_origin(p, n, dir), dir),
+            intensity: i * m.refract,
+            ior,
+        },
+        // Total internal reflection: the refracted share is reflected instead.
+        None => {
+            let dir = reflect(d, n);
+            ClassicRay {
+                ray: Ray::new(offset_origin(p, n, dir), dir),
+                intensity: i * m.refract,
+                ior: r.ior,
+            }
+        }
+    });
+    [reflected, refracted]
+}
+
 /// What the highlight of a light at a hit depends on besides the light.
 struct Highlight {
     view_dir: Vec3,
@@ -194,8 +265,9 @@ impl Integrator for Classic<'_> {
         true
     }
 
-    /// The shadow rays of the hits go toward each light as one packet: they share the
-    /// light as origin, and their directions differ little.
+    /// The hits' shadow rays go toward each light as one packet (they share the light
+    /// as origin, and their directions differ little); so do their reflected rays and
+    /// their refracted rays, and the shadow rays of those rays' hits.
     fn trace_camera_packet(
         &self,
         rays: &[Ray],
@@ -205,27 +277,54 @@ impl Integrator for Classic<'_> {
         count: &mut RayCount,
     ) {
         let n = rays.len();
-        let mut known = [KnownShadows::NONE; super::PACKET_RAYS];
-        trace_ahead(
-            self.accel,
-            self.scene.lights.len(),
-            &mut known[..n],
-            |i, j| {
-                let hit = hits[i]?;
-                from_light(self.scene.lights[j].position, rays[i].at(hit.t))
-            },
-            |s| self.blocks(s),
-        );
+        let camera_ray = |i: usize| ClassicRay {
+            ray: rays[i],
+            intensity: 1.0,
+            ior: self.camera_ior,
+        };
+        let found = self.found_ahead(rays, hits);
+        let mut children = [[None; 2]; PACKET_RAYS];
+        let kids: [[Option<ClassicRay>; 2]; PACKET_RAYS] = std::array::from_fn(|i| {
+            if i < n {
+                self.children_of(&camera_ray(i), hits[i])
+            } else {
+                [None; 2]
+            }
+        });
+        for k in 0..2 {
+            let mut batch = [NO_RAY; PACKET_RAYS];
+            let mut owner = [0usize; PACKET_RAYS];
+            let mut m = 0;
+            for (i, kid) in kids[..n].iter().enumerate() {
+                if let Some(child) = kid[k] {
+                    batch[m] = child.ray;
+                    owner[m] = i;
+                    m += 1;
+                }
+            }
+            if m == 0 {
+                continue;
+            }
+            let mut child_hits = [None; PACKET_RAYS];
+            self.accel
+                .closest_packet(&batch[..m], f32::INFINITY, &mut child_hits[..m]);
+            let child_found = self.found_ahead(&batch[..m], &child_hits[..m]);
+            for (j, &i) in owner[..m].iter().enumerate() {
+                children[i][k] = Some(child_found[j]);
+            }
+        }
         for i in 0..n {
-            let r = ClassicRay {
-                ray: rays[i],
-                intensity: 1.0,
-                ior: self.camera_ior,
-            };
             // What `trace` does at depth 0, with the closest hit already found.
             count.rays += 1;
             let k = slot(samplers, i);
-            self.shade(r, hits[i], known[i], 0, &mut accs[k], count);
+            self.shade(
+                camera_ray(i),
+                found[i],
+                Some(&children[i]),
+                0,
+                &mut accs[k],
+                count,
+            );
         }
     }
 

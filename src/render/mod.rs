@@ -579,8 +579,22 @@ mod lens_packet_tests {
             fresnel: true,
             ..Surface::default()
         };
+        // The classic model's children too: a see-through ball, a mirroring floor.
+        let ball = Material {
+            color: Vec3::new(0.8, 0.3, 0.2),
+            reflect: 0.3,
+            refract: 0.6,
+            ior: 1.5,
+            transparent: true,
+            ..Material::default_white()
+        };
+        let floor = Material {
+            color: Vec3::new(0.2, 0.5, 0.9),
+            reflect: 0.5,
+            ..Material::default_white()
+        };
         let mut scene = Scene {
-            materials: vec![Material::default_white(); 2],
+            materials: vec![ball, floor],
             surfaces: vec![glass, Surface::default()],
             ..Scene::default()
         };
