@@ -131,4 +131,31 @@ mod tests {
         assert_eq!(known[3].blocked(0), Some(true));
         assert_eq!(known[0].blocked(0), Some(false));
     }
+
+    #[test]
+    fn lights_past_the_first_thirty_two_are_left_to_be_traced_alone() {
+        let shapes = Shapes::from(vec![Shape::Sphere(Sphere {
+            center: Vec3::new(0.0, 0.0, 5.0),
+            radius: 1.0,
+        })]);
+        let accel = Accel::build(crate::accel::AccelKind::Bvh, &shapes);
+        let mut known = [KnownShadows::NONE; 3];
+        let asked = std::cell::Cell::new(0);
+        trace_ahead(
+            &accel,
+            40,
+            &mut known,
+            |_, light| {
+                asked.set(asked.get().max(light));
+                Some((Ray::new(Vec3::ZERO, Vec3::Z), 10.0))
+            },
+            |_| true,
+        );
+        assert_eq!(asked.get(), KNOWN_LIGHTS - 1);
+        for k in &known {
+            assert_eq!(k.blocked(KNOWN_LIGHTS - 1), Some(true));
+            assert_eq!(k.blocked(KNOWN_LIGHTS), None);
+            assert_eq!(k.blocked(39), None);
+        }
+    }
 }
