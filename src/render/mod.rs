@@ -72,8 +72,8 @@ pub trait Integrator: Sync {
     /// Whether a pixel's camera rays may be traced as a packet ahead of their shading:
     /// true when shading draws nothing from the pixel's sampler, so generating all its
     /// rays first leaves every sample, and the image, as it was. (Pixels with one camera
-    /// ray each are always traced a row at a time: that ray is drawn before its shading
-    /// either way.)
+    /// ray each are always traced a tile at a time: that ray is drawn before its
+    /// shading either way.)
     fn lens_packets(&self) -> bool;
 
     fn trace_camera_ray(
@@ -87,8 +87,8 @@ pub trait Integrator: Sync {
     /// [`Integrator::trace_camera_ray`] for up to [`PACKET_RAYS`] camera rays whose
     /// closest hits were found together, shaded in order: ray `i` draws from
     /// `samplers[i]` and adds to `accs[i]`, or every ray from the one sampler and
-    /// accumulator when only one is given (the lens rays of a pixel). Shadow rays of
-    /// the hits may be traced together as well.
+    /// accumulator when only one is given (the lens rays of a pixel). The model may
+    /// trace the hits' own rays (shadow, reflected, refracted) together as well.
     fn trace_camera_packet(
         &self,
         rays: &[Ray],
