@@ -98,12 +98,17 @@ mod tests {
     use crate::math::Vec3;
     use crate::scene::{Shape, Shapes, Sphere};
 
-    #[test]
-    fn answers_are_those_of_single_rays_and_only_for_rays_traced() {
-        let shapes = Shapes::from(vec![Shape::Sphere(Sphere {
+    /// A unit sphere 5 along +z.
+    fn ball_ahead() -> Shapes {
+        Shapes::from(vec![Shape::Sphere(Sphere {
             center: Vec3::new(0.0, 0.0, 5.0),
             radius: 1.0,
-        })]);
+        })])
+    }
+
+    #[test]
+    fn answers_are_those_of_single_rays_and_only_for_rays_traced() {
+        let shapes = ball_ahead();
         let accel = Accel::build(crate::accel::AccelKind::Bvh, &shapes);
         // Rays from the origin fanning across the sphere: the middle ones are blocked
         // before t = 10 (light 0), none before t = 3 (light 1); ray 2 is not traced
@@ -134,10 +139,7 @@ mod tests {
 
     #[test]
     fn lights_past_the_first_thirty_two_are_left_to_be_traced_alone() {
-        let shapes = Shapes::from(vec![Shape::Sphere(Sphere {
-            center: Vec3::new(0.0, 0.0, 5.0),
-            radius: 1.0,
-        })]);
+        let shapes = ball_ahead();
         let accel = Accel::build(crate::accel::AccelKind::Bvh, &shapes);
         let mut known = [KnownShadows::NONE; 3];
         let asked = std::cell::Cell::new(0);

@@ -1,0 +1,254 @@
+//! Tests of the band loop: cancellation, packets of lens rays and tiles against rays
+//! traced alone, progress, and the one-tap resample without anti-aliasing.
+
+/// `scene` with a unit sphere at the origin wearing its first material.
+fn with_unit_ball(mut scene: crate::scene::Scene) -> crate::scene::Scene {
+    let ball = crate::scene::Sphere {
+        center: crate::math::Vec3::ZERO,
+        radius: 1.0,
+    };
+    scene.push_shape(crate::scene::Shape::Sphere(ball), 0);
+    scene
+}
+
+mod cancel_tests {
+    use crate::render::*;
+    use crate::scene::Material;
+
+    #[test]
+    fn a_cancelled_render_stops_and_says_so() {
+        let scene = super::with_unit_ball(Scene {
+            materials: vec![Material::default_white()],
+            ..Scene::default()
+        });
+        let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 64, 64);
+        let flag = AtomicBool::new(false);
+        let rows = AtomicU64::new(0);
+        let renderer = Renderer::new(&scene, &camera, RenderSettings::default())
+            .unwrap()
+            .cancel_on(&flag);
+        // Cancelled after the first row: the rest are skipped.
+        let result = renderer.render(&|n| {
+            rows.fetch_add(n, Ordering::Relaxed);
+            flag.store(true, Ordering::Relaxed);
+        });
+        assert!(matches!(result, Err(crate::Error::Interrupted)));
+        // Strips of rows already running when the flag went up finish; no new one
+        // starts.
+        let threads = rayon::current_num_threads() as u64;
+        let rows = rows.into_inner();
+        assert!(rows <= (2 * threads + 2) * TILE_ROWS as u64, "{rows} rows");
+        // Not cancelled: the same renderer's output.
+        flag.store(false, Ordering::Relaxed);
+        assert!(renderer.render(&|_| {}).is_ok());
+    }
+}
+
+mod lens_packet_tests {
+    use crate::render::*;
+    use crate::scene::{Light, LightKind, Material, Rectangle, Shape, Surface};
+
+    /// A pixel's lens rays traced as packets (where the model allows) give the pixel
+    /// each ray gives traced alone, in order, from the pixel's stream.
+    #[test]
+    fn lens_rays_in_packets_shade_as_each_ray_traced_alone() {
+        let glass = Surface {
+            transmission: Vec3::splat(0.8),
+            ior: 1.5,
+            fresnel: true,
+            ..Surface::default()
+        };
+        // The classic model's children too: a see-through ball, a mirroring floor.
+        let ball = Material {
+            color: Vec3::new(0.8, 0.3, 0.2),
+            reflect: 0.3,
+            refract: 0.6,
+            ior: 1.5,
+            transparent: true,
+            ..Material::default_white()
+        };
+        let floor = Material {
+            color: Vec3::new(0.2, 0.5, 0.9),
+            reflect: 0.5,
+            ..Material::default_white()
+        };
+        let mut scene = super::with_unit_ball(Scene {
+            materials: vec![ball, floor],
+            surfaces: vec![glass, Surface::default()],
+            ..Scene::default()
+        });
+        let floor = Shape::Rectangle(Rectangle {
+            v: [
+                Vec3::new(-4.0, -1.0, 4.0),
+                Vec3::new(4.0, -1.0, 4.0),
+                Vec3::new(4.0, -1.0, -4.0),
+                Vec3::new(-4.0, -1.0, -4.0),
+            ],
+        });
+        scene.push_shape(floor, 1);
+        let mut camera =
+            Camera::look_at(Vec3::new(0.5, 1.0, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 12, 10);
+        camera.aperture = 0.2;
+        camera.focal_length = 3.0;
+        let point = Light::point(Vec3::new(2.0, 3.0, 4.0), Vec3::ONE);
+        let quad = Light {
+            kind: LightKind::Quad {
+                u: Vec3::new(1.0, 0.0, 0.0),
+                v: Vec3::new(0.0, 0.0, 1.0),
+            },
+            samples: 4,
+            ..Light::point(Vec3::new(-1.0, 3.0, 1.0), Vec3::ONE)
+        };
+        for (lights, packets) in [(vec![point.clone()], true), (vec![point, quad], false)] {
+            scene.lights = lights;
+            let settings = RenderSettings {
+                aa: Some(1),
+                dof_rays: Some(21),
+                integrator: IntegratorKind::Whitted,
+                ..RenderSettings::default()
+            };
+            let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+            let plan = &renderer.plan;
+            let rays = CameraRays::new(&plan.camera, 1, plan.dof_rays);
+            let accel = Accel::build(plan.accel, &scene.shapes);
+            let surfaces = scene.resolved_surfaces();
+            let whitted = Whitted::new(&scene, &accel, &surfaces, plan.max_depth, plan.min_weight);
+            assert_eq!(whitted.lens_packets(), packets);
+            assert_same_pixels(&renderer, &whitted, &accel, &rays);
+            // The classic model traces lens packets whatever the lights, and their
+            // shadow rays toward each light as packets too.
+            let classic = Classic::new(&scene, &accel, plan.camera.medium_ior);
+            assert!(classic.lens_packets());
+            assert_same_pixels(&renderer, &classic, &accel, &rays);
+        }
+    }
+
+    fn assert_same_pixels<I: Integrator>(
+        renderer: &Renderer,
+        integrator: &I,
+        accel: &Accel,
+        rays: &CameraRays,
+    ) {
+        let mut count = RayCount::default();
+        let mut lit = 0;
+        let camera = renderer.camera();
+        for y in 0..camera.height {
+            for x in 0..camera.width {
+                let pixel = renderer.pixel(integrator, accel, rays, x, y, &mut count);
+                let mut sampler = PixelSampler::new(renderer.plan.seed, x, y);
+                let mut acc = WeightedColor::default();
+                rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
+                    integrator.trace_camera_ray(ray, sampler, &mut acc, &mut count)
+                });
+                let alone = acc.mean();
+                assert_eq!(
+                    pixel.to_array().map(f32::to_bits),
+                    alone.to_array().map(f32::to_bits),
+                    "pixel ({x}, {y})"
+                );
+                lit += usize::from(pixel.max_element() > 0.0);
+            }
+        }
+        assert!(lit > 60, "{lit} pixels lit");
+    }
+}
+
+mod band_tests {
+    use crate::render::*;
+    use crate::scene::{Light, Material, Surface};
+
+    #[test]
+    fn progress_counts_every_traced_row_once() {
+        let scene = super::with_unit_ball(Scene {
+            materials: vec![Material::default_white()],
+            lights: vec![Light::point(Vec3::new(2.0, 3.0, 4.0), Vec3::ONE)],
+            ..Scene::default()
+        });
+        // Heights that leave a short last strip of rows, with and without anti-aliasing.
+        let camera = Camera::look_at(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 37, 23);
+        for (aa, dof_rays) in [(1, 1), (3, 1), (2, 3)] {
+            let settings = RenderSettings {
+                aa: Some(aa),
+                dof_rays: Some(dof_rays),
+                ..RenderSettings::default()
+            };
+            let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+            let rows = AtomicU64::new(0);
+            renderer
+                .render(&|n| {
+                    rows.fetch_add(n, Ordering::Relaxed);
+                })
+                .unwrap();
+            assert_eq!(rows.into_inner(), renderer.rows_to_trace(), "aa {aa}");
+            assert!(renderer.rows_to_trace() >= u64::from(23 * aa));
+        }
+    }
+
+    #[test]
+    fn without_anti_aliasing_the_image_is_the_one_tap_resample_of_the_traced_pixels() {
+        let scene = super::with_unit_ball(Scene {
+            materials: vec![Material::default_white()],
+            surfaces: vec![Surface {
+                transmission: Vec3::splat(0.5),
+                ior: 1.3,
+                ..Surface::default()
+            }],
+            lights: vec![Light::point(Vec3::new(2.0, 3.0, 4.0), Vec3::ONE)],
+            ..Scene::default()
+        });
+        let camera = Camera::look_at(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 48, 40);
+        for integrator in [IntegratorKind::Classic, IntegratorKind::Whitted] {
+            for region in [
+                None,
+                Some(Region {
+                    x: 5,
+                    y: 3,
+                    width: 30,
+                    height: 35,
+                }),
+            ] {
+                let settings = RenderSettings {
+                    aa: Some(1),
+                    region,
+                    integrator,
+                    ..RenderSettings::default()
+                };
+                let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+                let (image, _) = renderer.render(&|_| {}).unwrap();
+                // What the band loop gives: traced pixels through the resampler.
+                let r = renderer.region();
+                let plan = &renderer.plan;
+                let rays = CameraRays::new(&plan.camera, 1, plan.dof_rays);
+                let accel = Accel::build(plan.accel, &scene.shapes);
+                let surfaces = scene.resolved_surfaces();
+                let whitted =
+                    Whitted::new(&scene, &accel, &surfaces, plan.max_depth, plan.min_weight);
+                let classic = Classic::new(&scene, &accel, plan.camera.medium_ior);
+                let mut count = RayCount::default();
+                let mut traced = Vec::new();
+                for y in r.y..r.y + r.height {
+                    for x in r.x..r.x + r.width {
+                        let p = match integrator {
+                            IntegratorKind::Classic => {
+                                renderer.pixel(&classic, &accel, &rays, x, y, &mut count)
+                            }
+                            IntegratorKind::Whitted => {
+                                renderer.pixel(&whitted, &accel, &rays, x, y, &mut count)
+                            }
+                        };
+                        traced.push(p.to_array());
+                    }
+                }
+                let (wx, wy) = renderer.weights();
+                let expected = resample_window(
+                    &traced, r.x, r.y, r.width, r.height, &wx, &wy, r.x, r.y, r.width, r.height,
+                );
+                let bits = |p: &[[f32; 3]]| -> Vec<u32> {
+                    p.iter().flatten().map(|v| v.to_bits()).collect()
+                };
+                assert_eq!(bits(&image.pixels), bits(&expected), "{integrator:?}");
+                assert!(image.pixels.iter().flatten().any(|&v| v > 0.0));
+            }
+        }
+    }
+}
