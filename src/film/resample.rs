@@ -243,9 +243,34 @@ pub fn resample_window(
     out_w: u32,
     out_h: u32,
 ) -> Vec<[f32; 3]> {
+    let mut out = vec![[0.0f32; 3]; out_w as usize * out_h as usize];
+    resample_window_into(
+        input, in_x0, in_y0, in_w, in_h, wx, wy, out_x0, out_y0, out_w, out_h, &mut out,
+    );
+    out
+}
+
+/// [`resample_window`] into `out`, `out_w x out_h` pixels (a band of a frame being
+/// written in place), every pixel overwritten.
+#[allow(clippy::too_many_arguments)]
+pub fn resample_window_into(
+    input: &[[f32; 3]],
+    in_x0: u32,
+    in_y0: u32,
+    in_w: u32,
+    in_h: u32,
+    wx: &AxisWeights,
+    wy: &AxisWeights,
+    out_x0: u32,
+    out_y0: u32,
+    out_w: u32,
+    out_h: u32,
+    out: &mut [[f32; 3]],
+) {
     assert_eq!(input.len(), in_w as usize * in_h as usize, "input size");
+    assert_eq!(out.len(), out_w as usize * out_h as usize, "output size");
     if out_w == 0 || out_h == 0 {
-        return Vec::new();
+        return;
     }
     let (x_lo, x_hi) = wx.input_span(out_x0, out_x0 + out_w);
     let (y_lo, y_hi) = wy.input_span(out_y0, out_y0 + out_h);
@@ -271,8 +296,8 @@ pub fn resample_window(
     }
 
     // Vertical pass: rows of tmp into output rows, accumulated a whole row at a time.
-    let mut out = vec![[0.0f32; 3]; ow * out_h as usize];
     for (r, out_row) in out.chunks_exact_mut(ow).enumerate() {
+        out_row.fill([0.0; 3]);
         let (y, ws) = wy.taps(out_y0 + r as u32);
         for (t, &w) in ws.iter().enumerate() {
             let tr = (y - y_lo) as usize + t;
@@ -281,7 +306,6 @@ pub fn resample_window(
             }
         }
     }
-    out
 }
 
 /// `acc += w * p`, per channel, in one fixed order.

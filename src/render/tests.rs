@@ -185,6 +185,52 @@ mod band_tests {
     }
 
     #[test]
+    fn streamed_rows_are_the_image_each_row_once() {
+        let scene = super::with_unit_ball(Scene {
+            materials: vec![Material::default_white()],
+            lights: vec![Light::point(Vec3::new(2.0, 3.0, 4.0), Vec3::ONE)],
+            ..Scene::default()
+        });
+        let camera = Camera::look_at(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 37, 71);
+        let region = Region {
+            x: 3,
+            y: 2,
+            width: 30,
+            height: 67,
+        };
+        for (aa, region) in [(1, None), (2, None), (1, Some(region)), (3, Some(region))] {
+            let settings = RenderSettings {
+                aa: Some(aa),
+                region,
+                threads: Some(2),
+                ..RenderSettings::default()
+            };
+            let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+            let (w, h) = (renderer.region().width, renderer.region().height);
+            let streamed = std::sync::Mutex::new(vec![[f32::NAN; 3]; (w * h) as usize]);
+            let times = std::sync::Mutex::new(vec![0u32; h as usize]);
+            let (image, _) = renderer
+                .render_streaming(&|_| {}, &|y, rows| {
+                    assert_eq!(rows.len() % w as usize, 0);
+                    let start = y as usize * w as usize;
+                    streamed.lock().unwrap()[start..start + rows.len()].copy_from_slice(rows);
+                    for row in y..y + rows.len() as u32 / w {
+                        times.lock().unwrap()[row as usize] += 1;
+                    }
+                })
+                .unwrap();
+            assert!(
+                times.into_inner().unwrap().iter().all(|&n| n == 1),
+                "aa {aa}"
+            );
+            let bits =
+                |p: &[[f32; 3]]| -> Vec<u32> { p.iter().flatten().map(|v| v.to_bits()).collect() };
+            assert_eq!(bits(&streamed.into_inner().unwrap()), bits(&image.pixels));
+            assert!(image.pixels.iter().flatten().any(|&v| v > 0.0));
+        }
+    }
+
+    #[test]
     fn without_anti_aliasing_the_image_is_the_one_tap_resample_of_the_traced_pixels() {
         let scene = super::with_unit_ball(Scene {
             materials: vec![Material::default_white()],
@@ -240,7 +286,7 @@ mod band_tests {
                     }
                 }
                 let (wx, wy) = renderer.weights();
-                let expected = resample_window(
+                let expected = crate::film::resample::resample_window(
                     &traced, r.x, r.y, r.width, r.height, &wx, &wy, r.x, r.y, r.width, r.height,
                 );
                 let bits = |p: &[[f32; 3]]| -> Vec<u32> {

@@ -6,7 +6,7 @@ use prism::accel::AccelKind;
 use prism::film::output::check_output_path;
 use prism::film::resample::Filter;
 use prism::film::{
-    Develop, ExrPrecision, OutputOptions, PngBits, ToneMap, Transfer, write_image_with,
+    Develop, ExrPrecision, OutputOptions, PngBits, PngStream, ToneMap, Transfer, write_image_with,
 };
 use prism::format::SceneDialect;
 use prism::math::Vec3;
@@ -174,17 +174,27 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     }
     let renderer = Renderer::new(&still.scene, &still.camera, still.settings.clone())?
         .cancel_on(&interrupt.stop);
+    let output_options = output_options(args, &still)?;
+    // A PNG is developed and compressed band by band while the render runs.
+    let region = renderer.region();
+    let stream = PngStream::for_output(output, region.width, region.height, &output_options)?;
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
-    let (image, stats) = renderer.render(&|n| bar.inc(n))?;
+    let (image, stats) = renderer.render_streaming(&|n| bar.inc(n), &|y, rows| {
+        if let Some(stream) = &stream {
+            stream.rows(y, rows);
+        }
+    })?;
     bar.finish_and_clear();
     if interrupt.stop.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(prism::Error::Interrupted);
     }
-    let output_options = output_options(args, &still)?;
-    // Development runs its rows in parallel.
-    on_threads(pool.as_ref(), || {
-        write_image_with(&image, output, &output_options)
-    })?;
+    match stream {
+        Some(stream) => stream.finish()?,
+        // Development runs its rows in parallel.
+        None => on_threads(pool.as_ref(), || {
+            write_image_with(&image, output, &output_options)
+        })?,
+    }
     if args.stats {
         println!(
             "rays {}  seconds {:.3}  Mrays/s {:.2}",
