@@ -5,7 +5,7 @@ use super::Animation;
 use super::output::{FramePattern, Output};
 use super::video::{self, VideoInfo};
 use crate::film::output::write_atomically;
-use crate::film::{Develop, OutputOptions, Transfer, write_image_with};
+use crate::film::{Develop, OutputFile, OutputOptions, Transfer};
 use crate::{Error, Result};
 use std::io::Write;
 use std::ops::Range;
@@ -152,14 +152,21 @@ pub fn render_frames(
             // frame builds nothing.
             still = Some(anim.still_geometry()?);
         }
+        let size = anim.frame_size()?;
+        // A PNG frame is compressed while the frame renders.
+        let file = OutputFile::create(&path, size.0, size.1, &frame_output(anim))?;
         let (image, stats) = anim.render_frame_in(
             k,
             &mut posed,
             still.as_ref().and_then(Option::as_ref),
             &|rows| (observer.frame_start)(k, rows),
             observer.rows,
+            &|y, rows| file.rows(y, rows),
         )?;
-        write_image_with(&image, &path, &frame_output(anim))?;
+        if anim.cancelled() {
+            return Err(Error::Interrupted);
+        }
+        file.finish(&image)?;
         report.rendered += 1;
         report.rays += stats.rays;
         (observer.frame_done)(k, false);

@@ -22,7 +22,7 @@ pub mod video;
 
 use crate::accel::Accel;
 use crate::film::Image;
-use crate::render::{RenderSettings, RenderStats, Renderer};
+use crate::render::{RenderSettings, RenderStats, Renderer, RowSink};
 use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
 use motion::{Target, Track};
@@ -124,7 +124,7 @@ impl Animation {
     /// Output size of every frame.
     pub fn frame_size(&self) -> Result<(u32, u32)> {
         let r = Renderer::new(&self.scene, &self.camera, self.settings.clone())?;
-        Ok((r.camera().width, r.camera().height))
+        Ok((r.region().width, r.region().height))
     }
 
     /// Renders frame `k`. `start` is told the number of progress units (supersampled
@@ -135,13 +135,15 @@ impl Animation {
         start: &dyn Fn(u64),
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<(Image, RenderStats)> {
-        self.render_frame_in(frame, &mut self.scene.clone(), None, start, progress)
+        let mut posed = self.scene.clone();
+        self.render_frame_in(frame, &mut posed, None, start, progress, &|_, _| {})
     }
 
     /// [`Animation::render_frame`] posing the scene in `posed` (see
     /// [`Animation::pose_into`]), so a run of frames copies the scene once. With
     /// `still`, an intersector from [`Animation::still_geometry`], no intersector is
-    /// built for the frame.
+    /// built for the frame. Finished rows go to `rows` as they come (see
+    /// [`Renderer::render_streaming`]).
     pub fn render_frame_in(
         &self,
         frame: u32,
@@ -149,6 +151,7 @@ impl Animation {
         still: Option<&Accel>,
         start: &dyn Fn(u64),
         progress: &(dyn Fn(u64) + Sync),
+        rows: &RowSink<'_>,
     ) -> Result<(Image, RenderStats)> {
         let camera = self.pose_into(frame, posed)?;
         let mut renderer = Renderer::new(posed, &camera, self.settings.clone())?;
@@ -156,10 +159,7 @@ impl Animation {
             renderer = renderer.cancel_on(flag);
         }
         start(renderer.rows_to_trace());
-        match still {
-            Some(accel) => renderer.render_with(accel, progress),
-            None => renderer.render(progress),
-        }
+        renderer.render_streaming(still, progress, rows)
     }
 
     /// The intersector every frame can share when no track moves a shape (the camera

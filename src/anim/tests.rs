@@ -391,7 +391,7 @@ fn a_camera_only_animation_shares_one_intersector_and_renders_the_same_frames() 
     for k in 0..3 {
         let (fresh, _) = a.render_frame(k, &|_| {}, &|_| {}).unwrap();
         let (shared, _) = a
-            .render_frame_in(k, &mut posed, Some(&still), &|_| {}, &|_| {})
+            .render_frame_in(k, &mut posed, Some(&still), &|_| {}, &|_| {}, &|_, _| {})
             .unwrap();
         assert_eq!(shared, fresh, "frame {k}");
     }

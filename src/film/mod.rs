@@ -10,7 +10,7 @@ pub mod stream;
 
 pub use develop::{Develop, ToneMap, Transfer};
 pub use hdr_io::{ExrPrecision, MAX_LINEAR_PIXELS, read_linear_image};
-pub use output::{OutputFormat, OutputOptions, PngBits, write_image, write_image_with};
+pub use output::{OutputFile, OutputFormat, OutputOptions, PngBits, write_image, write_image_with};
 pub use stream::PngStream;
 
 /// A floating-point RGB image, rows top to bottom.

@@ -11,7 +11,7 @@ use image::{ExtendedColorType, ImageEncoder, ImageFormat};
 use rayon::prelude::*;
 use std::fmt;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -199,6 +199,48 @@ pub fn write_image_with(image: &Image, path: &Path, options: &OutputOptions) -> 
                 .map_err(|e| cannot_encode(&e))
         }
     })
+}
+
+/// An image file a render writes as it goes: a PNG is developed and compressed band by
+/// band while the render runs ([`PngStream`]), any other format is written from the
+/// finished image. Nothing is on disk before [`OutputFile::finish`].
+pub struct OutputFile {
+    path: PathBuf,
+    options: OutputOptions,
+    png: Option<PngStream>,
+}
+
+impl OutputFile {
+    /// The file at `path` for an image of `width x height` pixels.
+    pub fn create(
+        path: &Path,
+        width: u32,
+        height: u32,
+        options: &OutputOptions,
+    ) -> Result<OutputFile> {
+        Ok(OutputFile {
+            path: path.to_path_buf(),
+            options: *options,
+            png: PngStream::for_output(path, width, height, options)?,
+        })
+    }
+
+    /// Whole rows of the image from `first_row` on, as the render finishes them (the
+    /// sink of [`crate::render::Renderer::render_streaming`]).
+    pub fn rows(&self, first_row: u32, pixels: &[[f32; 3]]) {
+        if let Some(png) = &self.png {
+            png.rows(first_row, pixels);
+        }
+    }
+
+    /// Writes the file; `image` is the finished render, every row of which went
+    /// through [`OutputFile::rows`] when the format streams.
+    pub fn finish(self, image: &Image) -> Result<()> {
+        match self.png {
+            Some(png) => png.finish(),
+            None => write_image_with(image, &self.path, &self.options),
+        }
+    }
 }
 
 /// Writes a file through a temporary file in the same folder, renamed over `path` only

@@ -233,24 +233,7 @@ impl<'a> Renderer<'a> {
     /// Renders the image (the region, if one is set). `progress` is called with the
     /// number of supersampled rows finished, from any thread.
     pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<(Image, RenderStats)> {
-        self.render_streaming(progress, &|_, _| {})
-    }
-
-    /// [`Renderer::render`], handing each run of finished output rows to `rows` (its
-    /// first row in the image, and its pixels) as soon as it is done, from the thread
-    /// that did it and in no set order, so that they can be stored while the rest
-    /// renders (see [`crate::film::PngStream`]).
-    pub fn render_streaming(
-        &self,
-        progress: &(dyn Fn(u64) + Sync),
-        rows: &RowSink<'_>,
-    ) -> Result<(Image, RenderStats)> {
-        let start = Instant::now();
-        let out = self.pool()?.install(|| {
-            let accel = Accel::build(self.plan.accel, &self.scene.shapes);
-            self.render_in_pool(&accel, start, progress, rows)
-        });
-        self.finished(out)
+        self.render_streaming(None, progress, &|_, _| {})
     }
 
     /// Builds the intersector [`Renderer::render`] would, on the renderer's threads.
@@ -268,7 +251,22 @@ impl<'a> Renderer<'a> {
         accel: &Accel,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<(Image, RenderStats)> {
-        if accel.shape_count() != self.scene.shapes.len() {
+        self.render_streaming(Some(accel), progress, &|_, _| {})
+    }
+
+    /// [`Renderer::render`] (with `accel`, [`Renderer::render_with`]), handing each run
+    /// of finished output rows to `rows` (its first row in the image, and its pixels)
+    /// as soon as it is done, from the thread that did it and in no set order, so that
+    /// they can be stored while the rest renders (see [`crate::film::OutputFile`]).
+    pub fn render_streaming(
+        &self,
+        accel: Option<&Accel>,
+        progress: &(dyn Fn(u64) + Sync),
+        rows: &RowSink<'_>,
+    ) -> Result<(Image, RenderStats)> {
+        if let Some(accel) = accel
+            && accel.shape_count() != self.scene.shapes.len()
+        {
             return Err(crate::Error::Settings(format!(
                 "the intersector was built over {} shapes, the scene has {}",
                 accel.shape_count(),
@@ -276,9 +274,13 @@ impl<'a> Renderer<'a> {
             )));
         }
         let start = Instant::now();
-        let out = self
-            .pool()?
-            .install(|| self.render_in_pool(accel, start, progress, &|_, _| {}));
+        let out = self.pool()?.install(|| match accel {
+            Some(accel) => self.render_in_pool(accel, start, progress, rows),
+            None => {
+                let accel = Accel::build(self.plan.accel, &self.scene.shapes);
+                self.render_in_pool(&accel, start, progress, rows)
+            }
+        });
         self.finished(out)
     }
 

@@ -210,7 +210,7 @@ mod band_tests {
             let streamed = std::sync::Mutex::new(vec![[f32::NAN; 3]; (w * h) as usize]);
             let times = std::sync::Mutex::new(vec![0u32; h as usize]);
             let (image, _) = renderer
-                .render_streaming(&|_| {}, &|y, rows| {
+                .render_streaming(None, &|_| {}, &|y, rows| {
                     assert_eq!(rows.len() % w as usize, 0);
                     let start = y as usize * w as usize;
                     streamed.lock().unwrap()[start..start + rows.len()].copy_from_slice(rows);

@@ -5,9 +5,7 @@ use clap::Args;
 use prism::accel::AccelKind;
 use prism::film::output::check_output_path;
 use prism::film::resample::Filter;
-use prism::film::{
-    Develop, ExrPrecision, OutputOptions, PngBits, PngStream, ToneMap, Transfer, write_image_with,
-};
+use prism::film::{Develop, ExrPrecision, OutputFile, OutputOptions, PngBits, ToneMap, Transfer};
 use prism::format::SceneDialect;
 use prism::math::Vec3;
 use prism::render::{IntegratorKind, Region, Renderer};
@@ -175,26 +173,17 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     let renderer = Renderer::new(&still.scene, &still.camera, still.settings.clone())?
         .cancel_on(&interrupt.stop);
     let output_options = output_options(args, &still)?;
-    // A PNG is developed and compressed band by band while the render runs.
     let region = renderer.region();
-    let stream = PngStream::for_output(output, region.width, region.height, &output_options)?;
+    let file = OutputFile::create(output, region.width, region.height, &output_options)?;
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
-    let (image, stats) = renderer.render_streaming(&|n| bar.inc(n), &|y, rows| {
-        if let Some(stream) = &stream {
-            stream.rows(y, rows);
-        }
-    })?;
+    let (image, stats) =
+        renderer.render_streaming(None, &|n| bar.inc(n), &|y, rows| file.rows(y, rows))?;
     bar.finish_and_clear();
     if interrupt.stop.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(prism::Error::Interrupted);
     }
-    match stream {
-        Some(stream) => stream.finish()?,
-        // Development runs its rows in parallel.
-        None => on_threads(pool.as_ref(), || {
-            write_image_with(&image, output, &output_options)
-        })?,
-    }
+    // Formats written from the finished image develop its rows in parallel.
+    on_threads(pool.as_ref(), || file.finish(&image))?;
     if args.stats {
         println!(
             "rays {}  seconds {:.3}  Mrays/s {:.2}",
