@@ -102,6 +102,21 @@ impl PngStream {
         if pixels.is_empty() {
             return;
         }
+        let width = self.width.max(1) as usize;
+        let fits = pixels.len() % width == 0
+            && u64::from(first_row) + (pixels.len() / width) as u64 <= u64::from(self.height);
+        if !fits {
+            let mut encoder = lock(&self.encoder);
+            encoder.error.get_or_insert_with(|| {
+                format!(
+                    "{} pixels from row {first_row} are not whole rows of the {} x {} image",
+                    pixels.len(),
+                    self.width,
+                    self.height
+                )
+            });
+            return;
+        }
         let bytes = self.developed(pixels);
         lock(&self.waiting).insert(first_row, bytes);
         self.compress_ready_rows();
@@ -330,5 +345,15 @@ mod tests {
         let e = stream.finish().unwrap_err().to_string();
         assert!(e.contains("a.png") && e.contains("only 0 of 8 rows"), "{e}");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+
+        // Rows that are not whole, or run past the bottom: refused too.
+        for (first, pixels) in [(0, &image.pixels[..12]), (6, &image.pixels[..24])] {
+            let stream = PngStream::for_output(&path, 8, 8, &o).unwrap().unwrap();
+            stream.rows(first, pixels);
+            stream.rows(0, &image.pixels);
+            let e = stream.finish().unwrap_err().to_string();
+            assert!(e.contains("are not whole rows of the 8 x 8 image"), "{e}");
+            assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        }
     }
 }
