@@ -103,7 +103,7 @@ impl PngStream {
             return;
         }
         let width = self.width.max(1) as usize;
-        let fits = pixels.len() % width == 0
+        let fits = pixels.len().is_multiple_of(width)
             && u64::from(first_row) + (pixels.len() / width) as u64 <= u64::from(self.height);
         if !fits {
             let mut encoder = lock(&self.encoder);
