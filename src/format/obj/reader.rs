@@ -3,23 +3,32 @@
 //! smoothing normals). Large files are read in pieces on every thread ([`parallel`]),
 //! to the same result.
 
+mod materials;
+mod messages;
 mod parallel;
+mod skipped;
+mod values;
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
-use super::lines::{self, Line, Lines, Token, Tokens, decode_name, parse_integer, shown};
+use super::lines::{self, Line, Lines, Token, Tokens};
 use super::smooth::smooth_normals;
 use super::triangulate::{Method, Triangulator};
 use super::{GroupKind, ObjFile, ObjGroup, ObjTriangle, Warning};
-use crate::format::mtl;
 use crate::math::Vec3;
 use crate::{Error, Result};
-use rayon::prelude::*;
-
-/// Past this many, warnings are counted in one last warning instead of kept: a file of
-/// a million bad faces should not hold a million messages.
-const MAX_WARNINGS: usize = 1000;
+use messages::{
+    error_at, fan_fallback_message, few_corners_message, missing_attribute_message,
+    missing_relative, missing_vertex, mixed_face_message, push_warning, too_many_triangles_message,
+    unknown_message,
+};
+use skipped::skipped_kind;
+pub(in crate::format) use values::number;
+use values::{
+    Part, corner_parts, index_value, parse_normal, parse_position, parse_smoothing, parse_texcoord,
+    positive_index, push_position, run_name, short_index,
+};
 
 /// Gives the bytes of the material library at a path.
 pub type ReadLibrary<'r> = &'r mut dyn FnMut(&Path) -> Result<Vec<u8>>;
@@ -137,43 +146,6 @@ struct Reader<'p, 'r> {
     /// Whether a face mixing corners with and without vt (0) or vn (1) was reported.
     mixed_face_warned: [bool; 2],
 }
-
-/// Statements Prism knows and skips, counted under their own name; anything else is
-/// counted as `unknown`.
-const SKIPPED_KEYWORDS: &[&str] = &[
-    "l",
-    "p",
-    "curv",
-    "curv2",
-    "surf",
-    "t",
-    "vp",
-    "cstype",
-    "deg",
-    "bmat",
-    "step",
-    "parm",
-    "trim",
-    "hole",
-    "scrv",
-    "sp",
-    "end",
-    "con",
-    "mg",
-    "bevel",
-    "c_interp",
-    "d_interp",
-    "lod",
-    "shadow_obj",
-    "trace_obj",
-    "ctech",
-    "stech",
-    "maplib",
-    "usemap",
-    "call",
-    "csh",
-    "vw",
-];
 
 impl<'p, 'r> Reader<'p, 'r> {
     fn new(path: &'p Path, options: Options<'r>) -> Reader<'p, 'r> {
@@ -460,95 +432,6 @@ impl Reader<'_, '_> {
         }
     }
 
-    /// `usemtl` followed by `name` (trimmed): the material of the faces that follow.
-    fn use_material(&mut self, name: &[u8], line: usize) {
-        if name.is_empty() {
-            self.warn(line, NAMELESS_USEMTL);
-            self.material = None;
-            return;
-        }
-        let id = self.material_id(decode_name(name));
-        self.material = Some(id);
-        self.usemtl_lines.push((id, line));
-    }
-
-    /// The number of a `usemtl` name, in order of first appearance.
-    fn material_id(&mut self, name: String) -> u32 {
-        let next_id = self.material_names.len() as u32;
-        let id = *self.material_ids.entry(name.clone()).or_insert(next_id);
-        if id == next_id {
-            self.material_names.push(name);
-        }
-        id
-    }
-
-    /// `mtllib` followed by `rest` (trimmed).
-    fn material_libraries(&mut self, rest: &[u8], line: usize) -> Result<()> {
-        if rest.is_empty() {
-            self.warn(line, "mtllib without a file name");
-        }
-        for name in library_names(rest) {
-            self.read_library(&name, line)?;
-        }
-        Ok(())
-    }
-
-    fn read_library(&mut self, name: &[u8], line: usize) -> Result<()> {
-        let Some(read) = self.options.read_library.as_mut() else {
-            return Ok(());
-        };
-        let path = self.folder.join(decode_name(name));
-        if !self.libraries_read.insert(path.clone()) {
-            return Ok(());
-        }
-        let bytes = match read(&path) {
-            Ok(bytes) => bytes,
-            Err(e) => {
-                self.warn(
-                    line,
-                    format!("material library skipped, its materials are unknown: {e}"),
-                );
-                return Ok(());
-            }
-        };
-        let library = mtl::parse(&bytes, &path)?;
-        for warning in library.warnings {
-            push_warning(
-                &mut self.obj.warnings,
-                &mut self.suppressed_warnings,
-                warning.path,
-                warning.line,
-                warning.message,
-            );
-        }
-        for (kind, count) in library.skipped {
-            *self.obj.skipped.entry(format!("mtl:{kind}")).or_insert(0) += count;
-        }
-        for material in library.materials {
-            if let Some(&first) = self.material_index.get(&material.name) {
-                let first = &self.obj.materials[first as usize];
-                let message = format!(
-                    "material {} is defined again: the first definition ({}:{}) is kept",
-                    shown(material.name.as_bytes()),
-                    first.path.display(),
-                    first.line
-                );
-                push_warning(
-                    &mut self.obj.warnings,
-                    &mut self.suppressed_warnings,
-                    material.path.clone(),
-                    material.line,
-                    message,
-                );
-                continue;
-            }
-            let index = self.obj.materials.len() as u32;
-            self.material_index.insert(material.name.clone(), index);
-            self.obj.materials.push(material);
-        }
-        Ok(())
-    }
-
     fn finish(mut self) -> Result<ObjFile> {
         // Positions named before they were defined must exist by now.
         let positions = self.obj.positions.len();
@@ -647,340 +530,6 @@ impl Reader<'_, '_> {
         }
         Ok(self.obj)
     }
-
-    /// Turns the `usemtl` names on the triangles into material indices; an unknown
-    /// name gives a warning at each `usemtl` naming it and no material.
-    fn resolve_materials(&mut self) {
-        if self.material_names.is_empty() {
-            return; // no triangle names one
-        }
-        let resolved: Vec<Option<u32>> = self
-            .material_names
-            .iter()
-            .map(|name| self.material_index.get(name).copied())
-            .collect();
-        for (id, line) in std::mem::take(&mut self.usemtl_lines) {
-            if resolved[id as usize].is_none() {
-                let message = format!(
-                    "usemtl names material {}, which no material library defines: its \
-                     faces get the default material",
-                    shown(self.material_names[id as usize].as_bytes())
-                );
-                self.warn(line, message);
-            }
-        }
-        self.obj.triangles.par_iter_mut().for_each(|t| {
-            t.material = t.material.and_then(|id| resolved[id as usize]);
-        });
-    }
-}
-
-/// An error at byte `offset` of a line.
-fn error_at(path: &Path, line: &Line, offset: usize, message: impl Into<String>) -> Error {
-    let (number, column) = line.place(offset);
-    Error::parse_at(path, number, column, message)
-}
-
-/// `v x y z [w]` or `v x y z r g b`: the values and how many there are (3, 4 or 6).
-// Both readers call the statement parsers once a line; inlined, their results stay in
-// registers (a separate call made the one-thread reader 8 % slower).
-#[inline(always)]
-fn parse_position(path: &Path, line: &Line, tokens: Tokens) -> Result<([f32; 6], usize)> {
-    const WHAT: [&str; 6] = [
-        "the x coordinate",
-        "the y coordinate",
-        "the z coordinate",
-        "w (or the red of a vertex colour)",
-        "the green of the vertex colour",
-        "the blue of the vertex colour",
-    ];
-    let mut values = [0.0f32; 6];
-    let mut count = 0;
-    let mut end = tokens.offset();
-    for token in tokens {
-        if count == values.len() {
-            return Err(error_at(
-                path,
-                line,
-                token.start,
-                format!(
-                    "expected x y z, x y z w or x y z r g b after v, found a 7th value {}",
-                    shown(token.bytes)
-                ),
-            ));
-        }
-        values[count] = number(path, line, token, WHAT[count])?;
-        count += 1;
-        end = token.start + token.bytes.len();
-    }
-    match count {
-        3 | 4 | 6 => Ok((values, count)),
-        0..=2 => Err(error_at(
-            path,
-            line,
-            end,
-            format!(
-                "expected 3 coordinates after v (v x y z), {} is missing",
-                WHAT[count]
-            ),
-        )),
-        _ => Err(error_at(
-            path,
-            line,
-            end,
-            "expected x y z, x y z w or x y z r g b after v, found 5 values: the blue of \
-             the vertex colour is missing",
-        )),
-    }
-}
-
-/// Adds a position, and its colour once any vertex has one (the others white).
-#[inline(always)]
-fn push_position(
-    positions: &mut Vec<Vec3>,
-    colors: &mut Vec<Vec3>,
-    values: [f32; 6],
-    count: usize,
-) {
-    if count == 6 {
-        if colors.is_empty() {
-            colors.resize(positions.len(), Vec3::ONE);
-        }
-        colors.push(Vec3::new(values[3], values[4], values[5]));
-    } else if !colors.is_empty() {
-        colors.push(Vec3::ONE);
-    }
-    positions.push(Vec3::new(values[0], values[1], values[2]));
-}
-
-/// `vt u [v [w]]`.
-#[inline(always)]
-fn parse_texcoord(path: &Path, line: &Line, mut tokens: Tokens) -> Result<[f32; 2]> {
-    let mut uv = [0.0f32; 2];
-    let mut count = 0;
-    for token in tokens.by_ref() {
-        match count {
-            0 => uv[0] = number(path, line, token, "u")?,
-            1 => uv[1] = number(path, line, token, "v")?,
-            2 => {
-                number(path, line, token, "w")?;
-            }
-            _ => {
-                return Err(error_at(
-                    path,
-                    line,
-                    token.start,
-                    format!(
-                        "expected at most 3 values after vt (vt u v w), found a 4th {}",
-                        shown(token.bytes)
-                    ),
-                ));
-            }
-        }
-        count += 1;
-    }
-    if count == 0 {
-        return Err(error_at(
-            path,
-            line,
-            tokens.offset(),
-            "expected a texture coordinate after vt (vt u [v [w]]), found the end of the line",
-        ));
-    }
-    Ok(uv)
-}
-
-/// `vn x y z`.
-#[inline(always)]
-fn parse_normal(path: &Path, line: &Line, mut tokens: Tokens) -> Result<Vec3> {
-    let mut n = [0.0f32; 3];
-    for (slot, axis) in n.iter_mut().zip(["x", "y", "z"]) {
-        let Some(token) = tokens.next() else {
-            return Err(error_at(
-                path,
-                line,
-                tokens.offset(),
-                format!("expected 3 values after vn (vn x y z), the {axis} is missing"),
-            ));
-        };
-        *slot = number(path, line, token, &format!("the normal's {axis}"))?;
-    }
-    if let Some(extra) = tokens.next() {
-        return Err(error_at(
-            path,
-            line,
-            extra.start,
-            format!(
-                "expected 3 values after vn (vn x y z), found a 4th {}",
-                shown(extra.bytes)
-            ),
-        ));
-    }
-    Ok(Vec3::from_array(n))
-}
-
-/// `s N`, `s 0` or `s off` (0).
-fn parse_smoothing(path: &Path, line: &Line, keyword: Token, mut tokens: Tokens) -> Result<u32> {
-    let expected = "expected a smoothing group after s (a number, 0 or off)";
-    let Some(token) = tokens.next() else {
-        return Err(error_at(
-            path,
-            line,
-            keyword.start + 1,
-            format!("{expected}, found the end of the line"),
-        ));
-    };
-    if token.bytes.eq_ignore_ascii_case(b"off") {
-        return Ok(0);
-    }
-    match parse_integer(token.bytes).and_then(|n| u32::try_from(n).ok()) {
-        Some(n) => Ok(n),
-        None => Err(error_at(
-            path,
-            line,
-            token.start,
-            format!("{expected}, found {}", shown(token.bytes)),
-        )),
-    }
-}
-
-/// The name of an `o` or `g`: its words joined by single spaces.
-fn run_name(tokens: Tokens) -> String {
-    let mut name = String::new();
-    for token in tokens {
-        if !name.is_empty() {
-            name.push(' ');
-        }
-        name.push_str(&decode_name(token.bytes));
-    }
-    name
-}
-
-/// What a statement Prism does not read is counted as.
-fn skipped_kind(keyword: &[u8]) -> &'static str {
-    std::str::from_utf8(keyword)
-        .ok()
-        .and_then(|k| SKIPPED_KEYWORDS.iter().find(|&&known| known == k))
-        .copied()
-        .unwrap_or("unknown")
-}
-
-/// A part of a face corner: its text and the byte offset of that in the line.
-type Part<'l> = (&'l [u8], usize);
-
-/// The up to three `/`-separated parts of a face corner.
-#[inline(always)]
-fn corner_parts<'l>(path: &Path, line: &Line, token: Token<'l>) -> Result<[Option<Part<'l>>; 3]> {
-    let mut parts: [Option<Part>; 3] = [None; 3];
-    let mut start = 0;
-    for (k, part) in token.bytes.split(|&b| b == b'/').enumerate() {
-        if k == 3 {
-            return Err(error_at(
-                path,
-                line,
-                token.start + start - 1,
-                format!(
-                    "expected a face corner i, i/t, i//n or i/t/n, found {}",
-                    shown(token.bytes)
-                ),
-            ));
-        }
-        parts[k] = Some((part, token.start + start));
-        start += part.len() + 1;
-    }
-    Ok(parts)
-}
-
-/// An index written as at most nine digits and not 0: the fast path of both readers.
-#[inline(always)]
-fn short_index(text: &[u8]) -> Option<usize> {
-    if text.is_empty() || text.len() > 9 || !text.iter().all(u8::is_ascii_digit) {
-        return None;
-    }
-    let value = text
-        .iter()
-        .fold(0usize, |n, &d| n * 10 + (d - b'0') as usize);
-    (value >= 1).then_some(value)
-}
-
-/// The signed, non-zero number a face corner index is written as.
-fn index_value(
-    path: &Path,
-    line: &Line,
-    token: Token,
-    text: &[u8],
-    start: usize,
-    kind: Kind,
-) -> Result<i64> {
-    let noun = kind.noun();
-    match parse_integer(text) {
-        None => Err(error_at(
-            path,
-            line,
-            start,
-            format!(
-                "expected a {noun} index in the face corner {} (i, i/t, i//n or i/t/n)",
-                shown(token.bytes)
-            ),
-        )),
-        Some(0) => Err(error_at(
-            path,
-            line,
-            start,
-            format!("{noun} index 0 does not exist: indices start at 1"),
-        )),
-        Some(value) => Ok(value),
-    }
-}
-
-/// The 0-based index of a positive (1-based) one, which must fit in a u32.
-fn positive_index(
-    path: &Path,
-    line: &Line,
-    text: &[u8],
-    start: usize,
-    kind: Kind,
-    value: i64,
-) -> Result<u32> {
-    u32::try_from(value - 1).map_err(|_| {
-        error_at(
-            path,
-            line,
-            start,
-            format!("{} index {} is too large", kind.noun(), shown(text)),
-        )
-    })
-}
-
-/// The error for a negative index reaching before the first element of its kind.
-fn missing_relative(kind: Kind, text: &[u8], defined: usize) -> String {
-    format!(
-        "{} index {} does not exist: -1 is the last of the {defined} read so far",
-        kind.noun(),
-        shown(text)
-    )
-}
-
-/// The error for a vertex named but never defined; `file:line:` as before, since
-/// `prism convert`'s callers match this text.
-fn missing_vertex(path: &Path, line: usize, index: u32, positions: usize) -> Error {
-    Error::parse(
-        path,
-        line,
-        format!(
-            "vertex {} does not exist: the file defines {positions}",
-            index as u64 + 1
-        ),
-    )
-}
-
-fn missing_attribute_message(kind: Kind, index: u32, defined: usize) -> String {
-    let noun = kind.noun();
-    format!(
-        "{noun} {} does not exist (the file defines {defined}): faces naming missing \
-         {noun}s get none (reported for the first only)",
-        index as u64 + 1
-    )
 }
 
 /// Whether all and whether any corners have a texture coordinate (0) and a normal (1).
@@ -994,25 +543,6 @@ fn corner_attributes(corners: &[Corner]) -> ([bool; 2], [bool; 2]) {
             corners.iter().any(|c| c.vt.is_some()),
             corners.iter().any(|c| c.vn.is_some()),
         ],
-    )
-}
-
-fn few_corners_message(n: usize) -> String {
-    format!("a face needs at least 3 vertices, found {n}: the face is dropped")
-}
-
-fn mixed_face_message(k: usize) -> String {
-    let what = ["texture coordinates", "normals"][k];
-    format!(
-        "a face gives {what} for some corners only: it gets none (this is reported for the \
-         first such face only)"
-    )
-}
-
-fn too_many_triangles_message() -> String {
-    format!(
-        "expected at most {} triangles in a scene, found more",
-        triangle_limit()
     )
 }
 
@@ -1035,23 +565,6 @@ thread_local! {
 // scene's limit is the only one a face can reach.
 const _: () = assert!(crate::scene::MAX_SHAPES <= crate::accel::MAX_SHAPES);
 
-fn fan_fallback_message(corners: usize) -> String {
-    format!(
-        "a concave polygon of {corners} vertices crosses itself or is too large to clip: it \
-         is split as a fan, which may cover area outside it"
-    )
-}
-
-fn unknown_message(keyword: &[u8]) -> String {
-    format!(
-        "unknown statement {} skipped (the count of unknown statements is in the summary)",
-        shown(keyword)
-    )
-}
-
-const NAMELESS_USEMTL: &str =
-    "usemtl without a name: the faces that follow get the default material";
-
 /// Triangulates a polygon whose positions are all known into `slots` (`n - 2` of them),
 /// which hold its material and smoothing group already.
 fn split_polygon(
@@ -1072,51 +585,6 @@ fn split_polygon(
     method
 }
 
-fn push_warning(
-    warnings: &mut Vec<Warning>,
-    suppressed: &mut usize,
-    path: PathBuf,
-    line: usize,
-    message: impl Into<String>,
-) {
-    if warnings.len() < MAX_WARNINGS {
-        warnings.push(Warning {
-            path,
-            line,
-            message: message.into(),
-        });
-    } else {
-        *suppressed += 1;
-    }
-}
-
-/// A token as a finite number that fits in an f32, or an error at its column.
-pub(in crate::format) fn number(path: &Path, line: &Line, token: Token, what: &str) -> Result<f32> {
-    let error = |message: String| {
-        let (number, column) = line.place(token.start);
-        Error::parse_at(path, number, column, message)
-    };
-    let Some(value) = lines::parse_f64(token.bytes) else {
-        let kind = if lines::names_non_finite(token.bytes) {
-            "a finite number"
-        } else {
-            "a number"
-        };
-        return Err(error(format!(
-            "expected {kind} for {what}, found {}",
-            shown(token.bytes)
-        )));
-    };
-    if value.abs() > f32::MAX as f64 {
-        return Err(error(format!(
-            "expected a finite number of magnitude at most {:e} for {what}, found {}",
-            f32::MAX,
-            shown(token.bytes)
-        )));
-    }
-    Ok(value as f32)
-}
-
 fn triangle_of(template: &ObjTriangle, corners: &[Corner], local: [u32; 3]) -> ObjTriangle {
     let c = local.map(|i| corners[i as usize]);
     ObjTriangle {
@@ -1124,47 +592,5 @@ fn triangle_of(template: &ObjTriangle, corners: &[Corner], local: [u32; 3]) -> O
         vt: template.vt.map(|_| c.map(|c| c.vt.unwrap_or(0))),
         vn: template.vn.map(|_| c.map(|c| c.vn.unwrap_or(0))),
         ..*template
-    }
-}
-
-/// The file names of an `mtllib` line: separated by white space, with `\ ` standing for
-/// a space inside a name.
-fn library_names(rest: &[u8]) -> Vec<Vec<u8>> {
-    let mut names = Vec::new();
-    let mut name = Vec::new();
-    let mut bytes = rest.iter().copied().peekable();
-    while let Some(b) = bytes.next() {
-        if b == b'\\' && bytes.peek() == Some(&b' ') {
-            name.push(b' ');
-            bytes.next();
-        } else if lines::is_space(b) {
-            if !name.is_empty() {
-                names.push(std::mem::take(&mut name));
-            }
-        } else {
-            name.push(b);
-        }
-    }
-    if !name.is_empty() {
-        names.push(name);
-    }
-    names
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn library_names_split_on_unescaped_spaces() {
-        let names = library_names(br"a.mtl  my\ lib\ 2.mtl	c\d.mtl");
-        assert_eq!(
-            names,
-            [
-                b"a.mtl".to_vec(),
-                b"my lib 2.mtl".to_vec(),
-                br"c\d.mtl".to_vec()
-            ]
-        );
     }
 }
