@@ -70,6 +70,19 @@ impl Shapes {
         self.corners[i][0] != OTHER
     }
 
+    /// Where shape `i` sits in [`Shapes::others`] when it is not a triangle. Panics
+    /// when `i` is out of range.
+    #[inline]
+    pub(crate) fn other_index(&self, i: usize) -> Option<usize> {
+        let c = self.corners[i];
+        (c[0] == OTHER).then_some(c[1] as usize)
+    }
+
+    /// The spheres and rectangles, in the order [`Shapes::other_index`] counts them.
+    pub(crate) fn others(&self) -> &[Shape] {
+        &self.others
+    }
+
     /// Shape `i` as stored. Panics when `i` is out of range.
     #[inline]
     pub fn stored(&self, i: usize) -> Stored<'_> {

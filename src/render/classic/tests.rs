@@ -230,3 +230,57 @@ fn total_internal_reflection_sends_the_refracted_share_to_the_mirror_ray() {
     assert_eq!(count.rays, 2);
     assert_close(acc.mean(), Vec3::Y);
 }
+
+proptest::proptest! {
+    /// A rectangle's frame gives the normal and texture coordinates the shape computes
+    /// from its corners, bit for bit, on any rectangle and at any point.
+    #[test]
+    fn rectangle_frames_equal_the_shape_to_the_bit(
+        a in proptest::array::uniform3(-1e3f32..1e3),
+        u in proptest::array::uniform3(-1e2f32..1e2),
+        w in proptest::array::uniform3(-1e2f32..1e2),
+        p in proptest::array::uniform3(-1e3f32..1e3),
+    ) {
+        let (a, u, w, p) = (Vec3::from(a), Vec3::from(u), Vec3::from(w), Vec3::from(p));
+        // v: perpendicular to u in the plane of u and w, so the corners make a rectangle.
+        let v = w - u * (w.dot(u) / u.length_squared().max(1e-12));
+        let r = Rectangle { v: [a, a + u, a + u + v, a + v] };
+        let frame = RectangleFrame::of(&r);
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        proptest::prop_assert_eq!(bits(frame.normal), bits(r.normal()));
+        let (got, want) = (frame.coords(p), r.surface_coords(p));
+        let fields = |c: SurfaceCoords| [c.x, c.y, c.x0, c.y0, c.len_x, c.len_y].map(f32::to_bits);
+        proptest::prop_assert_eq!(fields(got), fields(want));
+    }
+}
+
+#[test]
+fn shading_reads_rectangle_frames_by_their_place_among_the_other_shapes() {
+    // A sphere before the floor: the floor is the second of the other shapes.
+    let mut s = scene(
+        vec![material(1.0, 1.0, 0.0, 1.0)],
+        vec![
+            (
+                Shape::Sphere(Sphere {
+                    center: Vec3::new(50.0, 50.0, 50.0),
+                    radius: 1.0,
+                }),
+                0,
+            ),
+            (floor(), 0),
+        ],
+        vec![Vec3::new(0.0, 0.0, 10.0)],
+    );
+    s.push_shape(floor(), 0);
+    let accel = Accel::build(AccelKind::Bvh, &s.shapes);
+    let classic = Classic::new(&s, &accel, 1.0);
+    assert!(classic.rectangle(0).is_none());
+    for shape in [1, 2] {
+        let frame = classic.rectangle(shape).expect("a rectangle");
+        let Shape::Rectangle(r) = s.shapes.get(shape as usize) else {
+            unreachable!()
+        };
+        assert_eq!(frame.normal, r.normal());
+        assert_eq!(frame.normal, Vec3::Z);
+    }
+}
