@@ -251,12 +251,9 @@ impl<'a> Classic<'a> {
     /// [`Scene::surface_color`] of shape `s` at `p`.
     #[inline]
     fn surface_color(&self, s: u32, p: Vec3) -> Vec3 {
-        let m = self.scene.material(s);
-        match (m.texture, self.rectangle(s)) {
-            (Some(t), Some(frame)) => self.scene.textures[t as usize]
-                .lookup(&frame.coords(p))
-                .unwrap_or(m.color),
-            _ => self.scene.surface_color(s, p),
+        match self.rectangle(s) {
+            Some(frame) => self.scene.surface_color_with(s, || frame.coords(p)),
+            None => self.scene.surface_color(s, p),
         }
     }
 

@@ -125,12 +125,16 @@ impl Scene {
     /// Surface colour at `p` on shape `shape`: its texel, or the material colour where
     /// there is no texture (or a fit-mode image leaves the surface bare).
     pub fn surface_color(&self, shape: u32, p: Vec3) -> Vec3 {
+        self.surface_color_with(shape, || self.shapes.get(shape as usize).surface_coords(p))
+    }
+
+    /// [`Scene::surface_color`] where the caller knows the hit's texture coordinates
+    /// (asked only when the material has a texture).
+    #[inline]
+    pub fn surface_color_with(&self, shape: u32, coords: impl FnOnce() -> SurfaceCoords) -> Vec3 {
         let m = self.material(shape);
         m.texture
-            .and_then(|t| {
-                let coords = self.shapes.get(shape as usize).surface_coords(p);
-                self.textures[t as usize].lookup(&coords)
-            })
+            .and_then(|t| self.textures[t as usize].lookup(&coords()))
             .unwrap_or(m.color)
     }
 }
