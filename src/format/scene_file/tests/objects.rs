@@ -1,0 +1,186 @@
+//! Each object type and transform, with exact positions: spheres, quads, triangles, boxes, disks, cylinders, planes and mesh files.
+
+use super::*;
+use crate::scene::{Albedo, Shape};
+
+#[test]
+fn a_sphere_is_scaled_then_translated() {
+    let f = scene(
+        "[[object]]\ntype = \"sphere\"\ncenter = [1, 0, 0]\nradius = 0.5\nscale = 2\n\
+         rotate = [0, 0, 1, 90]\ntranslate = [10, 0, 0]\n",
+    );
+    let Shape::Sphere(s) = f.scene.shapes.get(0) else {
+        panic!("{:?}", f.scene.shapes)
+    };
+    // (1,0,0) * 2 = (2,0,0), turned 90 degrees about z = (0,2,0), moved to (10,2,0).
+    assert_close(s.center, v(10.0, 2.0, 0.0));
+    assert_eq!(s.radius, 1.0);
+    assert_eq!(f.dialect, SceneDialect::PrismScene);
+}
+
+#[test]
+fn a_quad_turned_about_y_keeps_its_corners_in_order() {
+    let f = scene(
+        "[[object]]\ntype = \"quad\"\ncorner = [0, 0, 0]\nedge1 = [1, 0, 0]\nedge2 = [0, 2, 0]\n\
+         rotate = [0, 1, 0, 90]\ntranslate = [0, 0, 5]\n",
+    );
+    let Shape::Rectangle(r) = f.scene.shapes.get(0) else {
+        panic!()
+    };
+    // x turns to -z about +y.
+    for (got, want) in r.v.iter().zip([
+        v(0.0, 0.0, 5.0),
+        v(0.0, 0.0, 4.0),
+        v(0.0, 2.0, 4.0),
+        v(0.0, 2.0, 5.0),
+    ]) {
+        assert_close(*got, want);
+    }
+}
+
+#[test]
+fn several_rotations_apply_in_order() {
+    let f = scene(
+        "[[object]]\ntype = \"triangle\"\nvertices = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n\
+         rotate = [[0, 0, 1, 90], [1, 0, 0, 90]]\n",
+    );
+    let Shape::Triangle(t) = f.scene.shapes.get(0) else {
+        panic!()
+    };
+    // x -> y (about z) -> z (about x); y -> -x -> -x; z -> z -> -y.
+    assert_close(t.v[0], v(0.0, 0.0, 1.0));
+    assert_close(t.v[1], v(-1.0, 0.0, 0.0));
+    assert_close(t.v[2], v(0.0, -1.0, 0.0));
+}
+
+#[test]
+fn a_matrix_is_row_major_and_a_mirror_keeps_the_winding() {
+    let f = scene(
+        "[[object]]\ntype = \"triangle\"\nvertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\n\
+         matrix = [[-1, 0, 0, 3], [0, 1, 0, 4], [0, 0, 1, 5], [0, 0, 0, 1]]\n",
+    );
+    let Shape::Triangle(t) = f.scene.shapes.get(0) else {
+        panic!()
+    };
+    // Mirrored in x and moved by (3, 4, 5); vertices 1 and 2 swap so the normal
+    // stays +z as authored.
+    assert_eq!(t.v, [v(3.0, 4.0, 5.0), v(3.0, 5.0, 5.0), v(2.0, 4.0, 5.0)]);
+    assert_close(t.normal(), Vec3::Z);
+}
+
+#[test]
+fn a_box_is_six_rectangles_facing_out() {
+    let f = scene("[[object]]\ntype = \"box\"\nmin = [-1, -2, -3]\nmax = [1, 2, 3]\n");
+    assert_eq!(f.scene.shapes.len(), 6);
+    let mut normals = Vec::new();
+    for s in f.scene.shapes.iter() {
+        let Shape::Rectangle(r) = s else { panic!() };
+        let n = (r.v[1] - r.v[0]).cross(r.v[3] - r.v[0]).normalize();
+        let centre = (r.v[0] + r.v[2]) * 0.5;
+        assert!(n.dot(centre) > 0.0, "{r:?} faces in");
+        normals.push(n);
+    }
+    assert_eq!(
+        normals,
+        [-Vec3::Z, Vec3::Z, -Vec3::X, Vec3::X, -Vec3::Y, Vec3::Y]
+    );
+    let b = f.scene.bounds();
+    assert_eq!((b.min, b.max), (v(-1.0, -2.0, -3.0), v(1.0, 2.0, 3.0)));
+}
+
+#[test]
+fn a_disk_is_a_fan_whose_normal_transforms_by_the_inverse_transpose() {
+    let f = scene(
+        "[[object]]\ntype = \"disk\"\ncenter = [0, 0, 0]\nnormal = [1, 1, 0]\nradius = 1\n\
+         scale = [2, 1, 1]\n",
+    );
+    assert_eq!(f.scene.shapes.len(), SEGMENTS as usize);
+    let mesh = &f.scene.meshes[0];
+    assert_eq!((mesh.first_shape, mesh.len), (0, SEGMENTS));
+    mesh.check().unwrap();
+    // (1, 1, 0) under diag(2, 1, 1): inverse transpose diag(1/2, 1, 1) gives (1/2, 1, 0).
+    assert_close(mesh.normals[0], v(0.5, 1.0, 0.0).normalize());
+    // The geometric normals agree with the smooth one.
+    for s in f.scene.shapes.iter() {
+        let Shape::Triangle(t) = s else { panic!() };
+        assert!(close(t.normal(), mesh.normals[0]), "{}", t.normal());
+    }
+}
+
+#[test]
+fn a_cylinder_has_radial_side_normals_and_two_caps() {
+    let f = scene(
+        "[[object]]\ntype = \"cylinder\"\nbase = [0, 0, 0]\naxis = [0, 0, 1]\nheight = 2\n\
+         radius = 0.5\ntranslate = [1, 0, 0]\n",
+    );
+    let n = SEGMENTS as usize;
+    assert_eq!(f.scene.shapes.len(), 4 * n);
+    let mesh = &f.scene.meshes[0];
+    mesh.check().unwrap();
+    for (i, s) in f.scene.shapes.iter().take(2 * n).enumerate() {
+        let Shape::Triangle(t) = s else { panic!() };
+        for (k, p) in t.v.iter().enumerate() {
+            assert!((0.0..=2.0 + 1e-6).contains(&p.z));
+            let radial = v(p.x - 1.0, p.y, 0.0);
+            assert!((radial.length() - 0.5).abs() < 1e-5);
+            let normal = mesh.normals[mesh.normal_indices[i][k] as usize];
+            assert_close(normal, radial.normalize());
+        }
+    }
+    // Caps face down and up.
+    let cap_normal = |i: usize| match f.scene.shapes.get(i) {
+        Shape::Triangle(t) => t.normal(),
+        _ => panic!(),
+    };
+    assert_close(cap_normal(2 * n), -Vec3::Z);
+    assert_close(cap_normal(3 * n), Vec3::Z);
+    let open =
+        scene("[[object]]\ntype = \"cylinder\"\ntop = [0, 1, 0]\nradius = 1\ncapped = false\n");
+    assert_eq!(open.scene.shapes.len(), 2 * n);
+}
+
+#[test]
+fn a_plane_is_a_square_a_hundred_times_the_rest_of_the_scene() {
+    let f = scene(
+        "[camera]\nfrom = [0, 0, 3]\nat = [0, 0, 0]\n\
+         [[object]]\ntype = \"plane\"\npoint = [0, -1, 0]\nnormal = [0, 1, 0]\n\
+         [[object]]\ntype = \"sphere\"\nradius = 1\n",
+    );
+    let Shape::Rectangle(r) = f.scene.shapes.get(0) else {
+        panic!()
+    };
+    // Sphere bounds [-1, 1]^3 grown by the eye (0, 0, 3): extent (2, 2, 4).
+    let half = 0.5 * PLANE_SCALE * 24f32.sqrt();
+    for p in r.v {
+        assert!((p.y + 1.0).abs() < 1e-3);
+        assert!(((p.x.abs().max(p.z.abs())) - half).abs() < 1e-2, "{p}");
+    }
+    let n = (r.v[1] - r.v[0]).cross(r.v[3] - r.v[0]).normalize();
+    assert_close(n, Vec3::Y);
+}
+
+#[test]
+fn a_mesh_file_is_merged_and_placed() {
+    let dir = Folder::new();
+    dir.write("meshes/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let f = dir.load(
+        "[[object]]\nname = \"tri\"\ntype = \"mesh\"\nfile = \"meshes/tri.obj\"\n\
+         translate = [0, 0, -2]\nmaterial = { color = [0, 1, 0] }\n",
+    );
+    let Shape::Triangle(t) = f.scene.shapes.get(0) else {
+        panic!()
+    };
+    assert_eq!(
+        t.v,
+        [v(0.0, 0.0, -2.0), v(1.0, 0.0, -2.0), v(0.0, 1.0, -2.0)]
+    );
+    let m = f.scene.material_of[0] as usize;
+    assert_eq!(f.scene.surfaces[m].albedo, Albedo::Color(Vec3::Y));
+    assert_eq!(f.scene.materials[m].name, "tri");
+    assert_eq!(f.scene.group("tri").unwrap().shapes, [0]);
+    let e = dir.error("[[object]]\ntype = \"mesh\"\nfile = \"scene.toml\"\n");
+    assert_eq!(
+        e,
+        "DIR/scene.toml:3:8: expected a mesh file .obj, .ply or .objx, found DIR/scene.toml"
+    );
+}
