@@ -18,7 +18,7 @@ pub use settings::{
     DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, IntegratorKind, MAX_DEPTH_LIMIT, MAX_SIDE, Region,
     RenderSettings,
 };
-pub use whitted::Whitted;
+pub use whitted::{Casters, Whitted};
 
 use crate::Result;
 use crate::accel::{Accel, Hit, PACKET_RAYS};
@@ -313,6 +313,14 @@ impl<'a> Renderer<'a> {
                     plan.max_depth,
                     plan.min_weight,
                 );
+                let casters = Casters::of(self.scene, &surfaces);
+                let caster_accel = casters
+                    .as_ref()
+                    .map(|c| Accel::build(plan.accel, c.shapes()));
+                let whitted = match (&casters, &caster_accel) {
+                    (Some(casters), Some(accel)) => whitted.with_casters(accel, casters),
+                    _ => whitted,
+                };
                 self.render_frame(&whitted, accel, start, progress, rows)
             }
         }

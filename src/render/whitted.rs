@@ -17,6 +17,10 @@ use crate::scene::{
 };
 use std::cell::Cell;
 
+mod casters;
+
+pub use casters::Casters;
+
 /// Surfaces a ray may pass through (alpha cut-outs) or a shadow ray may cross
 /// (transparent ones) before the answer is taken as final: bounds the work of a ray
 /// that meets a stack of leaves.
@@ -32,9 +36,16 @@ pub struct Whitted<'a> {
     surfaces: &'a [Surface],
     max_depth: u32,
     min_weight: f32,
-    /// Whether any surface lets light through or cuts out: otherwise a shadow ray is a
-    /// plain occlusion query.
+    /// Whether any surface tints the light through it or cuts out: otherwise a shadow
+    /// ray is a plain occlusion query (surfaces clear to shadows let it by).
     see_through: bool,
+    /// What shadow rays are traced against: `accel`, or one over the scene's casters.
+    shadow_accel: &'a Accel<'a>,
+    /// The scene's index of each shape of `shadow_accel`, when it holds the casters.
+    caster_index: Option<&'a [u32]>,
+    /// Whether a shape of `shadow_accel` may be clear to shadows: otherwise each one a
+    /// shadow ray meets blocks or tints it.
+    shadows_meet_clear: bool,
     /// Whether any light is sampled (an area light): shading then draws from the
     /// pixel's sampler.
     samples_lights: bool,
@@ -60,7 +71,8 @@ impl<'a> Whitted<'a> {
     ) -> Whitted<'a> {
         let see_through = surfaces
             .iter()
-            .any(|s| s.is_transmissive() || s.alpha_map.is_some());
+            .any(|s| (s.is_transmissive() || s.alpha_map.is_some()) && !s.is_clear_to_shadows());
+        let shadows_meet_clear = surfaces.iter().any(Surface::is_clear_to_shadows);
         let samples_lights = scene.lights.iter().any(Light::is_area);
         Whitted {
             scene,
@@ -69,7 +81,30 @@ impl<'a> Whitted<'a> {
             max_depth,
             min_weight,
             see_through,
+            shadow_accel: accel,
+            caster_index: None,
+            shadows_meet_clear,
             samples_lights,
+        }
+    }
+
+    /// Shadow rays traced against `accel`, built over the scene's [`Casters`]
+    /// (`casters.scene_index()` gives each one's index in the scene): the same answers,
+    /// without walking through the shapes that are clear to shadows.
+    pub fn with_casters(mut self, accel: &'a Accel<'a>, casters: &'a Casters) -> Whitted<'a> {
+        assert_eq!(accel.shape_count(), casters.scene_index().len());
+        self.shadow_accel = accel;
+        self.caster_index = Some(casters.scene_index());
+        self.shadows_meet_clear = false;
+        self
+    }
+
+    /// The scene's index of shape `s` of the shadow rays' intersector.
+    #[inline]
+    fn scene_shape(&self, s: u32) -> u32 {
+        match self.caster_index {
+            Some(index) => index[s as usize],
+            None => s,
         }
     }
 
@@ -296,7 +331,11 @@ impl<'a> Whitted<'a> {
             dir: ls.dir,
         };
         if !self.see_through {
-            return if self.accel.occluded(&ray, t_max, |_| true) {
+            let blocks = |shape| {
+                !self.shadows_meet_clear
+                    || !self.surface(self.scene_shape(shape)).is_clear_to_shadows()
+            };
+            return if self.shadow_accel.occluded(&ray, t_max, blocks) {
                 Vec3::ZERO
             } else {
                 Vec3::ONE
@@ -309,12 +348,15 @@ impl<'a> Whitted<'a> {
         let noted = Cell::from_mut(&mut spheres[..]).as_slice_of_cells();
         let len = Cell::new(0usize);
         let whole_scene = Cell::new(false);
-        let blocked = self.accel.occluded(&ray, t_max, |shape| {
+        let blocked = self.shadow_accel.occluded(&ray, t_max, |shape| {
+            let shape = self.scene_shape(shape);
             let s = self.surface(shape);
             if !s.is_transmissive() && s.alpha_map.is_none() {
                 return true;
             }
-            if whole_scene.get() {
+            // Crossing it multiplies by one: the walk below would change nothing there
+            // (and a glass mesh would cost a traversal per crossing).
+            if s.is_clear_to_shadows() || whole_scene.get() {
                 return false;
             }
             let geometry = &self.scene.shapes.get(shape as usize);

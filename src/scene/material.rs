@@ -188,6 +188,12 @@ impl Surface {
         self.transmission.max_element() > 0.0
     }
 
+    /// Whether a shadow ray crosses it unchanged: it lets all light through (white
+    /// transmission) and cuts nothing out, so shadow rays need not find it at all.
+    pub fn is_clear_to_shadows(&self) -> bool {
+        self.transmission == Vec3::ONE && self.alpha_map.is_none()
+    }
+
     /// Whether shading reads a hit's texture coordinates (an image albedo or any map):
     /// hits on other surfaces skip computing them.
     pub fn reads_texture_coords(&self) -> bool {
