@@ -43,12 +43,37 @@ pub struct Whitted<'a> {
     shadow_accel: &'a Accel<'a>,
     /// The scene's index of each shape of `shadow_accel`, when it holds the casters.
     caster_index: Option<&'a [u32]>,
+    /// What each surface does to a shadow ray, by material index.
+    shadow_roles: Vec<ShadowRole>,
     /// Whether a shape of `shadow_accel` may be clear to shadows: otherwise each one a
     /// shadow ray meets blocks or tints it.
     shadows_meet_clear: bool,
     /// Whether any light is sampled (an area light): shading then draws from the
     /// pixel's sampler.
     samples_lights: bool,
+}
+
+/// What a surface does to a shadow ray that meets it.
+#[derive(Clone, Copy, PartialEq)]
+enum ShadowRole {
+    /// Stops it: opaque, nothing cut out.
+    Blocks,
+    /// Lets it by unchanged ([`Surface::is_clear_to_shadows`]).
+    Clear,
+    /// Tints it, or lets it through where an alpha map cuts the surface out.
+    Crosses,
+}
+
+impl ShadowRole {
+    fn of(s: &Surface) -> ShadowRole {
+        if s.is_clear_to_shadows() {
+            ShadowRole::Clear
+        } else if s.is_transmissive() || s.alpha_map.is_some() {
+            ShadowRole::Crosses
+        } else {
+            ShadowRole::Blocks
+        }
+    }
 }
 
 /// One sample of a light as seen from a shading point.
@@ -69,10 +94,9 @@ impl<'a> Whitted<'a> {
         max_depth: u32,
         min_weight: f32,
     ) -> Whitted<'a> {
-        let see_through = surfaces
-            .iter()
-            .any(|s| (s.is_transmissive() || s.alpha_map.is_some()) && !s.is_clear_to_shadows());
-        let shadows_meet_clear = surfaces.iter().any(Surface::is_clear_to_shadows);
+        let shadow_roles: Vec<ShadowRole> = surfaces.iter().map(ShadowRole::of).collect();
+        let see_through = shadow_roles.contains(&ShadowRole::Crosses);
+        let shadows_meet_clear = shadow_roles.contains(&ShadowRole::Clear);
         let samples_lights = scene.lights.iter().any(Light::is_area);
         Whitted {
             scene,
@@ -83,6 +107,7 @@ impl<'a> Whitted<'a> {
             see_through,
             shadow_accel: accel,
             caster_index: None,
+            shadow_roles,
             shadows_meet_clear,
             samples_lights,
         }
@@ -97,6 +122,12 @@ impl<'a> Whitted<'a> {
         self.caster_index = Some(casters.scene_index());
         self.shadows_meet_clear = false;
         self
+    }
+
+    /// What shape `s` of the scene does to a shadow ray.
+    #[inline]
+    fn shadow_role(&self, s: u32) -> ShadowRole {
+        self.shadow_roles[self.scene.material_of[s as usize] as usize]
     }
 
     /// The scene's index of shape `s` of the shadow rays' intersector.
@@ -333,7 +364,7 @@ impl<'a> Whitted<'a> {
         if !self.see_through {
             let blocks = |shape| {
                 !self.shadows_meet_clear
-                    || !self.surface(self.scene_shape(shape)).is_clear_to_shadows()
+                    || self.shadow_role(self.scene_shape(shape)) != ShadowRole::Clear
             };
             return if self.shadow_accel.occluded(&ray, t_max, blocks) {
                 Vec3::ZERO
@@ -350,14 +381,13 @@ impl<'a> Whitted<'a> {
         let whole_scene = Cell::new(false);
         let blocked = self.shadow_accel.occluded(&ray, t_max, |shape| {
             let shape = self.scene_shape(shape);
-            let s = self.surface(shape);
-            if !s.is_transmissive() && s.alpha_map.is_none() {
-                return true;
-            }
-            // Crossing it multiplies by one: the walk below would change nothing there
-            // (and a glass mesh would cost a traversal per crossing).
-            if s.is_clear_to_shadows() || whole_scene.get() {
-                return false;
+            match self.shadow_role(shape) {
+                ShadowRole::Blocks => return true,
+                // Crossing it multiplies by one: the walk below would change nothing
+                // there (and a glass mesh would cost a traversal per crossing).
+                ShadowRole::Clear => return false,
+                ShadowRole::Crosses if whole_scene.get() => return false,
+                ShadowRole::Crosses => {}
             }
             let geometry = &self.scene.shapes.get(shape as usize);
             if !matches!(geometry, Shape::Sphere(_)) {
