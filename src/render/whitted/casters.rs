@@ -3,7 +3,7 @@
 //! multiplies the light by one).
 //!
 //! A shadow ray cannot stop at such a surface, so in the scene's own intersector it
-//! walks every node along its segment. Under a clear glass dragon of 871 000 triangles
+//! walks every node along its segment. Under a clear glass dragon of 100 000 triangles
 //! on a floor that is nearly all of a render's time. An intersector over the casters
 //! alone (the floor) gives the same answers, since every shape it leaves out is one
 //! the shadow query passes by.
