@@ -18,8 +18,10 @@ use crate::scene::{
 use std::cell::Cell;
 
 mod casters;
+mod shadow_batch;
 
 pub use casters::Casters;
+use shadow_batch::ShadowBatch;
 
 /// Surfaces a ray may pass through (alpha cut-outs) or a shadow ray may cross
 /// (transparent ones) before the answer is taken as final: bounds the work of a ray
@@ -51,6 +53,30 @@ pub struct Whitted<'a> {
     /// Whether any light is sampled (an area light): shading then draws from the
     /// pixel's sampler.
     samples_lights: bool,
+}
+
+/// The shadow ray of light sample `ls` seen from `from` (the point lifted onto its
+/// surface, geometric normal `ng`), and the distance it must cover; `None` where the
+/// sample is too close to need one (it is seen).
+#[inline]
+fn shadow_ray(from: Vec3, ng: Vec3, ls: &LightSample) -> Option<(Ray, f32)> {
+    let origin = offset_origin(from, ng, ls.dir);
+    // Stop short of the light itself: an emissive mesh is geometry too.
+    let t_max = if ls.dist.is_finite() {
+        ls.dist * (1.0 - 1e-4) - surface_epsilon(origin)
+    } else {
+        f32::INFINITY
+    };
+    let ray = Ray {
+        origin,
+        dir: ls.dir,
+    };
+    // Written as the test it replaced: a NaN distance still traces.
+    if t_max <= 0.0 {
+        None
+    } else {
+        Some((ray, t_max))
+    }
 }
 
 /// What a surface does to a shadow ray that meets it.
@@ -128,6 +154,13 @@ impl<'a> Whitted<'a> {
     #[inline]
     fn shadow_role(&self, s: u32) -> ShadowRole {
         self.shadow_roles[self.scene.material_of[s as usize] as usize]
+    }
+
+    /// Whether shape `s` of the shadow rays' intersector stops a shadow ray, in a scene
+    /// where no surface tints one.
+    #[inline]
+    fn shadow_blocks(&self, s: u32) -> bool {
+        !self.shadows_meet_clear || self.shadow_role(self.scene_shape(s)) != ShadowRole::Clear
     }
 
     /// The scene's index of shape `s` of the shadow rays' intersector.
@@ -208,19 +241,41 @@ impl<'a> Whitted<'a> {
         let v = -d;
         let shadow_from = sp.shadow_origin(ng);
         let kd = albedo * s.diffuse;
+        // What a sample lights at the point before its shadow ray, or `None` where it
+        // lights nothing (and no shadow ray is traced).
+        let shading = |ls: &LightSample| {
+            let cos = n.dot(ls.dir);
+            if cos <= 0.0 {
+                return None;
+            }
+            let mut shade = kd * cos;
+            if ks != Vec3::ZERO {
+                shade += ks * highlight(s, n, ls.dir, v);
+            }
+            (shade.max_element() > 0.0).then_some(shade)
+        };
         for light in &self.scene.lights {
+            if light.is_area() && !self.see_through {
+                // The samples' shadow rays leave together from one point: one packet.
+                let mut batch = ShadowBatch::new();
+                let blocks = |shape| self.shadow_blocks(shape);
+                self.for_each_sample(light, sp.p, sampler, |ls| {
+                    let Some(shade) = shading(&ls) else {
+                        return;
+                    };
+                    count.rays += 1;
+                    batch.push(shadow_ray(shadow_from, ng, &ls), ls.e, shade);
+                    if batch.is_full() {
+                        batch.resolve(self.shadow_accel, blocks, |light| l += light);
+                    }
+                });
+                batch.resolve(self.shadow_accel, blocks, |light| l += light);
+                continue;
+            }
             self.for_each_sample(light, sp.p, sampler, |ls| {
-                let cos = n.dot(ls.dir);
-                if cos <= 0.0 {
+                let Some(shade) = shading(&ls) else {
                     return;
-                }
-                let mut shade = kd * cos;
-                if ks != Vec3::ZERO {
-                    shade += ks * highlight(s, n, ls.dir, v);
-                }
-                if shade.max_element() <= 0.0 {
-                    return;
-                }
+                };
                 let vis = self.visibility(shadow_from, ng, &ls, count);
                 l += vis * ls.e * shade;
             });
@@ -347,25 +402,11 @@ impl<'a> Whitted<'a> {
     /// behind an opaque surface, tinted by each transparent surface crossed.
     fn visibility(&self, from: Vec3, ng: Vec3, ls: &LightSample, count: &mut RayCount) -> Vec3 {
         count.rays += 1;
-        let origin = offset_origin(from, ng, ls.dir);
-        // Stop short of the light itself: an emissive mesh is geometry too.
-        let t_max = if ls.dist.is_finite() {
-            ls.dist * (1.0 - 1e-4) - surface_epsilon(origin)
-        } else {
-            f32::INFINITY
-        };
-        if t_max <= 0.0 {
+        let Some((ray, t_max)) = shadow_ray(from, ng, ls) else {
             return Vec3::ONE;
-        }
-        let ray = Ray {
-            origin,
-            dir: ls.dir,
         };
         if !self.see_through {
-            let blocks = |shape| {
-                !self.shadows_meet_clear
-                    || self.shadow_role(self.scene_shape(shape)) != ShadowRole::Clear
-            };
+            let blocks = |shape| self.shadow_blocks(shape);
             return if self.shadow_accel.occluded(&ray, t_max, blocks) {
                 Vec3::ZERO
             } else {

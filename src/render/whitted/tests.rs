@@ -835,3 +835,82 @@ fn shadows_past_clear_shapes_are_those_of_the_walk_by_traversals() {
         }
     }
 }
+
+/// An area light's shadow rays from one point go as a packet where no surface tints
+/// them; where one does, each is traced alone. The two give the same radiance bit for
+/// bit: a scene with a tinted sphere far from every ray takes the single-ray path.
+#[test]
+fn area_light_shadow_packets_give_the_single_ray_radiance() {
+    let light = |kind: LightKind, samples: u32| {
+        let mut l = Light::point(Vec3::new(0.3, 3.0, -0.2), Vec3::new(1.0, 0.9, 0.8));
+        l.kind = kind;
+        l.samples = samples;
+        l
+    };
+    let lights = vec![
+        light(
+            LightKind::Quad {
+                u: Vec3::new(1.5, 0.0, 0.2),
+                v: Vec3::new(0.0, 0.3, 1.2),
+            },
+            37,
+        ),
+        light(LightKind::Sphere { radius: 0.4 }, 16),
+        Light::point(Vec3::new(-2.0, 4.0, 1.0), Vec3::splat(0.5)),
+    ];
+    let far_glass = Surface {
+        transmission: Vec3::new(0.5, 0.8, 0.9),
+        ..Surface::default()
+    };
+    let shapes = |with_far_glass: bool| {
+        let mut v = vec![
+            (floor(0.0, 10.0), matte(Vec3::new(0.9, 0.8, 0.7))),
+            (
+                sphere_at(0.0, 1.0, 0.0, 0.6),
+                matte(Vec3::new(0.2, 0.5, 0.9)),
+            ),
+            (sphere_at(0.9, 0.4, 0.5, 0.3), matte(Vec3::ONE)),
+        ];
+        if with_far_glass {
+            v.push((sphere_at(90.0, 90.0, 90.0, 0.1), far_glass.clone()));
+        }
+        v
+    };
+    let packets = scene(shapes(false), lights.clone(), Background::Black);
+    let single = scene(shapes(true), lights.clone(), Background::Black);
+    let open = scene(shapes(false)[..1].to_vec(), lights, Background::Black);
+    let mut count = RayCount::default();
+    let (mut shadowed, mut unshadowed) = (0, 0);
+    for kind in [AccelKind::Bvh, AccelKind::List] {
+        let mut radiance = |s: &Scene, ray: &Ray, k: u32| {
+            let accel = Accel::build(kind, &s.shapes);
+            let surfaces = s.resolved_surfaces();
+            let w = Whitted::new(s, &accel, &surfaces, 10, 0.0);
+            assert_eq!(w.see_through, s.shapes.len() == 4);
+            let mut sampler = PixelSampler::new(7, k, 3);
+            w.radiance(ray, 0, Vec3::ONE, &mut sampler, &mut count)
+        };
+        for k in 0..400u32 {
+            let (x, z) = ((k % 20) as f32 * 0.2 - 2.0, (k / 20) as f32 * 0.2 - 2.0);
+            let ray = Ray::new(Vec3::new(x, 5.0, z), -Vec3::Y);
+            let a = radiance(&packets, &ray, k);
+            let b = radiance(&single, &ray, k);
+            assert_eq!(
+                a.to_array().map(f32::to_bits),
+                b.to_array().map(f32::to_bits),
+                "{kind} ray {k}: {a} against {b}"
+            );
+            // Points on the floor, some in the spheres' shadows and half shadows.
+            let lit = radiance(&open, &ray, k);
+            if a.x > 0.0 && a.x < lit.x * 0.999 {
+                shadowed += 1;
+            } else if a == lit {
+                unshadowed += 1;
+            }
+        }
+    }
+    assert!(
+        shadowed > 40 && unshadowed > 40,
+        "{shadowed} shadowed, {unshadowed} not"
+    );
+}
