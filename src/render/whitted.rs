@@ -53,6 +53,9 @@ pub struct Whitted<'a> {
     /// Whether any light is sampled (an area light): shading then draws from the
     /// pixel's sampler.
     samples_lights: bool,
+    /// Whether an area light's shadow rays from one point go as one packet (the tests
+    /// hold them to the rays one at a time).
+    shadow_packets: bool,
 }
 
 /// The shadow ray of light sample `ls` seen from `from` (the point lifted onto its
@@ -103,6 +106,7 @@ impl ShadowRole {
 }
 
 /// One sample of a light as seen from a shading point.
+#[derive(Clone, Copy)]
 struct LightSample {
     /// Unit direction from the point toward the light.
     dir: Vec3,
@@ -110,6 +114,15 @@ struct LightSample {
     dist: f32,
     /// Irradiance the sample delivers to a surface facing it.
     e: Vec3,
+}
+
+impl LightSample {
+    /// No light: fills unused slots.
+    const NONE: LightSample = LightSample {
+        dir: Vec3::ZERO,
+        dist: 0.0,
+        e: Vec3::ZERO,
+    };
 }
 
 impl<'a> Whitted<'a> {
@@ -136,7 +149,15 @@ impl<'a> Whitted<'a> {
             shadow_roles,
             shadows_meet_clear,
             samples_lights,
+            shadow_packets: true,
         }
+    }
+
+    /// Every shadow ray traced alone: the reference the packets are held to.
+    #[cfg(test)]
+    fn one_shadow_ray_at_a_time(mut self) -> Whitted<'a> {
+        self.shadow_packets = false;
+        self
     }
 
     /// Shadow rays traced against `accel`, built over the scene's [`Casters`]
@@ -156,8 +177,8 @@ impl<'a> Whitted<'a> {
         self.shadow_roles[self.scene.material_of[s as usize] as usize]
     }
 
-    /// Whether shape `s` of the shadow rays' intersector stops a shadow ray, in a scene
-    /// where no surface tints one.
+    /// Whether shape `s` of the shadow rays' intersector affects a shadow ray: stops it,
+    /// or where surfaces tint shadow rays, may stop or tint it.
     #[inline]
     fn shadow_blocks(&self, s: u32) -> bool {
         !self.shadows_meet_clear || self.shadow_role(self.scene_shape(s)) != ShadowRole::Clear
@@ -255,21 +276,28 @@ impl<'a> Whitted<'a> {
             (shade.max_element() > 0.0).then_some(shade)
         };
         for light in &self.scene.lights {
-            if light.is_area() && !self.see_through {
+            if light.is_area() && self.shadow_packets {
                 // The samples' shadow rays leave together from one point: one packet.
                 let mut batch = ShadowBatch::new();
-                let blocks = |shape| self.shadow_blocks(shape);
+                let meets = |shape| self.shadow_blocks(shape);
+                let settle = |ls: &LightSample| {
+                    if self.see_through {
+                        self.visibility_of(shadow_from, ng, ls)
+                    } else {
+                        Vec3::ZERO
+                    }
+                };
                 self.for_each_sample(light, sp.p, sampler, |ls| {
                     let Some(shade) = shading(&ls) else {
                         return;
                     };
                     count.rays += 1;
-                    batch.push(shadow_ray(shadow_from, ng, &ls), ls.e, shade);
+                    batch.push(shadow_ray(shadow_from, ng, &ls), ls, shade);
                     if batch.is_full() {
-                        batch.resolve(self.shadow_accel, blocks, |light| l += light);
+                        batch.resolve(self.shadow_accel, meets, settle, |light| l += light);
                     }
                 });
-                batch.resolve(self.shadow_accel, blocks, |light| l += light);
+                batch.resolve(self.shadow_accel, meets, settle, |light| l += light);
                 continue;
             }
             self.for_each_sample(light, sp.p, sampler, |ls| {
@@ -402,6 +430,11 @@ impl<'a> Whitted<'a> {
     /// behind an opaque surface, tinted by each transparent surface crossed.
     fn visibility(&self, from: Vec3, ng: Vec3, ls: &LightSample, count: &mut RayCount) -> Vec3 {
         count.rays += 1;
+        self.visibility_of(from, ng, ls)
+    }
+
+    /// [`Whitted::visibility`], uncounted.
+    fn visibility_of(&self, from: Vec3, ng: Vec3, ls: &LightSample) -> Vec3 {
         let Some((ray, t_max)) = shadow_ray(from, ng, ls) else {
             return Vec3::ONE;
         };

@@ -5,10 +5,14 @@
 //!
 //! A sample's light is added when the batch is resolved, in the order the samples were
 //! drawn and with the same arithmetic as one at a time, so the image does not change.
+//! Where surfaces tint shadow rays, the packet asks only whether a ray meets anything
+//! that is not clear to shadows; the few that do are settled one at a time.
 
 use crate::accel::{Accel, PACKET_RAYS};
 use crate::math::{Ray, Vec3};
 use crate::render::NO_RAY;
+
+use super::LightSample;
 
 /// Light samples waiting for their shadow answers: up to [`PACKET_RAYS`].
 pub(super) struct ShadowBatch {
@@ -16,9 +20,9 @@ pub(super) struct ShadowBatch {
     rays: [Ray; PACKET_RAYS],
     t_max: [f32; PACKET_RAYS],
     traced: usize,
-    /// Per sample, in order: its irradiance, its shading factor, and whether its shadow
-    /// ray is traced (a sample on the point itself needs none and is seen).
-    samples: [(Vec3, Vec3, bool); PACKET_RAYS],
+    /// Per sample, in order: the sample, its shading factor, and whether its shadow ray
+    /// is traced (a sample on the point itself needs none and is seen).
+    samples: [(LightSample, Vec3, bool); PACKET_RAYS],
     len: usize,
 }
 
@@ -28,7 +32,7 @@ impl ShadowBatch {
             rays: [NO_RAY; PACKET_RAYS],
             t_max: [0.0; PACKET_RAYS],
             traced: 0,
-            samples: [(Vec3::ZERO, Vec3::ZERO, false); PACKET_RAYS],
+            samples: [(LightSample::NONE, Vec3::ZERO, false); PACKET_RAYS],
             len: 0,
         }
     }
@@ -37,45 +41,43 @@ impl ShadowBatch {
         self.len == PACKET_RAYS
     }
 
-    /// Adds a sample of irradiance `e` and shading factor `shade`, whose shadow ray
-    /// (and the distance it must cover) is `shadow`. The batch must not be full.
-    pub(super) fn push(&mut self, shadow: Option<(Ray, f32)>, e: Vec3, shade: Vec3) {
+    /// Adds sample `ls` of shading factor `shade`, whose shadow ray (and the distance it
+    /// must cover) is `shadow`. The batch must not be full.
+    pub(super) fn push(&mut self, shadow: Option<(Ray, f32)>, ls: LightSample, shade: Vec3) {
         if let Some((ray, t_max)) = shadow {
             self.rays[self.traced] = ray;
             self.t_max[self.traced] = t_max;
             self.traced += 1;
         }
-        self.samples[self.len] = (e, shade, shadow.is_some());
+        self.samples[self.len] = (ls, shade, shadow.is_some());
         self.len += 1;
     }
 
-    /// Traces the waiting shadow rays against `accel` as one packet (`blocks` says which
-    /// shapes stop light), then hands `add` each sample's light, `vis * e * shade`, in
-    /// order; empties the batch.
+    /// Traces the waiting shadow rays against `accel` as one packet, asking whether each
+    /// meets a shape for which `meets` holds; `settle` gives the visibility of a sample
+    /// whose ray does (unmet ones are seen whole). Then hands `add` each sample's
+    /// light, `vis * e * shade`, in order, and empties the batch.
     pub(super) fn resolve(
         &mut self,
         accel: &Accel,
-        blocks: impl Fn(u32) -> bool,
+        meets: impl Fn(u32) -> bool,
+        mut settle: impl FnMut(&LightSample) -> Vec3,
         mut add: impl FnMut(Vec3),
     ) {
-        let blocked = if self.traced > 0 {
-            accel.occluded_packet(
-                &self.rays[..self.traced],
-                &self.t_max[..self.traced],
-                blocks,
-            )
+        let met = if self.traced > 0 {
+            accel.occluded_packet(&self.rays[..self.traced], &self.t_max[..self.traced], meets)
         } else {
             0
         };
         let mut k = 0;
-        for &(e, shade, traced) in &self.samples[..self.len] {
-            let vis = if traced && blocked >> k & 1 == 1 {
-                Vec3::ZERO
+        for (ls, shade, traced) in &self.samples[..self.len] {
+            let vis = if *traced && met >> k & 1 == 1 {
+                settle(ls)
             } else {
                 Vec3::ONE
             };
-            k += usize::from(traced);
-            add(vis * e * shade);
+            k += usize::from(*traced);
+            add(vis * ls.e * *shade);
         }
         self.traced = 0;
         self.len = 0;

@@ -836,9 +836,9 @@ fn shadows_past_clear_shapes_are_those_of_the_walk_by_traversals() {
     }
 }
 
-/// An area light's shadow rays from one point go as a packet where no surface tints
-/// them; where one does, each is traced alone. The two give the same radiance bit for
-/// bit: a scene with a tinted sphere far from every ray takes the single-ray path.
+/// An area light's shadow rays from one point go as a packet, and give the radiance of
+/// the rays one at a time bit for bit: over opaque shapes, past clear glass, and through
+/// tinted glass and cut-outs (where the packet's met rays are settled one by one).
 #[test]
 fn area_light_shadow_packets_give_the_single_ray_radiance() {
     let light = |kind: LightKind, samples: u32| {
@@ -858,59 +858,62 @@ fn area_light_shadow_packets_give_the_single_ray_radiance() {
         light(LightKind::Sphere { radius: 0.4 }, 16),
         Light::point(Vec3::new(-2.0, 4.0, 1.0), Vec3::splat(0.5)),
     ];
-    let far_glass = Surface {
-        transmission: Vec3::new(0.5, 0.8, 0.9),
+    let glass = |t: Vec3| Surface {
+        albedo: Albedo::Color(Vec3::ZERO),
+        transmission: t,
+        ior: 1.5,
+        fresnel: true,
         ..Surface::default()
     };
-    let shapes = |with_far_glass: bool| {
-        let mut v = vec![
-            (floor(0.0, 10.0), matte(Vec3::new(0.9, 0.8, 0.7))),
-            (
-                sphere_at(0.0, 1.0, 0.0, 0.6),
-                matte(Vec3::new(0.2, 0.5, 0.9)),
-            ),
-            (sphere_at(0.9, 0.4, 0.5, 0.3), matte(Vec3::ONE)),
-        ];
-        if with_far_glass {
-            v.push((sphere_at(90.0, 90.0, 90.0, 0.1), far_glass.clone()));
-        }
-        v
-    };
-    let packets = scene(shapes(false), lights.clone(), Background::Black);
-    let single = scene(shapes(true), lights.clone(), Background::Black);
-    let open = scene(shapes(false)[..1].to_vec(), lights, Background::Black);
+    let opaque = vec![
+        (floor(0.0, 10.0), matte(Vec3::new(0.9, 0.8, 0.7))),
+        (
+            sphere_at(0.0, 1.0, 0.0, 0.6),
+            matte(Vec3::new(0.2, 0.5, 0.9)),
+        ),
+        (sphere_at(0.9, 0.4, 0.5, 0.3), matte(Vec3::ONE)),
+    ];
+    let mut clear = opaque.clone();
+    clear.push((sphere_at(-0.8, 1.3, -0.4, 0.5), glass(Vec3::ONE)));
+    let mut tinted = clear.clone();
+    tinted.push((
+        sphere_at(0.7, 1.6, -0.6, 0.45),
+        glass(Vec3::new(0.5, 0.8, 0.9)),
+    ));
+    let mut cases: Vec<(&str, Scene)> = [("opaque", opaque), ("clear", clear), ("tinted", tinted)]
+        .into_iter()
+        .map(|(name, shapes)| (name, scene(shapes, lights.clone(), Background::Black)))
+        .collect();
+    cases.push(("see-through", see_through_scene(true)));
+    cases[3].1.lights = lights;
     let mut count = RayCount::default();
-    let (mut shadowed, mut unshadowed) = (0, 0);
-    for kind in [AccelKind::Bvh, AccelKind::List] {
-        let mut radiance = |s: &Scene, ray: &Ray, k: u32| {
+    for (name, s) in &cases {
+        let surfaces = s.resolved_surfaces();
+        for kind in [AccelKind::Bvh, AccelKind::List] {
             let accel = Accel::build(kind, &s.shapes);
-            let surfaces = s.resolved_surfaces();
-            let w = Whitted::new(s, &accel, &surfaces, 10, 0.0);
-            assert_eq!(w.see_through, s.shapes.len() == 4);
-            let mut sampler = PixelSampler::new(7, k, 3);
-            w.radiance(ray, 0, Vec3::ONE, &mut sampler, &mut count)
-        };
-        for k in 0..400u32 {
-            let (x, z) = ((k % 20) as f32 * 0.2 - 2.0, (k / 20) as f32 * 0.2 - 2.0);
-            let ray = Ray::new(Vec3::new(x, 5.0, z), -Vec3::Y);
-            let a = radiance(&packets, &ray, k);
-            let b = radiance(&single, &ray, k);
-            assert_eq!(
-                a.to_array().map(f32::to_bits),
-                b.to_array().map(f32::to_bits),
-                "{kind} ray {k}: {a} against {b}"
-            );
-            // Points on the floor, some in the spheres' shadows and half shadows.
-            let lit = radiance(&open, &ray, k);
-            if a.x > 0.0 && a.x < lit.x * 0.999 {
-                shadowed += 1;
-            } else if a == lit {
-                unshadowed += 1;
+            let packets = Whitted::new(s, &accel, &surfaces, 10, 0.0);
+            let single = Whitted::new(s, &accel, &surfaces, 10, 0.0).one_shadow_ray_at_a_time();
+            // Floor points in light, half shadow, shadow and tinted shadow all differ.
+            let mut floor = std::collections::HashSet::new();
+            for k in 0..400u32 {
+                let (x, z) = ((k % 20) as f32 * 0.2 - 2.0, (k / 20) as f32 * 0.2 - 2.0);
+                let ray = Ray::new(Vec3::new(x, 5.0, z), Vec3::new(0.1, -1.0, 0.05));
+                let mut radiance = |w: &Whitted| {
+                    let mut sampler = PixelSampler::new(7, k, 3);
+                    w.radiance(&ray, 0, Vec3::ONE, &mut sampler, &mut count)
+                };
+                let (a, b) = (radiance(&packets), radiance(&single));
+                assert_eq!(
+                    a.to_array().map(f32::to_bits),
+                    b.to_array().map(f32::to_bits),
+                    "{name} {kind} ray {k}: {a} against {b}"
+                );
+                let first = single.accel.closest(&ray, f32::INFINITY).map(|h| h.shape);
+                if first == Some(0) {
+                    floor.insert(a.to_array().map(f32::to_bits));
+                }
             }
+            assert!(floor.len() > 40, "{name}: {} floor radiances", floor.len());
         }
     }
-    assert!(
-        shadowed > 40 && unshadowed > 40,
-        "{shadowed} shadowed, {unshadowed} not"
-    );
 }
