@@ -376,9 +376,14 @@ impl<'s> Bvh<'s> {
         if self.shape_count == 0 {
             return None;
         }
-        let boxes = B::new(ray);
         let lanes = PacketRay::new(ray);
         let mut best: Option<Hit> = None;
+        if self.root.count > 0 {
+            // A scene of a few shapes is one leaf: no boxes, no stack.
+            self.leaf_closest(self.root, &lanes, ray, t_max, &mut best);
+            return best;
+        }
+        let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
         // A node with one child hit goes straight on to it, past the stack.
         let mut next: Option<Entry> = None;
@@ -388,18 +393,7 @@ impl<'s> Bvh<'s> {
                 continue;
             }
             if entry.count > 0 {
-                let first = entry.child as usize;
-                if entry.count & PACKED != 0 {
-                    let n = (entry.count & !PACKED) as usize;
-                    for packet in &self.packets[first..first + n] {
-                        packet_closest(packet, &lanes, ray, t_max, &mut best);
-                    }
-                } else {
-                    for four in self.prims[first..first + entry.count as usize].chunks(4) {
-                        let packet = Packet::new(self.shapes, four);
-                        packet_closest(&packet, &lanes, ray, t_max, &mut best);
-                    }
-                }
+                self.leaf_closest(entry, &lanes, ray, t_max, &mut best);
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
@@ -439,26 +433,16 @@ impl<'s> Bvh<'s> {
         if self.shape_count == 0 {
             return false;
         }
-        let boxes = B::new(ray);
         let lanes = PacketRay::new(ray);
+        if self.root.count > 0 {
+            return self.leaf_blocks(self.root, &lanes, ray, t_max, &blocks);
+        }
+        let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
-                let first = entry.child as usize;
-                if entry.count & PACKED != 0 {
-                    let n = (entry.count & !PACKED) as usize;
-                    for packet in &self.packets[first..first + n] {
-                        if packet_blocks(packet, &lanes, ray, t_max, &blocks) {
-                            return true;
-                        }
-                    }
-                } else {
-                    for four in self.prims[first..first + entry.count as usize].chunks(4) {
-                        let packet = Packet::new(self.shapes, four);
-                        if packet_blocks(&packet, &lanes, ray, t_max, &blocks) {
-                            return true;
-                        }
-                    }
+                if self.leaf_blocks(entry, &lanes, ray, t_max, &blocks) {
+                    return true;
                 }
                 continue;
             }
@@ -472,6 +456,63 @@ impl<'s> Bvh<'s> {
                     count: node.count[lane],
                     t: 0.0,
                 });
+            }
+        }
+        false
+    }
+}
+
+impl Bvh<'_> {
+    /// Updates `best` with the hits of the shapes of leaf `entry`.
+    #[inline(always)]
+    fn leaf_closest(
+        &self,
+        entry: Entry,
+        lanes: &PacketRay,
+        ray: &Ray,
+        t_max: f32,
+        best: &mut Option<Hit>,
+    ) {
+        let first = entry.child as usize;
+        if entry.count & PACKED != 0 {
+            let n = (entry.count & !PACKED) as usize;
+            for packet in &self.packets[first..first + n] {
+                packet_closest(packet, lanes, ray, t_max, best);
+            }
+        } else {
+            for four in self.prims[first..first + entry.count as usize].chunks(4) {
+                let packet = Packet::new(self.shapes, four);
+                packet_closest(&packet, lanes, ray, t_max, best);
+            }
+        }
+    }
+
+    /// Whether a shape of leaf `entry` for which `blocks` holds meets the ray.
+    #[inline(always)]
+    fn leaf_blocks(
+        &self,
+        entry: Entry,
+        lanes: &PacketRay,
+        ray: &Ray,
+        t_max: f32,
+        blocks: &impl Fn(u32) -> bool,
+    ) -> bool {
+        // Loops, not iterator closures: a closure would not inherit the caller's
+        // instruction set.
+        let first = entry.child as usize;
+        if entry.count & PACKED != 0 {
+            let n = (entry.count & !PACKED) as usize;
+            for packet in &self.packets[first..first + n] {
+                if packet_blocks(packet, lanes, ray, t_max, blocks) {
+                    return true;
+                }
+            }
+        } else {
+            for four in self.prims[first..first + entry.count as usize].chunks(4) {
+                let packet = Packet::new(self.shapes, four);
+                if packet_blocks(&packet, lanes, ray, t_max, blocks) {
+                    return true;
+                }
             }
         }
         false
