@@ -637,6 +637,32 @@ fn see_through_scene(with_flat: bool) -> Scene {
     s
 }
 
+/// A shadow ray's start, surface normal and light sample: from anywhere over the test
+/// scenes toward a point of the box `toward`, the light at infinity, past the box, or
+/// somewhere along the way (by `i`).
+fn random_shadow(
+    unit: &mut impl FnMut() -> f32,
+    i: usize,
+    toward: [Vec3; 2],
+) -> (Vec3, Vec3, LightSample) {
+    let mut point = |lo: Vec3, hi: Vec3| lo + (hi - lo) * Vec3::new(unit(), unit(), unit());
+    let from = point(Vec3::new(-5.0, 0.0, -4.0), Vec3::new(5.0, 5.0, 4.0));
+    let to = point(toward[0], toward[1]);
+    let ng = (point(Vec3::NEG_ONE, Vec3::ONE)).normalize_or(Vec3::Y);
+    let (dir, dist) = ((to - from).normalize(), (to - from).length());
+    let dist = match i % 4 {
+        0 => f32::INFINITY,
+        1 => dist * 3.0,
+        _ => dist * (0.2 + 1.6 * unit()),
+    };
+    let ls = LightSample {
+        dir,
+        dist,
+        e: Vec3::ONE,
+    };
+    (from, ng, ls)
+}
+
 #[test]
 fn one_traversal_gives_the_visibility_of_the_walk_by_traversals() {
     use rand_core::Rng;
@@ -650,22 +676,13 @@ fn one_traversal_gives_the_visibility_of_the_walk_by_traversals() {
             let w = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
             let (mut tinted, mut count) = (0, RayCount::default());
             for i in 0..20_000 {
-                let mut point =
-                    |lo: Vec3, hi: Vec3| lo + (hi - lo) * Vec3::new(unit(), unit(), unit());
-                let from = point(Vec3::new(-5.0, 0.0, -4.0), Vec3::new(5.0, 5.0, 4.0));
-                let to = point(Vec3::new(-3.0, 0.0, -3.5), Vec3::new(3.0, 4.5, 3.0));
-                let ng = (point(Vec3::NEG_ONE, Vec3::ONE)).normalize_or(Vec3::Y);
-                let (dir, dist) = ((to - from).normalize(), (to - from).length());
-                let dist = match i % 4 {
-                    0 => f32::INFINITY,
-                    1 => dist * 3.0,
-                    _ => dist * (0.2 + 1.6 * unit()),
-                };
-                let ls = LightSample {
-                    dir,
-                    dist,
-                    e: Vec3::ONE,
-                };
+                let (from, ng, ls) = random_shadow(
+                    &mut unit,
+                    i,
+                    [Vec3::new(-3.0, 0.0, -3.5), Vec3::new(3.0, 4.5, 3.0)],
+                );
+                let dir = ls.dir;
+                let dist = ls.dist;
                 let expected = visibility_by_traversals(&w, from, ng, &ls);
                 let got = w.visibility(from, ng, &ls, &mut count);
                 assert_eq!(
@@ -797,22 +814,13 @@ fn shadows_past_clear_shapes_are_those_of_the_walk_by_traversals() {
                 Whitted::new(&s, &accel, &surfaces, 10, 0.0).with_casters(&caster_accel, &casters);
             let (mut through_clear, mut count) = (0, RayCount::default());
             for i in 0..4_000 {
-                let mut point =
-                    |lo: Vec3, hi: Vec3| lo + (hi - lo) * Vec3::new(unit(), unit(), unit());
-                let from = point(Vec3::new(-5.0, 0.0, -4.0), Vec3::new(5.0, 5.0, 4.0));
-                let to = point(Vec3::new(-1.0, 0.5, -1.5), Vec3::new(2.0, 3.5, 1.5));
-                let ng = (point(Vec3::NEG_ONE, Vec3::ONE)).normalize_or(Vec3::Y);
-                let (dir, dist) = ((to - from).normalize(), (to - from).length());
-                let dist = match i % 4 {
-                    0 => f32::INFINITY,
-                    1 => dist * 3.0,
-                    _ => dist * (0.2 + 1.6 * unit()),
-                };
-                let ls = LightSample {
-                    dir,
-                    dist,
-                    e: Vec3::ONE,
-                };
+                let (from, ng, ls) = random_shadow(
+                    &mut unit,
+                    i,
+                    [Vec3::new(-1.0, 0.5, -1.5), Vec3::new(2.0, 3.5, 1.5)],
+                );
+                let dir = ls.dir;
+                let dist = ls.dist;
                 let expected = visibility_by_traversals(&plain, from, ng, &ls).to_array();
                 for (w, name) in [(&plain, "plain"), (&with_casters, "casters")] {
                     let got = w.visibility(from, ng, &ls, &mut count).to_array();
