@@ -356,6 +356,12 @@ impl<'s> Bvh<'s> {
 
     #[inline]
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        if self.root.count > 0 {
+            // A scene of a few shapes is one leaf: no boxes to set up, no stack.
+            let mut best = None;
+            self.leaf_closest(self.root, &PacketRay::new(ray), ray, t_max, &mut best);
+            return best;
+        }
         #[cfg(target_arch = "x86_64")]
         if self.simd == SimdLevel::Avx2 {
             // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
@@ -378,11 +384,6 @@ impl<'s> Bvh<'s> {
         }
         let lanes = PacketRay::new(ray);
         let mut best: Option<Hit> = None;
-        if self.root.count > 0 {
-            // A scene of a few shapes is one leaf: no boxes, no stack.
-            self.leaf_closest(self.root, &lanes, ray, t_max, &mut best);
-            return best;
-        }
         let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
         // A node with one child hit goes straight on to it, past the stack.
@@ -414,6 +415,9 @@ impl<'s> Bvh<'s> {
 
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
+        if self.root.count > 0 {
+            return self.leaf_blocks(self.root, &PacketRay::new(ray), ray, t_max, &blocks);
+        }
         #[cfg(target_arch = "x86_64")]
         if self.simd == SimdLevel::Avx2 {
             // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
@@ -434,9 +438,6 @@ impl<'s> Bvh<'s> {
             return false;
         }
         let lanes = PacketRay::new(ray);
-        if self.root.count > 0 {
-            return self.leaf_blocks(self.root, &lanes, ray, t_max, &blocks);
-        }
         let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
