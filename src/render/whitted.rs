@@ -82,6 +82,14 @@ fn shadow_ray(from: Vec3, ng: Vec3, ls: &LightSample) -> Option<(Ray, f32)> {
     }
 }
 
+/// Where a shading point's shadow rays start: the point, the point lifted onto its
+/// smooth surface, and the geometric normal on the side they leave from.
+struct Shadows {
+    p: Vec3,
+    shadow_from: Vec3,
+    ng: Vec3,
+}
+
 /// What a surface does to a shadow ray that meets it.
 #[derive(Clone, Copy, PartialEq)]
 enum ShadowRole {
@@ -277,27 +285,12 @@ impl<'a> Whitted<'a> {
         };
         for light in &self.scene.lights {
             if light.is_area() && self.shadow_packets {
-                // The samples' shadow rays leave together from one point: one packet.
-                let mut batch = ShadowBatch::new();
-                let meets = |shape| self.shadow_blocks(shape);
-                let settle = |ls: &LightSample| {
-                    if self.see_through {
-                        self.visibility_of(shadow_from, ng, ls)
-                    } else {
-                        Vec3::ZERO
-                    }
+                let from = Shadows {
+                    p: sp.p,
+                    shadow_from,
+                    ng,
                 };
-                self.for_each_sample(light, sp.p, sampler, |ls| {
-                    let Some(shade) = shading(&ls) else {
-                        return;
-                    };
-                    count.rays += 1;
-                    batch.push(shadow_ray(shadow_from, ng, &ls), ls, shade);
-                    if batch.is_full() {
-                        batch.resolve(self.shadow_accel, meets, settle, |light| l += light);
-                    }
-                });
-                batch.resolve(self.shadow_accel, meets, settle, |light| l += light);
+                self.add_area_light(light, &from, &shading, &mut l, sampler, count);
                 continue;
             }
             self.for_each_sample(light, sp.p, sampler, |ls| {
@@ -343,6 +336,42 @@ impl<'a> Whitted<'a> {
             l += kt * self.radiance(&child, depth + 1, weight * kt, sampler, count);
         }
         absorbed * l
+    }
+
+    /// Adds to `l` the light of area light `light` at a shading point, whose samples
+    /// (their shading factors from `shading`) send their shadow rays as one packet:
+    /// they leave together from one point. Not inlined: the packet's buffers would
+    /// otherwise sit in the frame of every level of the shading recursion.
+    #[inline(never)]
+    fn add_area_light(
+        &self,
+        light: &Light,
+        at: &Shadows,
+        shading: &impl Fn(&LightSample) -> Option<Vec3>,
+        l: &mut Vec3,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) {
+        let mut batch = ShadowBatch::new();
+        let meets = |shape| self.shadow_blocks(shape);
+        let settle = |ls: &LightSample| {
+            if self.see_through {
+                self.visibility_of(at.shadow_from, at.ng, ls)
+            } else {
+                Vec3::ZERO
+            }
+        };
+        self.for_each_sample(light, at.p, sampler, |ls| {
+            let Some(shade) = shading(&ls) else {
+                return;
+            };
+            count.rays += 1;
+            batch.push(shadow_ray(at.shadow_from, at.ng, &ls), ls, shade);
+            if batch.is_full() {
+                batch.resolve(self.shadow_accel, meets, settle, |light| *l += light);
+            }
+        });
+        batch.resolve(self.shadow_accel, meets, settle, |light| *l += light);
     }
 
     /// The first surface along `ray` that is not cut out by its alpha map, given the
