@@ -367,6 +367,14 @@ impl<'s> Bvh<'s> {
             // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
             return unsafe { self.closest_avx2(ray, t_max) };
         }
+        self.closest_sse2(ray, t_max)
+    }
+
+    /// [`Bvh::closest`] on four lanes. Not inlined, like the AVX2 one: the traversal
+    /// stack would otherwise sit in the frame of every caller, a shading recursion's
+    /// at every level.
+    #[inline(never)]
+    fn closest_sse2(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         self.closest_in::<Boxes4>(ray, t_max)
     }
 
@@ -423,6 +431,12 @@ impl<'s> Bvh<'s> {
             // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
             return unsafe { self.occluded_avx2(ray, t_max, blocks) };
         }
+        self.occluded_sse2(ray, t_max, blocks)
+    }
+
+    /// [`Bvh::occluded`] on four lanes, not inlined (see [`Bvh::closest_sse2`]).
+    #[inline(never)]
+    fn occluded_sse2(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
         self.occluded_in::<Boxes4>(ray, t_max, blocks)
     }
 
