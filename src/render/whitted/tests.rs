@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::accel::AccelKind;
+use crate::math::surface_epsilon;
 use crate::scene::{Material, Rectangle, Sphere};
 
 /// A scene of `shapes`, each with its own surface.
