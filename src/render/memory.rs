@@ -68,11 +68,7 @@ impl MemoryEstimate {
                 .iter()
                 .map(|t| t.texels.len() as u64 * 3)
                 .sum::<u64>();
-        let accel = n.saturating_mul(match accel {
-            AccelKind::List => 0,
-            AccelKind::Bvh => BVH_BYTES_PER_SHAPE,
-            AccelKind::Octree => OCTREE_BYTES_PER_SHAPE,
-        });
+        let accel = n.saturating_mul(accel_bytes_per_shape(accel));
         let pixels = u64::from(width) * u64::from(height);
         // Supersampled rows are traced a band at a time; the output pixels stay.
         let band = u64::from(width) * u64::from(aa) * u64::from(aa) * 32 * 12;
@@ -86,6 +82,23 @@ impl MemoryEstimate {
             film: pixels
                 .saturating_mul(FILM_BYTES_PER_PIXEL)
                 .saturating_add(band.saturating_mul(threads)),
+        }
+    }
+
+    /// This estimate and the shadow casters of the whitted model (`casters` of the
+    /// scene's shapes, gathered when shapes clear to shadows outnumber them): their copy,
+    /// at most the scene's shapes with an index each, and their own intersector.
+    pub fn with_casters(self, scene: &Scene, accel: AccelKind, casters: usize) -> Self {
+        let casters = casters as u64;
+        MemoryEstimate {
+            shapes: self
+                .shapes
+                .saturating_add(scene.shapes.memory_bytes() as u64)
+                .saturating_add(casters.saturating_mul(size_of::<u32>() as u64)),
+            accel: self
+                .accel
+                .saturating_add(casters.saturating_mul(accel_bytes_per_shape(accel))),
+            ..self
         }
     }
 
@@ -105,6 +118,14 @@ impl MemoryEstimate {
             human(self.film),
             human(budget),
         )))
+    }
+}
+
+fn accel_bytes_per_shape(accel: AccelKind) -> u64 {
+    match accel {
+        AccelKind::List => 0,
+        AccelKind::Bvh => BVH_BYTES_PER_SHAPE,
+        AccelKind::Octree => OCTREE_BYTES_PER_SHAPE,
     }
 }
 
@@ -248,6 +269,21 @@ mod tests {
             MemoryEstimate::of(&scene, AccelKind::List, 1, 1, 1).accel,
             0
         );
+    }
+
+    #[test]
+    fn shadow_casters_add_their_copy_and_their_intersector() {
+        let scene = spheres(1000);
+        for kind in AccelKind::ALL {
+            let e = MemoryEstimate::of(&scene, kind, 100, 50, 1);
+            let with = e.with_casters(&scene, kind, 300);
+            assert_eq!(
+                with.shapes,
+                e.shapes + scene.shapes.memory_bytes() as u64 + 300 * 4
+            );
+            assert_eq!(with.accel, e.accel + 300 * accel_bytes_per_shape(kind));
+            assert_eq!((with.images, with.film), (e.images, e.film));
+        }
     }
 
     #[test]

@@ -161,8 +161,14 @@ impl<'a> Renderer<'a> {
             )));
         }
         let region = plan.region;
-        memory::MemoryEstimate::of(scene, plan.accel, region.width, region.height, plan.aa)
-            .check(plan.max_memory)?;
+        let mut estimate =
+            memory::MemoryEstimate::of(scene, plan.accel, region.width, region.height, plan.aa);
+        if matches!(plan.integrator, IntegratorKind::Whitted)
+            && let Some(casters) = Casters::count(scene, &scene.resolved_surfaces())
+        {
+            estimate = estimate.with_casters(scene, plan.accel, casters);
+        }
+        estimate.check(plan.max_memory)?;
         Ok(Renderer {
             scene,
             plan,

@@ -28,6 +28,12 @@ use visibility::{ShadowRole, Shadows};
 /// that meets a stack of leaves.
 const MAX_CROSSINGS: u32 = 64;
 
+/// Crossings of surfaces clear to shadows a shadow ray's walk may step through besides
+/// its [`MAX_CROSSINGS`] tinting ones: clear glass changes nothing, so it does not use
+/// up the tinting limit (the walk must answer as if it were not there, as the shadow
+/// rays that let it by do), but a bound keeps every walk finite.
+const MAX_CLEAR_CROSSINGS: u32 = 4096;
+
 /// See-through spheres a shadow ray notes on its one traversal for the walk through
 /// them; a ray passing more falls back to traversing the scene at every crossing.
 const WALK_SPHERES: usize = 16;

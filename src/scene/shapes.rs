@@ -134,6 +134,42 @@ impl Shapes {
         }
     }
 
+    /// The shapes `keep` names (indices into these, in that order), with the positions
+    /// only their triangles use: the same corners in the same order, so every shape
+    /// intersects as it does here, bit for bit.
+    pub fn subset(&self, keep: &[u32]) -> Shapes {
+        let mut out = Shapes {
+            positions: Vec::new(),
+            corners: Vec::with_capacity(keep.len()),
+            others: Vec::new(),
+        };
+        // Where each position of these lands in the subset's, once a kept triangle uses it.
+        let mut moved: Vec<u32> = Vec::new();
+        for &i in keep {
+            match self.stored(i as usize) {
+                Stored::Triangle(c) => {
+                    if moved.is_empty() {
+                        moved = vec![u32::MAX; self.positions.len()];
+                    }
+                    let corner = |k: u32| {
+                        let slot = &mut moved[k as usize];
+                        if *slot == u32::MAX {
+                            *slot = out.positions.len() as u32;
+                            out.positions.push(self.positions[k as usize]);
+                        }
+                        *slot
+                    };
+                    let c = c.map(corner);
+                    out.corners.push(c);
+                }
+                Stored::Other(shape) => out.push_other(*shape),
+            }
+        }
+        out.positions.shrink_to_fit();
+        out.others.shrink_to_fit();
+        out
+    }
+
     fn push_other(&mut self, shape: Shape) {
         self.corners.push([OTHER, self.others.len() as u32, 0]);
         self.others.push(shape);
@@ -331,6 +367,45 @@ mod tests {
         assert_eq!(loose.positions().len(), 6);
         assert_eq!(shared, loose);
         assert_eq!(shared, shared.to_vec());
+    }
+
+    #[test]
+    fn a_subset_keeps_its_shapes_and_only_the_positions_they_use() {
+        let mut s = Shapes::new();
+        s.push(Shape::Sphere(Sphere {
+            center: v(0., 0., 5.),
+            radius: 1.0,
+        }));
+        // A fan of four triangles around corner 0, then a loose triangle.
+        let fan = [
+            v(0., 0., 0.),
+            v(1., 0., 0.),
+            v(1., 1., 0.),
+            v(0., 1., 0.),
+            v(-1., 1., 0.),
+            v(-1., 0., 0.),
+        ];
+        s.push_mesh(&fan, &[[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]]);
+        s.push(Shape::Rectangle(square()));
+        s.push(Shape::Triangle(Triangle {
+            v: [v(5., 0., 0.), v(6., 0., 0.), v(5., 1., 0.)],
+        }));
+        let keep = [6, 3, 0, 1, 5];
+        let sub = s.subset(&keep);
+        assert_eq!(sub.len(), keep.len());
+        for (k, &i) in keep.iter().enumerate() {
+            assert_eq!(sub.get(k), s.get(i as usize), "shape {k} of the subset");
+        }
+        // Triangles 1 and 3 of the fan share corner 0: 5 of the fan's corners, and the
+        // loose triangle's 3.
+        assert_eq!(sub.positions().len(), 8);
+        assert_eq!(sub.others().len(), 2);
+        assert!(sub.memory_bytes() <= s.memory_bytes());
+        assert!(s.subset(&[]).is_empty());
+        assert!(
+            s.subset(&[0, 5]).positions().is_empty(),
+            "no triangle, no positions"
+        );
     }
 
     #[test]

@@ -21,26 +21,28 @@ impl Casters {
     /// The casters of `scene` (whose materials resolve to `surfaces`), when shapes clear
     /// to shadows outnumber them: then most of a shadow ray's traversal of the scene is
     /// spent among shapes that cannot affect it. `None` otherwise, where the scene's
-    /// intersector serves and no second one is built (its memory, at most half the
-    /// scene's shapes copied with their tree, stays within the render's estimate, which
-    /// counts the scene's tree at the peak of its build).
+    /// intersector serves and no second one is built.
     pub fn of(scene: &Scene, surfaces: &[Surface]) -> Option<Casters> {
+        Casters::count(scene, surfaces)?;
         let clear = |i: usize| surfaces[scene.material_of[i] as usize].is_clear_to_shadows();
-        let n = scene.shapes.len();
-        let clear_count = (0..n).filter(|&i| clear(i)).count();
-        if clear_count == 0 || clear_count <= n - clear_count {
-            return None;
-        }
-        let mut shapes = Shapes::new();
-        let mut scene_index = Vec::with_capacity(n - clear_count);
-        for i in (0..n).filter(|&i| !clear(i)) {
-            shapes.push(scene.shapes.get(i));
-            scene_index.push(i as u32);
-        }
+        let scene_index: Vec<u32> = (0..scene.shapes.len())
+            .filter(|&i| !clear(i))
+            .map(|i| i as u32)
+            .collect();
         Some(Casters {
-            shapes,
+            shapes: scene.shapes.subset(&scene_index),
             scene_index,
         })
+    }
+
+    /// How many casters [`Casters::of`] would gather, or `None` where it gathers none:
+    /// what the render's memory estimate counts before anything is built.
+    pub fn count(scene: &Scene, surfaces: &[Surface]) -> Option<usize> {
+        let n = scene.shapes.len();
+        let clear_count = (0..n)
+            .filter(|&i| surfaces[scene.material_of[i] as usize].is_clear_to_shadows())
+            .count();
+        (clear_count > 0 && clear_count > n - clear_count).then_some(n - clear_count)
     }
 
     pub fn shapes(&self) -> &Shapes {

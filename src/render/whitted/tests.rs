@@ -773,6 +773,9 @@ fn casters_are_the_shapes_not_clear_to_shadows_when_clear_ones_outnumber_them() 
             .collect();
         assert_eq!(casters.scene_index(), expected);
         assert_eq!(casters.shapes().len(), expected.len());
+        assert_eq!(Casters::count(&s, &surfaces), Some(expected.len()));
+        // Within what the memory estimate adds for them.
+        assert!(casters.shapes().memory_bytes() <= s.shapes.memory_bytes());
         for (k, &i) in expected.iter().enumerate() {
             assert_eq!(casters.shapes().get(k), s.shapes.get(i as usize));
         }
@@ -780,6 +783,7 @@ fn casters_are_the_shapes_not_clear_to_shadows_when_clear_ones_outnumber_them() 
     // No clear shape, or no more clear shapes than casters: the scene's intersector.
     let s = see_through_scene(true);
     assert!(Casters::of(&s, &s.resolved_surfaces()).is_none());
+    assert_eq!(Casters::count(&s, &s.resolved_surfaces()), None);
     let clear = Surface {
         transmission: Vec3::ONE,
         ..Surface::default()
@@ -807,7 +811,7 @@ fn shadows_past_clear_shapes_are_those_of_the_walk_by_traversals() {
         let s = clear_glass_scene(tinted);
         let surfaces = s.resolved_surfaces();
         let casters = Casters::of(&s, &surfaces).unwrap();
-        for kind in [AccelKind::Bvh, AccelKind::List] {
+        for kind in AccelKind::ALL {
             let accel = Accel::build(kind, &s.shapes);
             let caster_accel = Accel::build(kind, casters.shapes());
             let plain = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
@@ -841,6 +845,122 @@ fn shadows_past_clear_shapes_are_those_of_the_walk_by_traversals() {
                 through_clear > 500,
                 "{kind}: {through_clear} lit rays crossed glass"
             );
+        }
+    }
+}
+
+/// The visibility of a shadow ray from `from` toward a point light at `to`, for every
+/// intersector, with and without an intersector over the scene's casters: one answer,
+/// checked against each.
+fn shadow_answers(s: &Scene, from: Vec3, to: Vec3) -> Vec<(String, Vec3)> {
+    let surfaces = s.resolved_surfaces();
+    let casters = Casters::of(s, &surfaces).expect("clear shapes outnumber the rest");
+    let ls = LightSample {
+        dir: (to - from).normalize(),
+        dist: (to - from).length(),
+        e: Vec3::ONE,
+    };
+    let mut answers = Vec::new();
+    for kind in AccelKind::ALL {
+        let accel = Accel::build(kind, &s.shapes);
+        let caster_accel = Accel::build(kind, casters.shapes());
+        let plain = Whitted::new(s, &accel, &surfaces, 10, 0.0);
+        let with_casters =
+            Whitted::new(s, &accel, &surfaces, 10, 0.0).with_casters(&caster_accel, &casters);
+        for (w, name) in [(plain, "plain"), (with_casters, "casters")] {
+            let vis = w.visibility(from, ls.dir, &ls, &mut RayCount::default());
+            answers.push((format!("{kind} {name}"), vis));
+        }
+    }
+    answers
+}
+
+/// Clear glass changes nothing a shadow ray carries, however many panes it crosses: a
+/// row of more clear panes than the tinting limit counts still lets the tinted glass
+/// behind it tint, a flat pane or a sphere.
+#[test]
+fn clear_panes_past_the_crossing_limit_leave_the_tint_behind_them() {
+    use crate::scene::Triangle;
+    let clear = Surface {
+        albedo: Albedo::Color(Vec3::ZERO),
+        transmission: Vec3::ONE,
+        ..Surface::default()
+    };
+    let half = Surface {
+        transmission: Vec3::splat(0.5),
+        ..clear.clone()
+    };
+    let pane = |x: f32| {
+        let c = |y: f32, z: f32| Vec3::new(x, y, z);
+        [
+            Shape::Triangle(Triangle {
+                v: [c(-1.0, -1.0), c(1.0, -1.0), c(1.0, 1.0)],
+            }),
+            Shape::Triangle(Triangle {
+                v: [c(-1.0, -1.0), c(1.0, 1.0), c(-1.0, 1.0)],
+            }),
+        ]
+    };
+    let panes = MAX_CROSSINGS as usize + 6;
+    for tinted_sphere in [false, true] {
+        let mut shapes = Vec::new();
+        for i in 0..panes {
+            for t in pane(0.1 * i as f32) {
+                shapes.push((t, clear.clone()));
+            }
+        }
+        let tint = if tinted_sphere {
+            shapes.push((sphere_at(9.0, 0.0, 0.0, 0.5), half.clone()));
+            0.25
+        } else {
+            for t in pane(9.0) {
+                shapes.push((t, half.clone()));
+            }
+            0.5
+        };
+        let s = scene(shapes, Vec::new(), Background::Black);
+        // Off the panes' diagonals, square through every one of them.
+        let (from, to) = (Vec3::new(-1.0, 0.3, 0.2), Vec3::new(12.0, 0.3, 0.2));
+        for (name, vis) in shadow_answers(&s, from, to) {
+            assert_eq!(
+                vis,
+                Vec3::splat(tint),
+                "{name}, tinted sphere {tinted_sphere}"
+            );
+        }
+    }
+}
+
+/// An opaque ball inside clear glass, and one inside tinted glass: shadow rays through
+/// the ball are stopped, and those beside it keep all of the light, or the glass's tint
+/// once per crossing.
+#[test]
+fn an_opaque_ball_inside_glass_stops_the_shadow_rays_through_it() {
+    let glass = |t: f32| Surface {
+        albedo: Albedo::Color(Vec3::ZERO),
+        transmission: Vec3::splat(t),
+        ior: 1.5,
+        fresnel: true,
+        ..Surface::default()
+    };
+    for (t, crossings) in [(1.0f32, 0), (0.9, 2)] {
+        let mut shapes = vec![(sphere_at(0.0, 0.0, 0.0, 0.3), matte(Vec3::ONE))];
+        // Clear shells around it, so that casters are built: the tinted one outermost.
+        for r in [0.6, 0.9, 1.2] {
+            shapes.push((sphere_at(0.0, 0.0, 0.0, r), glass(1.0)));
+        }
+        shapes.push((sphere_at(0.0, 0.0, 0.0, 1.5), glass(t)));
+        let s = scene(shapes, Vec::new(), Background::Black);
+        let tint = (0..crossings).fold(1.0f32, |v, _| v * t);
+        for (y, expected) in [(0.0, 0.0), (0.1, 0.0), (0.45, tint), (-1.0, tint)] {
+            let (from, to) = (Vec3::new(-3.0, y, 0.05), Vec3::new(3.0, y, 0.05));
+            for (name, vis) in shadow_answers(&s, from, to) {
+                assert_eq!(
+                    vis,
+                    Vec3::splat(expected),
+                    "{name}: glass {t}, ray at y = {y}"
+                );
+            }
         }
     }
 }

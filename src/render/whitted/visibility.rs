@@ -4,7 +4,7 @@
 //! clear to shadows, and an area light's samples from one point traced as one packet.
 
 use super::shadow_batch::ShadowBatch;
-use super::{LightSample, MAX_CROSSINGS, WALK_SPHERES, Whitted};
+use super::{LightSample, MAX_CLEAR_CROSSINGS, MAX_CROSSINGS, WALK_SPHERES, Whitted};
 use crate::accel::Hit;
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
 use crate::render::{PixelSampler, RayCount};
@@ -223,7 +223,9 @@ impl Whitted<'_> {
 
     /// The see-through surfaces along `ray` up to `t_max`, crossed one after another
     /// (each hit found by `closest` from just past the last), their transmissions
-    /// multiplied in that order; cut-out parts let light by untouched.
+    /// multiplied in that order; cut-out parts let light by untouched. Surfaces clear to
+    /// shadows are stepped through without counting against [`MAX_CROSSINGS`], so the
+    /// answer is the one of shadow rays that let them by.
     #[inline]
     pub(super) fn walk_through(
         &self,
@@ -234,11 +236,20 @@ impl Whitted<'_> {
         let mut vis = Vec3::ONE;
         let mut r = ray;
         let mut left = t_max;
-        for _ in 0..MAX_CROSSINGS {
+        let (mut tinting, mut clear) = (0, 0);
+        while tinting < MAX_CROSSINGS {
             let Some(hit) = closest(&r, left) else {
                 return vis;
             };
             let s = self.surface(hit.shape);
+            if self.shadow_role(hit.shape) == ShadowRole::Clear {
+                if clear == MAX_CLEAR_CROSSINGS {
+                    return vis;
+                }
+                clear += 1;
+            } else {
+                tinting += 1;
+            }
             let (p, ng) = if s.alpha_map.is_some() {
                 let sp = self.scene.surface_point(hit.shape, &r, hit.t, true);
                 if !self.cut_out(hit.shape, &sp) {
