@@ -424,7 +424,7 @@ impl<'s> Bvh<'s> {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
         if self.root.count > 0 {
-            return self.leaf_blocks(self.root, &PacketRay::new(ray), ray, t_max, &blocks);
+            return self.leaf_blocks(self.root, &PacketRay::new(ray), t_max, &blocks);
         }
         #[cfg(target_arch = "x86_64")]
         if self.simd == SimdLevel::Avx2 {
@@ -456,7 +456,7 @@ impl<'s> Bvh<'s> {
         let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
-                if self.leaf_blocks(entry, &lanes, ray, t_max, &blocks) {
+                if self.leaf_blocks(entry, &lanes, t_max, &blocks) {
                     return true;
                 }
                 continue;
@@ -508,7 +508,6 @@ impl Bvh<'_> {
         &self,
         entry: Entry,
         lanes: &PacketRay,
-        ray: &Ray,
         t_max: f32,
         blocks: &impl Fn(u32) -> bool,
     ) -> bool {
@@ -518,14 +517,14 @@ impl Bvh<'_> {
         if entry.count & PACKED != 0 {
             let n = (entry.count & !PACKED) as usize;
             for packet in &self.packets[first..first + n] {
-                if packet_blocks(packet, lanes, ray, t_max, blocks) {
+                if packet_blocks(packet, lanes, t_max, blocks) {
                     return true;
                 }
             }
         } else {
             for four in self.prims[first..first + entry.count as usize].chunks(4) {
                 let packet = Packet::new(self.shapes, four);
-                if packet_blocks(&packet, lanes, ray, t_max, blocks) {
+                if packet_blocks(&packet, lanes, t_max, blocks) {
                     return true;
                 }
             }
@@ -552,15 +551,30 @@ fn packet_closest(
             *best = Some(Hit { t: t[lane], shape });
         }
     }
-    let mut spheres = packet.sphere_lanes();
-    while spheres != 0 {
+    let spheres = packet.sphere_lanes();
+    if spheres == 0 {
+        return;
+    }
+    if spheres & (spheres - 1) == 0 {
         let lane = spheres.trailing_zeros() as usize;
-        spheres &= spheres - 1;
         let shape = packet.shape(lane);
         if let Some(t) = packet.sphere(lane).intersect(ray, Hit::bound(best, t_max))
             && Hit::beats(t, shape, best)
         {
             *best = Some(Hit { t, shape });
+        }
+        return;
+    }
+    // All spheres against one bound: a sphere's distance does not depend on the bound,
+    // only whether it counts, and one the tighter bound of a nearer sphere would have
+    // rejected cannot beat that sphere (ties included, the bound being a step past).
+    let (mut mask, t) = packet.intersect_spheres(lanes, Hit::bound(best, t_max));
+    while mask != 0 {
+        let lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        let shape = packet.shape(lane);
+        if Hit::beats(t[lane], shape, best) {
+            *best = Some(Hit { t: t[lane], shape });
         }
     }
 }
@@ -570,7 +584,6 @@ fn packet_closest(
 fn packet_blocks(
     packet: &Packet,
     lanes: &PacketRay,
-    ray: &Ray,
     t_max: f32,
     blocks: &impl Fn(u32) -> bool,
 ) -> bool {
@@ -582,13 +595,16 @@ fn packet_blocks(
             return true;
         }
     }
-    let mut spheres = packet.sphere_lanes();
-    while spheres != 0 {
-        let lane = spheres.trailing_zeros() as usize;
-        spheres &= spheres - 1;
-        // Hit first: `blocks` may note the shapes it is asked about (the whitted
-        // model's walk through glass), and a sphere the ray misses is not on its way.
-        if packet.sphere(lane).intersect(ray, t_max).is_some() && blocks(packet.shape(lane)) {
+    if packet.sphere_lanes() == 0 {
+        return false;
+    }
+    // Hit first: `blocks` may note the shapes it is asked about (the whitted model's
+    // walk through glass), and a sphere the ray misses is not on its way.
+    let mut mask = packet.intersect_spheres(lanes, t_max).0;
+    while mask != 0 {
+        let lane = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        if blocks(packet.shape(lane)) {
             return true;
         }
     }
