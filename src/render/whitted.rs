@@ -38,6 +38,10 @@ const MAX_CLEAR_CROSSINGS: u32 = 4096;
 /// them; a ray passing more falls back to traversing the scene at every crossing.
 const WALK_SPHERES: usize = 16;
 
+/// Crossings of flat see-through shapes (a tinted glass mesh) a shadow ray gathers on
+/// its one traversal; a ray meeting more walks the scene crossing by crossing.
+const FLAT_CROSSINGS: usize = 32;
+
 pub struct Whitted<'a> {
     scene: &'a Scene,
     accel: &'a Accel<'a>,

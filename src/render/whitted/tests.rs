@@ -849,6 +849,190 @@ fn shadows_past_clear_shapes_are_those_of_the_walk_by_traversals() {
     }
 }
 
+/// A closed box of twelve tinted glass triangles (each face two, sharing a diagonal),
+/// from `lo` to `hi`.
+fn glass_box_mesh(s: &mut Scene, lo: Vec3, hi: Vec3, transmission: Vec3) {
+    use crate::scene::Triangle;
+    let material = s.materials.len() as u32;
+    s.materials.push(Material::default_white());
+    s.surfaces.push(Surface {
+        albedo: Albedo::Color(Vec3::ZERO),
+        transmission,
+        ior: 1.5,
+        fresnel: true,
+        ..Surface::default()
+    });
+    let corner = |b: usize| {
+        Vec3::new(
+            if b & 1 == 0 { lo.x } else { hi.x },
+            if b & 2 == 0 { lo.y } else { hi.y },
+            if b & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    for f in [
+        [0, 1, 3, 2],
+        [4, 6, 7, 5],
+        [0, 4, 5, 1],
+        [2, 3, 7, 6],
+        [0, 2, 6, 4],
+        [1, 5, 7, 3],
+    ] {
+        let [a, b, c, d] = f.map(corner);
+        s.push_shape(Shape::Triangle(Triangle { v: [a, b, c] }), material);
+        s.push_shape(Shape::Triangle(Triangle { v: [a, c, d] }), material);
+    }
+}
+
+/// Shadow rays through a tinted glass box of triangles are tinted once per side they
+/// cross, also where they enter through the diagonal two triangles of a face share or
+/// through an edge of the box, where two or four triangles meet the ray at one point.
+#[test]
+fn a_tinted_glass_mesh_tints_once_per_side_even_through_its_edges() {
+    let t = Vec3::new(0.8, 0.5, 0.9);
+    let mut s = scene(
+        vec![(floor(-5.0, 20.0), matte(Vec3::ONE))],
+        Vec::new(),
+        Background::Black,
+    );
+    let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
+    glass_box_mesh(&mut s, lo, hi, t);
+    let twice = Vec3::ONE * t * t;
+    let surfaces = s.resolved_surfaces();
+    // Where each ray enters the box, and its direction (into the box).
+    let entries = [
+        (Vec3::new(-1.0, 1.0, 0.0), Vec3::new(1.0, 0.1, 0.2)), // a face's middle
+        (Vec3::new(-1.0, 1.3, 0.3), Vec3::new(1.0, 0.2, -0.1)), // on the face's diagonal
+        (Vec3::new(-1.0, 0.7, -0.3), Vec3::new(1.0, -0.1, 0.3)), // the same diagonal
+        (Vec3::new(-1.0, 2.0, 0.2), Vec3::new(1.0, -0.7, 0.1)), // an edge of the box
+        (Vec3::new(0.4, 2.0, 1.0), Vec3::new(-0.2, -0.6, -1.0)), // another edge
+        (Vec3::new(-0.3, 0.0, -0.3), Vec3::new(0.2, 1.0, 0.3)), // the bottom's diagonal
+    ];
+    for kind in AccelKind::ALL {
+        let accel = Accel::build(kind, &s.shapes);
+        let w = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
+        for (at, dir) in entries {
+            let dir = dir.normalize();
+            let from = at - 4.0 * dir;
+            // The light 3 past the entry, beyond the box; the opaque floor below every
+            // ray, and so no blocker.
+            let ls = LightSample {
+                dir,
+                dist: 7.0,
+                e: Vec3::ONE,
+            };
+            let vis = w.visibility(from, dir, &ls, &mut RayCount::default());
+            assert_eq!(vis, twice, "{kind}: entering at {at} toward {dir}");
+        }
+    }
+}
+
+/// Flat see-through shapes alone (a tinted glass ball of triangles, a glass box of
+/// triangles, a cut-out pane, an opaque floor): the crossings a shadow ray gathers on
+/// its one traversal give what the walk by traversals gives, bit for bit.
+#[test]
+fn flat_crossings_gathered_on_one_traversal_are_those_of_the_walk() {
+    use crate::scene::{ImageTexture, Texels, TextureSlot, Triangle};
+    use rand_core::Rng;
+    let mut rng = rand_pcg::Pcg32::new(0xf1a7, 5);
+    let mut unit = move || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
+    let masked = Surface {
+        alpha_map: Some(TextureSlot {
+            scale: [3.0, 2.0],
+            ..TextureSlot::new(0)
+        }),
+        transmission: Vec3::new(0.4, 0.8, 0.9),
+        ..matte(Vec3::new(0.3, 0.6, 0.2))
+    };
+    let mut s = scene(
+        vec![
+            (floor(0.0, 20.0), matte(Vec3::ONE)),
+            (
+                Shape::Rectangle(Rectangle {
+                    v: [
+                        Vec3::new(-3.0, 3.0, -1.0),
+                        Vec3::new(3.0, 3.0, -1.0),
+                        Vec3::new(3.0, 3.5, 2.0),
+                        Vec3::new(-3.0, 3.5, 2.0),
+                    ],
+                }),
+                masked,
+            ),
+        ],
+        Vec::new(),
+        Background::Black,
+    );
+    s.images.push(ImageTexture {
+        name: "mask".into(),
+        width: 4,
+        height: 4,
+        texels: Texels::RgbaF32(
+            (0..16)
+                .map(|i| [0.5, 0.5, 0.5, ((i + i / 4) % 2) as f32])
+                .collect(),
+        ),
+    });
+    glass_box_mesh(
+        &mut s,
+        Vec3::new(1.2, 0.5, 1.0),
+        Vec3::new(2.4, 1.9, 2.5),
+        Vec3::new(0.7, 0.9, 0.95),
+    );
+    // A ball of tinted glass triangles, edge to edge.
+    let material = s.materials.len() as u32;
+    s.materials.push(Material::default_white());
+    s.surfaces.push(Surface {
+        albedo: Albedo::Color(Vec3::ZERO),
+        transmission: Vec3::new(0.9, 0.6, 0.8),
+        ior: 1.5,
+        fresnel: true,
+        ..Surface::default()
+    });
+    let (c, r) = (Vec3::new(-0.8, 1.6, 0.0), 1.4);
+    let at = |i: u32, j: u32| {
+        let (theta, phi) = (
+            std::f32::consts::PI * i as f32 / 12.0,
+            std::f32::consts::TAU * j as f32 / 24.0,
+        );
+        c + r * Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.cos(),
+            theta.sin() * phi.sin(),
+        )
+    };
+    for i in 0..12 {
+        for j in 0..24 {
+            let (a, b, d, e) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            s.push_shape(Shape::Triangle(Triangle { v: [a, b, d] }), material);
+            s.push_shape(Shape::Triangle(Triangle { v: [a, d, e] }), material);
+        }
+    }
+    let surfaces = s.resolved_surfaces();
+    for kind in AccelKind::ALL {
+        let accel = Accel::build(kind, &s.shapes);
+        let w = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
+        let (mut tinted, mut count) = (0, RayCount::default());
+        for i in 0..20_000 {
+            let (from, ng, ls) = random_shadow(
+                &mut unit,
+                i,
+                [Vec3::new(-3.0, 0.0, -2.0), Vec3::new(3.0, 4.0, 3.0)],
+            );
+            let (dir, dist) = (ls.dir, ls.dist);
+            let expected = visibility_by_traversals(&w, from, ng, &ls);
+            let got = w.visibility(from, ng, &ls, &mut count);
+            assert_eq!(
+                got.to_array().map(f32::to_bits),
+                expected.to_array().map(f32::to_bits),
+                "{kind}: from {from} dir {dir} dist {dist}: {got} against {expected}"
+            );
+            if expected != Vec3::ZERO && expected != Vec3::ONE {
+                tinted += 1;
+            }
+        }
+        assert!(tinted > 3_000, "{kind}: only {tinted} tinted shadow rays");
+    }
+}
+
 /// The visibility of a shadow ray from `from` toward a point light at `to`, for every
 /// intersector, with and without an intersector over the scene's casters: one answer,
 /// checked against each.

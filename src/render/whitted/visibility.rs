@@ -4,12 +4,15 @@
 //! clear to shadows, and an area light's samples from one point traced as one packet.
 
 use super::shadow_batch::ShadowBatch;
-use super::{LightSample, MAX_CLEAR_CROSSINGS, MAX_CROSSINGS, WALK_SPHERES, Whitted};
+use super::{
+    FLAT_CROSSINGS, LightSample, MAX_CLEAR_CROSSINGS, MAX_CROSSINGS, WALK_SPHERES, Whitted,
+};
 use crate::accel::Hit;
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
 use crate::render::{PixelSampler, RayCount};
 use crate::scene::{Light, Shape, Surface};
 use std::cell::Cell;
+use std::mem::MaybeUninit;
 
 /// The shadow ray of light sample `ls` seen from `from` (the point lifted onto its
 /// surface, geometric normal `ng`), and the distance it must cover; `None` where the
@@ -112,11 +115,22 @@ impl Whitted<'_> {
                 Vec3::ZERO
             }
         };
+        // Where surfaces tint shadow rays, every ray a packet meets is traced again on
+        // its own. So the first ray goes alone, and where it meets anything (the point
+        // lies inside or behind glass, or in shadow) so do the rest.
+        let (mut probe, mut alone) = (self.see_through, false);
         self.for_each_sample(light, at.p, sampler, |ls| {
             let Some(shade) = shading(&ls) else {
                 return;
             };
             count.rays += 1;
+            if probe || alone {
+                let vis = self.visibility_of(at.shadow_from, at.ng, &ls);
+                *l += vis * ls.e * shade;
+                alone |= probe && vis != Vec3::ONE;
+                probe = false;
+                return;
+            }
             batch.push(shadow_ray(at.shadow_from, at.ng, &ls), ls, shade);
             if batch.is_full() {
                 batch.resolve(self.shadow_accel, meets, settle, |light| *l += light);
@@ -152,11 +166,16 @@ impl Whitted<'_> {
             };
         }
         // One traversal answers whether an opaque surface blocks the segment and, on
-        // the way, notes the see-through spheres it passes, so that the walk through
-        // them below need not traverse the scene again.
+        // the way, notes the see-through spheres it passes and the flat see-through
+        // shapes it crosses, so that no crossing needs a traversal of its own below.
         let mut spheres = [0u32; WALK_SPHERES];
         let noted = Cell::from_mut(&mut spheres[..]).as_slice_of_cells();
         let len = Cell::new(0usize);
+        // Left uninitialised: clearing it would cost every shadow ray of a scene with
+        // glass, and few meet a flat one.
+        let mut flats = [const { MaybeUninit::<(f32, u32)>::uninit() }; FLAT_CROSSINGS];
+        let crossed = Cell::from_mut(&mut flats[..]).as_slice_of_cells();
+        let flat_len = Cell::new(0usize);
         let whole_scene = Cell::new(false);
         let blocked = self.shadow_accel.occluded(&ray, t_max, |shape| {
             let shape = self.scene_shape(shape);
@@ -170,11 +189,15 @@ impl Whitted<'_> {
             }
             let geometry = &self.scene.shapes.get(shape as usize);
             if !matches!(geometry, Shape::Sphere(_)) {
-                // Triangles of a mesh sit edge to edge: a walk's ray, lifted off one
-                // crossing, can meet a neighbour of the next triangle the segment
-                // crosses, so walks through flat shapes keep the full traversal.
-                if geometry.intersect(&ray, t_max).is_some() {
-                    whole_scene.set(true);
+                // A flat shape is crossed once: its distance is all the answer needs.
+                if let Some(t) = geometry.intersect(&ray, t_max) {
+                    let n = flat_len.get();
+                    if n == crossed.len() {
+                        whole_scene.set(true);
+                    } else {
+                        crossed[n].set(MaybeUninit::new((t, shape)));
+                        flat_len.set(n + 1);
+                    }
                 }
                 return false;
             }
@@ -193,10 +216,18 @@ impl Whitted<'_> {
         if blocked {
             return Vec3::ZERO;
         }
-        if whole_scene.get() {
+        let spheres = &spheres[..len.get()];
+        // SAFETY: the first `flat_len` entries were written above, and a
+        // `MaybeUninit<T>` has the layout of `T`.
+        let flats = unsafe {
+            std::slice::from_raw_parts_mut(flats.as_mut_ptr().cast::<(f32, u32)>(), flat_len.get())
+        };
+        if whole_scene.get() || !(spheres.is_empty() || flats.is_empty()) {
             return self.walk_through(ray, t_max, |r, left| self.accel.closest(r, left));
         }
-        let spheres = &spheres[..len.get()];
+        if !flats.is_empty() {
+            return self.cross_flats(&ray, flats);
+        }
         if spheres.is_empty() {
             return Vec3::ONE;
         }
@@ -219,6 +250,42 @@ impl Whitted<'_> {
             }
             best
         })
+    }
+
+    /// The light left after the flat see-through shapes `crossings` (distance along
+    /// `ray`, scene index) the segment crosses: their transmissions multiplied nearest
+    /// first. Hits closer along the ray than the surface epsilon to the last crossing
+    /// count as that crossing, as the walk that lifts its ray off each surface takes
+    /// them: where the ray passes through an edge two triangles share, or through the
+    /// octree's copies of one shape.
+    fn cross_flats(&self, ray: &Ray, crossings: &mut [(f32, u32)]) -> Vec3 {
+        crossings.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut vis = Vec3::ONE;
+        let mut last = f32::NEG_INFINITY;
+        let mut tinting = 0;
+        for &(t, shape) in crossings.iter() {
+            let p = ray.at(t);
+            if t - last <= surface_epsilon(p) {
+                continue;
+            }
+            last = t;
+            let s = self.surface(shape);
+            if s.alpha_map.is_some() {
+                let sp = self.scene.surface_point(shape, ray, t, true);
+                if self.cut_out(shape, &sp) {
+                    continue;
+                }
+            }
+            if tinting == MAX_CROSSINGS {
+                break;
+            }
+            tinting += 1;
+            vis *= s.transmission;
+            if vis.max_element() <= 0.0 {
+                return Vec3::ZERO;
+            }
+        }
+        vis
     }
 
     /// The see-through surfaces along `ray` up to `t_max`, crossed one after another
