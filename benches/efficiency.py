@@ -16,27 +16,22 @@ repository (../shared/seed-scenes/Ray-Tracing/scene1) at `--width 960 --aa 2
 --dof-rays 1`. The image goes to a temporary folder.
 """
 
-import os
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+from process import Failed, timed
 
 ROOT = Path(__file__).resolve().parent.parent
 
 
 def run(command):
-    """Wall seconds and CPU seconds (user + system) of one whole process."""
-    start = time.perf_counter()
-    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall = time.perf_counter() - start
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    if proc.returncode != 0:
-        sys.exit(f"failed ({proc.returncode}): {' '.join(map(str, command))}")
-    return wall, usage.ru_utime + usage.ru_stime
+    """Wall and CPU seconds of one whole process; exits if it fails."""
+    try:
+        return timed(command)
+    except Failed as e:
+        sys.exit(str(e))
 
 
 def speedup(s, cores):

@@ -18,13 +18,12 @@ folder.
 """
 
 import filecmp
-import os
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+from process import Failed, timed
 
 ROOT = Path(__file__).resolve().parent.parent
 STILLS = [
@@ -38,17 +37,13 @@ STILLS = [
 
 
 def run(command):
-    """Wall seconds and CPU seconds (user + system) of one whole process, or None if it
-    failed (its error is printed)."""
-    start = time.perf_counter()
-    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    stderr = proc.stderr.read()
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall = time.perf_counter() - start
-    if os.waitstatus_to_exitcode(status) != 0:
-        print(f"  failed: {' '.join(map(str, command))}\n  {stderr.decode().strip()}")
+    """Wall and CPU seconds of one whole process, or None if it failed (its error is
+    printed)."""
+    try:
+        return timed(command)
+    except Failed as e:
+        print(f"  {e}")
         return None
-    return wall, usage.ru_utime + usage.ru_stime
 
 
 def main():

@@ -1,0 +1,24 @@
+"""Timing one whole process, for the bench scripts beside this file."""
+
+import os
+import subprocess
+import time
+
+
+class Failed(Exception):
+    """A timed process exited with an error; the message names the command and its
+    standard error."""
+
+
+def timed(command):
+    """Wall seconds and CPU seconds (user + system) of one whole process. Raises
+    `Failed` if it exits with an error."""
+    start = time.perf_counter()
+    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    stderr = proc.stderr.read()
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - start
+    code = os.waitstatus_to_exitcode(status)
+    if code != 0:
+        raise Failed(f"failed ({code}): {' '.join(map(str, command))}\n  {stderr.decode().strip()}")
+    return wall, usage.ru_utime + usage.ru_stime
