@@ -303,6 +303,18 @@ mod tests {
     use super::*;
     use crate::scene::{Rectangle, Triangle};
 
+    /// A 6 x 6 square facing the rays of the tests, at z = 7.
+    fn square_at_z7() -> Shape {
+        Shape::Rectangle(Rectangle {
+            v: [
+                Vec3::new(-3.0, -3.0, 7.0),
+                Vec3::new(3.0, -3.0, 7.0),
+                Vec3::new(3.0, 3.0, 7.0),
+                Vec3::new(-3.0, 3.0, 7.0),
+            ],
+        })
+    }
+
     /// Spheres three to a packet beside a rectangle, against rays from outside, from
     /// inside, from points on the surface (the case of every reflected ray), grazing
     /// the edges and with bounds cutting through them: each sphere lane gives what the
@@ -324,17 +336,7 @@ mod tests {
                 })
                 .collect();
             let mut shapes: Vec<Shape> = spheres.iter().map(|&s| Shape::Sphere(s)).collect();
-            shapes.insert(
-                1,
-                Shape::Rectangle(Rectangle {
-                    v: [
-                        Vec3::new(-3.0, -3.0, 7.0),
-                        Vec3::new(3.0, -3.0, 7.0),
-                        Vec3::new(3.0, 3.0, 7.0),
-                        Vec3::new(-3.0, 3.0, 7.0),
-                    ],
-                }),
-            );
+            shapes.insert(1, square_at_z7());
             let packet = Packet::new(&Shapes::from(&shapes[..]), &[0, 1, 2, 3]);
             assert_eq!(packet.sphere_lanes(), 0b1101);
             for k in 0..40 {
@@ -390,14 +392,7 @@ mod tests {
                 center: Vec3::new(0.0, 0.0, 9.0),
                 radius: 2.0,
             }),
-            Shape::Rectangle(Rectangle {
-                v: [
-                    Vec3::new(-3.0, -3.0, 7.0),
-                    Vec3::new(3.0, -3.0, 7.0),
-                    Vec3::new(3.0, 3.0, 7.0),
-                    Vec3::new(-3.0, 3.0, 7.0),
-                ],
-            }),
+            square_at_z7(),
         ];
         let packet = Packet::new(&Shapes::from(&shapes[..]), &[0, 1, 2]);
         assert_eq!(packet.sphere_lanes(), 0b010);

@@ -1,7 +1,9 @@
 //! Shadow rays past shapes clear to shadows, in the scene's intersector and in one over
 //! the casters.
 
-use super::visibility::{random_shadow, see_through_scene, visibility_by_traversals};
+use super::visibility::{
+    glass, push_ball, push_material, random_shadow, see_through_scene, visibility_by_traversals,
+};
 use super::*;
 
 /// [`see_through_scene`] and a clear glass ball of triangles (white transmission) with
@@ -9,7 +11,6 @@ use super::*;
 /// `tinted`, the scene's tinted and masked shapes are left out (every shadow ray is
 /// then a plain occlusion query).
 fn clear_glass_scene(tinted: bool) -> Scene {
-    use crate::scene::Triangle;
     let mut s = if tinted {
         see_through_scene(true)
     } else {
@@ -25,35 +26,8 @@ fn clear_glass_scene(tinted: bool) -> Scene {
             Background::Black,
         )
     };
-    let clear = Surface {
-        albedo: Albedo::Color(Vec3::ZERO),
-        transmission: Vec3::ONE,
-        ior: 1.5,
-        fresnel: true,
-        ..Surface::default()
-    };
-    let material = s.materials.len() as u32;
-    s.materials.push(Material::default_white());
-    s.surfaces.push(clear);
-    let (c, r) = (Vec3::new(0.5, 1.8, 0.0), 1.6);
-    let at = |i: u32, j: u32| {
-        let (theta, phi) = (
-            std::f32::consts::PI * i as f32 / 24.0,
-            std::f32::consts::TAU * j as f32 / 48.0,
-        );
-        c + r * Vec3::new(
-            theta.sin() * phi.cos(),
-            theta.cos(),
-            theta.sin() * phi.sin(),
-        )
-    };
-    for i in 0..24 {
-        for j in 0..48 {
-            let (a, b, d, e) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            s.push_shape(Shape::Triangle(Triangle { v: [a, b, d] }), material);
-            s.push_shape(Shape::Triangle(Triangle { v: [a, d, e] }), material);
-        }
-    }
+    let material = push_material(&mut s, glass(Vec3::ONE));
+    push_ball(&mut s, Vec3::new(0.5, 1.8, 0.0), 1.6, 24, material);
     s.push_shape(sphere_at(0.2, 1.6, 0.1, 0.5), material);
     s.push_shape(sphere_at(0.9, 2.0, -0.2, 0.4), material);
     s

@@ -2,6 +2,145 @@
 //! traversals, tinted glass meshes, and the limits on crossings.
 
 use super::*;
+use crate::scene::{ImageTexture, Texels, TextureSlot, Triangle};
+
+/// Glass that transmits `t` per crossing.
+pub(super) fn glass(t: Vec3) -> Surface {
+    Surface {
+        albedo: Albedo::Color(Vec3::ZERO),
+        transmission: t,
+        ior: 1.5,
+        fresnel: true,
+        ..Surface::default()
+    }
+}
+
+/// Adds `surface` to `s` as a material of its own; its index.
+pub(super) fn push_material(s: &mut Scene, surface: Surface) -> u32 {
+    s.materials.push(Material::default_white());
+    s.surfaces.push(surface);
+    s.materials.len() as u32 - 1
+}
+
+/// Adds a ball of triangles edge to edge (`rings` of latitude, twice as many of
+/// longitude) around `c`, of radius `r`.
+pub(super) fn push_ball(s: &mut Scene, c: Vec3, r: f32, rings: u32, material: u32) {
+    let at = |i: u32, j: u32| {
+        let (theta, phi) = (
+            std::f32::consts::PI * i as f32 / rings as f32,
+            std::f32::consts::TAU * j as f32 / (2 * rings) as f32,
+        );
+        c + r * Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.cos(),
+            theta.sin() * phi.sin(),
+        )
+    };
+    for i in 0..rings {
+        for j in 0..2 * rings {
+            let (a, b, d, e) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            s.push_shape(Shape::Triangle(Triangle { v: [a, b, d] }), material);
+            s.push_shape(Shape::Triangle(Triangle { v: [a, d, e] }), material);
+        }
+    }
+}
+
+/// The six faces of the box from `lo` to `hi`, each wound counter-clockwise seen from
+/// outside.
+fn box_faces(lo: Vec3, hi: Vec3) -> [[Vec3; 4]; 6] {
+    let corner = |b: usize| {
+        Vec3::new(
+            if b & 1 == 0 { lo.x } else { hi.x },
+            if b & 2 == 0 { lo.y } else { hi.y },
+            if b & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    [
+        [0, 1, 3, 2],
+        [4, 6, 7, 5],
+        [0, 4, 5, 1],
+        [2, 3, 7, 6],
+        [0, 2, 6, 4],
+        [1, 5, 7, 3],
+    ]
+    .map(|f| f.map(corner))
+}
+
+/// A pane cut out by a 4 x 4 mask of alternating holes (image 0 of the scene, see
+/// [`mask_image`]), transmitting `t` where it is not cut.
+fn masked(t: Vec3) -> Surface {
+    Surface {
+        alpha_map: Some(TextureSlot {
+            scale: [3.0, 2.0],
+            ..TextureSlot::new(0)
+        }),
+        transmission: t,
+        ..matte(Vec3::new(0.3, 0.6, 0.2))
+    }
+}
+
+/// The mask [`masked`] reads.
+fn mask_image() -> ImageTexture {
+    ImageTexture {
+        name: "mask".into(),
+        width: 4,
+        height: 4,
+        texels: Texels::RgbaF32(
+            (0..16)
+                .map(|i| [0.5, 0.5, 0.5, ((i + i / 4) % 2) as f32])
+                .collect(),
+        ),
+    }
+}
+
+/// A rectangle across the scenes' space, to carry a cut-out surface.
+fn cut_out_pane() -> Shape {
+    Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-3.0, 3.0, -1.0),
+            Vec3::new(3.0, 3.0, -1.0),
+            Vec3::new(3.0, 3.5, 2.0),
+            Vec3::new(-3.0, 3.5, 2.0),
+        ],
+    })
+}
+
+/// `rays` random shadow rays toward the box `toward`: for every intersector, the
+/// visibility is that of the walk by traversals bit for bit, and more than `tinted` of
+/// them are tinted (neither all light nor none).
+fn assert_visibility_is_the_walks(
+    s: &Scene,
+    unit: &mut impl FnMut() -> f32,
+    rays: usize,
+    toward: [Vec3; 2],
+    tinted: usize,
+    label: &str,
+) {
+    let surfaces = s.resolved_surfaces();
+    for kind in AccelKind::ALL {
+        let accel = Accel::build(kind, &s.shapes);
+        let w = Whitted::new(s, &accel, &surfaces, 10, 0.0);
+        let (mut seen, mut count) = (0, RayCount::default());
+        for i in 0..rays {
+            let (from, ng, ls) = random_shadow(unit, i, toward);
+            let (dir, dist) = (ls.dir, ls.dist);
+            let expected = visibility_by_traversals(&w, from, ng, &ls);
+            let got = w.visibility(from, ng, &ls, &mut count);
+            assert_eq!(
+                got.to_array().map(f32::to_bits),
+                expected.to_array().map(f32::to_bits),
+                "{label} {kind}: from {from} dir {dir} dist {dist}: {got} against {expected}"
+            );
+            if expected != Vec3::ZERO && expected != Vec3::ONE {
+                seen += 1;
+            }
+        }
+        assert!(
+            seen > tinted,
+            "{label} {kind}: only {seen} tinted shadow rays"
+        );
+    }
+}
 
 /// Shadow-ray visibility as it was computed before the single traversal: an occlusion
 /// query for the opaque surfaces, then a walk from crossing to crossing, each found by a
@@ -61,22 +200,6 @@ pub(super) fn visibility_by_traversals(
 /// overlapping, a row of more than a ray notes), a closed glass mesh whose triangles
 /// share edges, a glass box of rectangles, alpha-masked shapes and opaque blockers.
 pub(super) fn see_through_scene(with_flat: bool) -> Scene {
-    use crate::scene::{ImageTexture, Texels, TextureSlot, Triangle};
-    let glass = |t: Vec3| Surface {
-        albedo: Albedo::Color(Vec3::ZERO),
-        transmission: t,
-        ior: 1.5,
-        fresnel: true,
-        ..Surface::default()
-    };
-    let masked = |t: Vec3| Surface {
-        alpha_map: Some(TextureSlot {
-            scale: [3.0, 2.0],
-            ..TextureSlot::new(0)
-        }),
-        transmission: t,
-        ..matte(Vec3::new(0.3, 0.6, 0.2))
-    };
     let sphere = |x: f32, y: f32, z: f32, r: f32| {
         Shape::Sphere(Sphere {
             center: Vec3::new(x, y, z),
@@ -113,50 +236,16 @@ pub(super) fn see_through_scene(with_flat: bool) -> Scene {
             ));
         }
         // A glass box of six rectangles sharing edges.
-        let (lo, hi) = (Vec3::new(1.0, 0.5, 1.5), Vec3::new(2.2, 1.7, 2.7));
-        let corner = |b: usize| {
-            Vec3::new(
-                if b & 1 == 0 { lo.x } else { hi.x },
-                if b & 2 == 0 { lo.y } else { hi.y },
-                if b & 4 == 0 { lo.z } else { hi.z },
-            )
-        };
-        for f in [
-            [0, 1, 3, 2],
-            [4, 6, 7, 5],
-            [0, 4, 5, 1],
-            [2, 3, 7, 6],
-            [0, 2, 6, 4],
-            [1, 5, 7, 3],
-        ] {
+        for v in box_faces(Vec3::new(1.0, 0.5, 1.5), Vec3::new(2.2, 1.7, 2.7)) {
             shapes.push((
-                Shape::Rectangle(Rectangle { v: f.map(corner) }),
+                Shape::Rectangle(Rectangle { v }),
                 glass(Vec3::new(0.7, 0.9, 0.95)),
             ));
         }
-        shapes.push((
-            Shape::Rectangle(Rectangle {
-                v: [
-                    Vec3::new(-3.0, 3.0, -1.0),
-                    Vec3::new(3.0, 3.0, -1.0),
-                    Vec3::new(3.0, 3.5, 2.0),
-                    Vec3::new(-3.0, 3.5, 2.0),
-                ],
-            }),
-            masked(Vec3::ZERO),
-        ));
+        shapes.push((cut_out_pane(), masked(Vec3::ZERO)));
     }
     let mut s = scene(shapes, Vec::new(), Background::Black);
-    // A 4 x 4 mask of alternating holes.
-    let texels = (0..16)
-        .map(|i| [0.5, 0.5, 0.5, ((i + i / 4) % 2) as f32])
-        .collect();
-    s.images.push(ImageTexture {
-        name: "mask".into(),
-        width: 4,
-        height: 4,
-        texels: Texels::RgbaF32(texels),
-    });
+    s.images.push(mask_image());
     s
 }
 
@@ -192,65 +281,18 @@ fn one_traversal_gives_the_visibility_of_the_walk_by_traversals() {
     let mut rng = rand_pcg::Pcg32::new(0x5eed, 7);
     let mut unit = move || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
     for with_flat in [false, true] {
+        let toward = [Vec3::new(-3.0, 0.0, -3.5), Vec3::new(3.0, 4.5, 3.0)];
+        let label = format!("flat {with_flat}");
         let s = see_through_scene(with_flat);
-        let surfaces = s.resolved_surfaces();
-        for kind in AccelKind::ALL {
-            let accel = Accel::build(kind, &s.shapes);
-            let w = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
-            let (mut tinted, mut count) = (0, RayCount::default());
-            for i in 0..20_000 {
-                let (from, ng, ls) = random_shadow(
-                    &mut unit,
-                    i,
-                    [Vec3::new(-3.0, 0.0, -3.5), Vec3::new(3.0, 4.5, 3.0)],
-                );
-                let dir = ls.dir;
-                let dist = ls.dist;
-                let expected = visibility_by_traversals(&w, from, ng, &ls);
-                let got = w.visibility(from, ng, &ls, &mut count);
-                assert_eq!(
-                    got.to_array().map(f32::to_bits),
-                    expected.to_array().map(f32::to_bits),
-                    "{kind} flat {with_flat}: from {from} dir {dir} dist {dist}: {got} against {expected}"
-                );
-                if expected != Vec3::ZERO && expected != Vec3::ONE {
-                    tinted += 1;
-                }
-            }
-            assert!(tinted > 2_000, "{kind}: only {tinted} tinted shadow rays");
-        }
+        assert_visibility_is_the_walks(&s, &mut unit, 20_000, toward, 2_000, &label);
     }
 }
 
 /// A closed box of twelve tinted glass triangles (each face two, sharing a diagonal),
 /// from `lo` to `hi`.
 fn glass_box_mesh(s: &mut Scene, lo: Vec3, hi: Vec3, transmission: Vec3) {
-    use crate::scene::Triangle;
-    let material = s.materials.len() as u32;
-    s.materials.push(Material::default_white());
-    s.surfaces.push(Surface {
-        albedo: Albedo::Color(Vec3::ZERO),
-        transmission,
-        ior: 1.5,
-        fresnel: true,
-        ..Surface::default()
-    });
-    let corner = |b: usize| {
-        Vec3::new(
-            if b & 1 == 0 { lo.x } else { hi.x },
-            if b & 2 == 0 { lo.y } else { hi.y },
-            if b & 4 == 0 { lo.z } else { hi.z },
-        )
-    };
-    for f in [
-        [0, 1, 3, 2],
-        [4, 6, 7, 5],
-        [0, 4, 5, 1],
-        [2, 3, 7, 6],
-        [0, 2, 6, 4],
-        [1, 5, 7, 3],
-    ] {
-        let [a, b, c, d] = f.map(corner);
+    let material = push_material(s, glass(transmission));
+    for [a, b, c, d] in box_faces(lo, hi) {
         s.push_shape(Shape::Triangle(Triangle { v: [a, b, c] }), material);
         s.push_shape(Shape::Triangle(Triangle { v: [a, c, d] }), material);
     }
@@ -304,106 +346,28 @@ fn a_tinted_glass_mesh_tints_once_per_side_even_through_its_edges() {
 /// its one traversal give what the walk by traversals gives, bit for bit.
 #[test]
 fn flat_crossings_gathered_on_one_traversal_are_those_of_the_walk() {
-    use crate::scene::{ImageTexture, Texels, TextureSlot, Triangle};
     use rand_core::Rng;
     let mut rng = rand_pcg::Pcg32::new(0xf1a7, 5);
     let mut unit = move || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
-    let masked = Surface {
-        alpha_map: Some(TextureSlot {
-            scale: [3.0, 2.0],
-            ..TextureSlot::new(0)
-        }),
-        transmission: Vec3::new(0.4, 0.8, 0.9),
-        ..matte(Vec3::new(0.3, 0.6, 0.2))
-    };
     let mut s = scene(
         vec![
             (floor(0.0, 20.0), matte(Vec3::ONE)),
-            (
-                Shape::Rectangle(Rectangle {
-                    v: [
-                        Vec3::new(-3.0, 3.0, -1.0),
-                        Vec3::new(3.0, 3.0, -1.0),
-                        Vec3::new(3.0, 3.5, 2.0),
-                        Vec3::new(-3.0, 3.5, 2.0),
-                    ],
-                }),
-                masked,
-            ),
+            (cut_out_pane(), masked(Vec3::new(0.4, 0.8, 0.9))),
         ],
         Vec::new(),
         Background::Black,
     );
-    s.images.push(ImageTexture {
-        name: "mask".into(),
-        width: 4,
-        height: 4,
-        texels: Texels::RgbaF32(
-            (0..16)
-                .map(|i| [0.5, 0.5, 0.5, ((i + i / 4) % 2) as f32])
-                .collect(),
-        ),
-    });
+    s.images.push(mask_image());
     glass_box_mesh(
         &mut s,
         Vec3::new(1.2, 0.5, 1.0),
         Vec3::new(2.4, 1.9, 2.5),
         Vec3::new(0.7, 0.9, 0.95),
     );
-    // A ball of tinted glass triangles, edge to edge.
-    let material = s.materials.len() as u32;
-    s.materials.push(Material::default_white());
-    s.surfaces.push(Surface {
-        albedo: Albedo::Color(Vec3::ZERO),
-        transmission: Vec3::new(0.9, 0.6, 0.8),
-        ior: 1.5,
-        fresnel: true,
-        ..Surface::default()
-    });
-    let (c, r) = (Vec3::new(-0.8, 1.6, 0.0), 1.4);
-    let at = |i: u32, j: u32| {
-        let (theta, phi) = (
-            std::f32::consts::PI * i as f32 / 12.0,
-            std::f32::consts::TAU * j as f32 / 24.0,
-        );
-        c + r * Vec3::new(
-            theta.sin() * phi.cos(),
-            theta.cos(),
-            theta.sin() * phi.sin(),
-        )
-    };
-    for i in 0..12 {
-        for j in 0..24 {
-            let (a, b, d, e) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            s.push_shape(Shape::Triangle(Triangle { v: [a, b, d] }), material);
-            s.push_shape(Shape::Triangle(Triangle { v: [a, d, e] }), material);
-        }
-    }
-    let surfaces = s.resolved_surfaces();
-    for kind in AccelKind::ALL {
-        let accel = Accel::build(kind, &s.shapes);
-        let w = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
-        let (mut tinted, mut count) = (0, RayCount::default());
-        for i in 0..20_000 {
-            let (from, ng, ls) = random_shadow(
-                &mut unit,
-                i,
-                [Vec3::new(-3.0, 0.0, -2.0), Vec3::new(3.0, 4.0, 3.0)],
-            );
-            let (dir, dist) = (ls.dir, ls.dist);
-            let expected = visibility_by_traversals(&w, from, ng, &ls);
-            let got = w.visibility(from, ng, &ls, &mut count);
-            assert_eq!(
-                got.to_array().map(f32::to_bits),
-                expected.to_array().map(f32::to_bits),
-                "{kind}: from {from} dir {dir} dist {dist}: {got} against {expected}"
-            );
-            if expected != Vec3::ZERO && expected != Vec3::ONE {
-                tinted += 1;
-            }
-        }
-        assert!(tinted > 3_000, "{kind}: only {tinted} tinted shadow rays");
-    }
+    let tinted = push_material(&mut s, glass(Vec3::new(0.9, 0.6, 0.8)));
+    push_ball(&mut s, Vec3::new(-0.8, 1.6, 0.0), 1.4, 12, tinted);
+    let toward = [Vec3::new(-3.0, 0.0, -2.0), Vec3::new(3.0, 4.0, 3.0)];
+    assert_visibility_is_the_walks(&s, &mut unit, 20_000, toward, 3_000, "flat");
 }
 
 /// The visibility of a shadow ray from `from` toward a point light at `to`, for every
@@ -493,20 +457,13 @@ fn clear_panes_past_the_crossing_limit_leave_the_tint_behind_them() {
 /// once per crossing.
 #[test]
 fn an_opaque_ball_inside_glass_stops_the_shadow_rays_through_it() {
-    let glass = |t: f32| Surface {
-        albedo: Albedo::Color(Vec3::ZERO),
-        transmission: Vec3::splat(t),
-        ior: 1.5,
-        fresnel: true,
-        ..Surface::default()
-    };
     for (t, crossings) in [(1.0f32, 0), (0.9, 2)] {
         let mut shapes = vec![(sphere_at(0.0, 0.0, 0.0, 0.3), matte(Vec3::ONE))];
         // Clear shells around it, so that casters are built: the tinted one outermost.
         for r in [0.6, 0.9, 1.2] {
-            shapes.push((sphere_at(0.0, 0.0, 0.0, r), glass(1.0)));
+            shapes.push((sphere_at(0.0, 0.0, 0.0, r), glass(Vec3::ONE)));
         }
-        shapes.push((sphere_at(0.0, 0.0, 0.0, 1.5), glass(t)));
+        shapes.push((sphere_at(0.0, 0.0, 0.0, 1.5), glass(Vec3::splat(t))));
         let s = scene(shapes, Vec::new(), Background::Black);
         let tint = (0..crossings).fold(1.0f32, |v, _| v * t);
         for (y, expected) in [(0.0, 0.0), (0.1, 0.0), (0.45, tint), (-1.0, tint)] {
