@@ -87,13 +87,16 @@ impl MemoryEstimate {
 
     /// This estimate and the shadow casters of the whitted model (`casters` of the
     /// scene's shapes, gathered when shapes clear to shadows outnumber them): their copy,
-    /// at most the scene's shapes with an index each, and their own intersector.
+    /// at most the scene's shapes with an index each (and, while it is made, a table of
+    /// four bytes a position), and their own intersector.
     pub fn with_casters(self, scene: &Scene, accel: AccelKind, casters: usize) -> Self {
         let casters = casters as u64;
+        let positions = scene.shapes.positions().len() as u64;
         MemoryEstimate {
             shapes: self
                 .shapes
                 .saturating_add(scene.shapes.memory_bytes() as u64)
+                .saturating_add(positions.saturating_mul(size_of::<u32>() as u64))
                 .saturating_add(casters.saturating_mul(size_of::<u32>() as u64)),
             accel: self
                 .accel
@@ -277,9 +280,10 @@ mod tests {
         for kind in AccelKind::ALL {
             let e = MemoryEstimate::of(&scene, kind, 100, 50, 1);
             let with = e.with_casters(&scene, kind, 300);
+            let positions = scene.shapes.positions().len() as u64;
             assert_eq!(
                 with.shapes,
-                e.shapes + scene.shapes.memory_bytes() as u64 + 300 * 4
+                e.shapes + scene.shapes.memory_bytes() as u64 + positions * 4 + 300 * 4
             );
             assert_eq!(with.accel, e.accel + 300 * accel_bytes_per_shape(kind));
             assert_eq!((with.images, with.film), (e.images, e.film));

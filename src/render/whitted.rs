@@ -39,8 +39,10 @@ const MAX_CLEAR_CROSSINGS: u32 = 4096;
 const WALK_SPHERES: usize = 16;
 
 /// Crossings of flat see-through shapes (a tinted glass mesh) a shadow ray gathers on
-/// its one traversal; a ray meeting more walks the scene crossing by crossing.
+/// its one traversal; a ray meeting more walks the scene crossing by crossing. Fewer
+/// than the walk's limit, so gathered crossings never reach it.
 const FLAT_CROSSINGS: usize = 32;
+const _: () = assert!(FLAT_CROSSINGS <= MAX_CROSSINGS as usize);
 
 pub struct Whitted<'a> {
     scene: &'a Scene,

@@ -136,37 +136,54 @@ impl Shapes {
 
     /// The shapes `keep` names (indices into these, in that order), with the positions
     /// only their triangles use: the same corners in the same order, so every shape
-    /// intersects as it does here, bit for bit.
+    /// intersects as it does here, bit for bit. Allocates exactly, plus a table of four
+    /// bytes a position while it copies.
     pub fn subset(&self, keep: &[u32]) -> Shapes {
-        let mut out = Shapes {
-            positions: Vec::new(),
-            corners: Vec::with_capacity(keep.len()),
-            others: Vec::new(),
+        let triangles = || {
+            keep.iter().filter_map(|&i| match self.stored(i as usize) {
+                Stored::Triangle(c) => Some(c),
+                Stored::Other(_) => None,
+            })
         };
-        // Where each position of these lands in the subset's, once a kept triangle uses it.
+        // Where each position of these lands in the subset's: first marked used, then
+        // numbered in the order the kept triangles first name them.
+        const UNUSED: u32 = u32::MAX;
         let mut moved: Vec<u32> = Vec::new();
+        let mut used = 0;
+        for c in triangles() {
+            if moved.is_empty() {
+                moved = vec![UNUSED; self.positions.len()];
+            }
+            for k in c {
+                if moved[k as usize] == UNUSED {
+                    moved[k as usize] = 0;
+                    used += 1;
+                }
+            }
+        }
+        moved.fill(UNUSED);
+        let others = keep.len() - triangles().count();
+        let mut out = Shapes {
+            positions: Vec::with_capacity(used),
+            corners: Vec::with_capacity(keep.len()),
+            others: Vec::with_capacity(others),
+        };
         for &i in keep {
             match self.stored(i as usize) {
                 Stored::Triangle(c) => {
-                    if moved.is_empty() {
-                        moved = vec![u32::MAX; self.positions.len()];
-                    }
-                    let corner = |k: u32| {
+                    let c = c.map(|k| {
                         let slot = &mut moved[k as usize];
-                        if *slot == u32::MAX {
+                        if *slot == UNUSED {
                             *slot = out.positions.len() as u32;
                             out.positions.push(self.positions[k as usize]);
                         }
                         *slot
-                    };
-                    let c = c.map(corner);
+                    });
                     out.corners.push(c);
                 }
                 Stored::Other(shape) => out.push_other(*shape),
             }
         }
-        out.positions.shrink_to_fit();
-        out.others.shrink_to_fit();
         out
     }
 
@@ -401,6 +418,11 @@ mod tests {
         assert_eq!(sub.positions().len(), 8);
         assert_eq!(sub.others().len(), 2);
         assert!(sub.memory_bytes() <= s.memory_bytes());
+        // Allocated exactly: no slack a growing vector leaves.
+        assert_eq!(
+            sub.memory_bytes(),
+            8 * size_of::<Vec3>() + 5 * size_of::<[u32; 3]>() + 2 * size_of::<Shape>()
+        );
         assert!(s.subset(&[]).is_empty());
         assert!(
             s.subset(&[0, 5]).positions().is_empty(),

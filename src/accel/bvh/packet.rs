@@ -378,6 +378,57 @@ mod tests {
         assert!(cut_by_bound > 1_000, "{cut_by_bound} cut by the bound");
     }
 
+    /// The corners of the sphere test: from the centre (b = +0 and -0), tangent rays
+    /// (a zero discriminant), q = 0, a radius squared to zero, NaN directions and origins, and bounds of zero,
+    /// below zero, NaN and infinity. Each sphere lane answers as the scalar test.
+    #[test]
+    fn sphere_lanes_match_the_scalar_test_at_its_corners() {
+        let unit = Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        let shapes = [
+            Shape::Sphere(unit),
+            square_at_z7(),
+            Shape::Sphere(Sphere {
+                center: Vec3::new(0.0, 0.0, 3.0),
+                radius: 2.0,
+            }),
+            // A radius whose square underflows to zero (readers refuse a zero radius).
+            Shape::Sphere(Sphere {
+                center: Vec3::new(-0.0, 5.0, -0.0),
+                radius: 1e-30,
+            }),
+        ];
+        let packet = Packet::new(&Shapes::from(&shapes[..]), &[0, 1, 2, 3]);
+        let nan = f32::NAN;
+        let rays = [
+            Ray::new(Vec3::ZERO, Vec3::X),
+            Ray::new(Vec3::new(-0.0, -0.0, -0.0), Vec3::new(0.0, -1.0, 0.0)),
+            Ray::new(Vec3::new(-5.0, 1.0, 0.0), Vec3::X),
+            Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+            Ray::new(Vec3::new(1.0, 0.0, 0.0), Vec3::Y),
+            Ray::new(Vec3::new(0.0, 5.0, -3.0), Vec3::Z),
+            Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::new(nan, 0.0, 1.0)),
+            Ray::new(Vec3::new(nan, 0.0, -5.0), Vec3::Z),
+            Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO),
+        ];
+        for ray in rays {
+            for t_max in [f32::INFINITY, 1e-30, 0.0, -1.0, nan, 4.0] {
+                let (mask, t) = packet.intersect_spheres(&PacketRay::new(&ray), t_max);
+                for lane in [0, 2, 3] {
+                    let scalar = shapes[lane].intersect(&ray, t_max);
+                    let simd = (mask >> lane & 1 == 1).then(|| t[lane]);
+                    assert_eq!(
+                        scalar.map(f32::to_bits),
+                        simd.map(f32::to_bits),
+                        "ray {ray:?} t_max {t_max} lane {lane}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn each_lane_gives_the_scalar_distance_bit_for_bit() {
         let shapes = [

@@ -1,7 +1,8 @@
 //! Shadow rays of the whitted model: stopped by opaque surfaces, tinted by each
 //! transparent one crossed (one traversal notes the glass spheres on the way, then a
-//! walk through them; flat glass is walked by traversals), let by where a surface is
-//! clear to shadows, and an area light's samples from one point traced as one packet.
+//! walk through them, and the distances of the flat glass it crosses), let by where a
+//! surface is clear to shadows, and an area light's samples from one point traced as
+//! one packet.
 
 use super::shadow_batch::ShadowBatch;
 use super::{
@@ -255,14 +256,18 @@ impl Whitted<'_> {
     /// The light left after the flat see-through shapes `crossings` (distance along
     /// `ray`, scene index) the segment crosses: their transmissions multiplied nearest
     /// first. Hits closer along the ray than the surface epsilon to the last crossing
-    /// count as that crossing, as the walk that lifts its ray off each surface takes
-    /// them: where the ray passes through an edge two triangles share, or through the
-    /// octree's copies of one shape.
+    /// count as that crossing: where the ray passes through an edge two triangles
+    /// share, or through the octree's copies of one shape.
+    ///
+    /// The walk from crossing to crossing, which answers rays that also meet glass
+    /// spheres or more flat crossings than a ray notes, lifts its ray a surface epsilon
+    /// along each surface's normal instead. It can count a crossing through a box's
+    /// edge twice, and pass a surface closer than an epsilon along that normal (panes a
+    /// hair apart, crossed at a slant), so such rays can differ between the two.
     fn cross_flats(&self, ray: &Ray, crossings: &mut [(f32, u32)]) -> Vec3 {
         crossings.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut vis = Vec3::ONE;
         let mut last = f32::NEG_INFINITY;
-        let mut tinting = 0;
         for &(t, shape) in crossings.iter() {
             let p = ray.at(t);
             if t - last <= surface_epsilon(p) {
@@ -276,10 +281,6 @@ impl Whitted<'_> {
                     continue;
                 }
             }
-            if tinting == MAX_CROSSINGS {
-                break;
-            }
-            tinting += 1;
             vis *= s.transmission;
             if vis.max_element() <= 0.0 {
                 return Vec3::ZERO;
@@ -292,7 +293,9 @@ impl Whitted<'_> {
     /// (each hit found by `closest` from just past the last), their transmissions
     /// multiplied in that order; cut-out parts let light by untouched. Surfaces clear to
     /// shadows are stepped through without counting against [`MAX_CROSSINGS`], so the
-    /// answer is the one of shadow rays that let them by.
+    /// answer is the one of shadow rays that let them by, but for a surface within a
+    /// surface epsilon behind a clear one, which the ray lifted off the clear one
+    /// passes (where `closest` sees clear shapes: the scene's intersector).
     #[inline]
     pub(super) fn walk_through(
         &self,

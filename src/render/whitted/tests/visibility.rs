@@ -370,6 +370,59 @@ fn flat_crossings_gathered_on_one_traversal_are_those_of_the_walk() {
     assert_visibility_is_the_walks(&s, &mut unit, 20_000, toward, 3_000, "flat");
 }
 
+/// Two tinted panes, coincident, a hair apart or well apart, crossed square on and at a
+/// slant: each tints once where the ray meets them more than a surface epsilon apart,
+/// and as one pane where closer, on every intersector.
+#[test]
+fn panes_a_hair_apart_tint_as_one_and_panes_apart_as_two() {
+    let pane = |x: f32| {
+        let c = |y: f32, z: f32| Vec3::new(x, y, z);
+        [
+            Triangle {
+                v: [c(-5.0, -5.0), c(5.0, -5.0), c(5.0, 5.0)],
+            },
+            Triangle {
+                v: [c(-5.0, -5.0), c(5.0, 5.0), c(-5.0, 5.0)],
+            },
+        ]
+    };
+    // Off the panes' diagonals; the surface epsilon there is 2.6e-5.
+    let at = Vec3::new(0.0, 0.3, 0.2);
+    for (gap, tint) in [(0.0, 0.5), (1e-6, 0.5), (1e-4, 0.25), (0.1, 0.25)] {
+        let mut s = scene(
+            vec![(floor(-20.0, 40.0), matte(Vec3::ONE))],
+            Vec::new(),
+            Background::Black,
+        );
+        let half = push_material(&mut s, glass(Vec3::splat(0.5)));
+        for x in [0.0, gap] {
+            for t in pane(x) {
+                s.push_shape(Shape::Triangle(t), half);
+            }
+        }
+        let surfaces = s.resolved_surfaces();
+        for degrees in [0.0f32, 60.0, 80.0, 85.0] {
+            let a = degrees.to_radians();
+            let dir = Vec3::new(a.cos(), a.sin(), 0.0);
+            let ls = LightSample {
+                dir,
+                dist: 4.0,
+                e: Vec3::ONE,
+            };
+            for kind in AccelKind::ALL {
+                let accel = Accel::build(kind, &s.shapes);
+                let w = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
+                let vis = w.visibility(at - 2.0 * dir, dir, &ls, &mut RayCount::default());
+                assert_eq!(
+                    vis,
+                    Vec3::splat(tint),
+                    "{kind}: gap {gap}, {degrees} degrees"
+                );
+            }
+        }
+    }
+}
+
 /// The visibility of a shadow ray from `from` toward a point light at `to`, for every
 /// intersector, with and without an intersector over the scene's casters: one answer,
 /// checked against each.
