@@ -68,6 +68,9 @@ pub struct Whitted<'a> {
     /// Whether an area light's shadow rays from one point go as one packet (the tests
     /// hold them to the rays one at a time).
     shadow_packets: bool,
+    /// Shadow packets traced, for tests that hold the packets to being used.
+    #[cfg(test)]
+    packets_traced: std::sync::atomic::AtomicU32,
 }
 
 /// One sample of a light as seen from a shading point.
@@ -115,6 +118,8 @@ impl<'a> Whitted<'a> {
             shadows_meet_clear,
             samples_lights,
             shadow_packets: true,
+            #[cfg(test)]
+            packets_traced: Default::default(),
         }
     }
 

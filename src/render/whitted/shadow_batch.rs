@@ -41,6 +41,12 @@ impl ShadowBatch {
         self.len == PACKET_RAYS
     }
 
+    /// Whether any sample waiting has a shadow ray to trace.
+    #[cfg(test)]
+    pub(super) fn traces(&self) -> bool {
+        self.traced > 0
+    }
+
     /// Adds sample `ls` of shading factor `shade`, whose shadow ray (and the distance it
     /// must cover) is `shadow`. The batch must not be full.
     pub(super) fn push(&mut self, shadow: Option<(Ray, f32)>, ls: LightSample, shade: Vec3) {

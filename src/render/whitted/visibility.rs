@@ -134,10 +134,28 @@ impl Whitted<'_> {
             }
             batch.push(shadow_ray(at.shadow_from, at.ng, &ls), ls, shade);
             if batch.is_full() {
+                self.count_packet(&batch);
                 batch.resolve(self.shadow_accel, meets, settle, |light| *l += light);
             }
         });
+        self.count_packet(&batch);
         batch.resolve(self.shadow_accel, meets, settle, |light| *l += light);
+    }
+
+    #[inline(always)]
+    fn count_packet(&self, _batch: &ShadowBatch) {
+        #[cfg(test)]
+        if _batch.traces() {
+            self.packets_traced
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    /// How many shadow packets were traced.
+    #[cfg(test)]
+    pub(super) fn packets_traced(&self) -> u32 {
+        self.packets_traced
+            .load(std::sync::atomic::Ordering::Relaxed)
     }
 
     /// Fraction (per channel) of a light sample's light that reaches the point: zero

@@ -81,6 +81,10 @@ fn area_light_shadow_packets_give_the_single_ray_radiance() {
                 }
             }
             assert!(floor.len() > 40, "{name}: {} floor radiances", floor.len());
+            // Packets are traced, also where a first sample goes alone to see whether the
+            // rest should (tinted and see-through scenes); never with the switch off.
+            assert!(packets.packets_traced() > 100, "{name} {kind}: few packets");
+            assert_eq!(single.packets_traced(), 0);
         }
     }
 }
