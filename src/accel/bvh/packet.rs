@@ -303,6 +303,32 @@ mod tests {
     use super::*;
     use crate::scene::{Rectangle, Triangle};
 
+    /// The packet's sphere test against `ray`, lane by lane the scalar test of
+    /// `shapes[lane]` bit for bit (and no hit in a lane that holds no sphere); the
+    /// scalar answers.
+    fn assert_sphere_lanes_are_scalar(
+        packet: &Packet,
+        shapes: &[Shape],
+        ray: &Ray,
+        t_max: f32,
+    ) -> [Option<f32>; 4] {
+        let (mask, t) = packet.intersect_spheres(&PacketRay::new(ray), t_max);
+        std::array::from_fn(|lane| {
+            let simd = (mask >> lane & 1 == 1).then(|| t[lane]);
+            let Some(Shape::Sphere(_)) = shapes.get(lane) else {
+                assert_eq!(simd, None, "lane {lane} holds no sphere");
+                return None;
+            };
+            let scalar = shapes[lane].intersect(ray, t_max);
+            assert_eq!(
+                scalar.map(f32::to_bits),
+                simd.map(f32::to_bits),
+                "ray {ray:?} t_max {t_max} lane {lane}"
+            );
+            scalar
+        })
+    }
+
     /// A 6 x 6 square facing the rays of the tests, at z = 7.
     fn square_at_z7() -> Shape {
         Shape::Rectangle(Rectangle {
@@ -358,16 +384,9 @@ mod tests {
                 } else {
                     25.0 * unit()
                 };
-                let (mask, t) = packet.intersect_spheres(&PacketRay::new(&ray), t_max);
-                assert_eq!(mask & 0b0010, 0, "the rectangle's lane is no sphere");
+                let answers = assert_sphere_lanes_are_scalar(&packet, &shapes, &ray, t_max);
                 for lane in [0, 2, 3] {
-                    let scalar = shapes[lane].intersect(&ray, t_max);
-                    let simd = (mask >> lane & 1 == 1).then(|| t[lane]);
-                    assert_eq!(
-                        scalar.map(f32::to_bits),
-                        simd.map(f32::to_bits),
-                        "origin {origin} dir {dir} t_max {t_max} lane {lane}"
-                    );
+                    let scalar = answers[lane];
                     hits += usize::from(scalar.is_some());
                     let unbounded = shapes[lane].intersect(&ray, f32::INFINITY);
                     cut_by_bound += usize::from(unbounded.is_some() && scalar != unbounded);
@@ -379,8 +398,9 @@ mod tests {
     }
 
     /// The corners of the sphere test: from the centre (b = +0 and -0), tangent rays
-    /// (a zero discriminant), q = 0, a radius squared to zero, NaN directions and origins, and bounds of zero,
-    /// below zero, NaN and infinity. Each sphere lane answers as the scalar test.
+    /// (a zero discriminant), q = 0, a radius squared to zero, NaN directions and
+    /// origins, and bounds of zero, below zero, NaN and infinity. Each sphere lane
+    /// answers as the scalar test.
     #[test]
     fn sphere_lanes_match_the_scalar_test_at_its_corners() {
         let unit = Sphere {
@@ -415,16 +435,7 @@ mod tests {
         ];
         for ray in rays {
             for t_max in [f32::INFINITY, 1e-30, 0.0, -1.0, nan, 4.0] {
-                let (mask, t) = packet.intersect_spheres(&PacketRay::new(&ray), t_max);
-                for lane in [0, 2, 3] {
-                    let scalar = shapes[lane].intersect(&ray, t_max);
-                    let simd = (mask >> lane & 1 == 1).then(|| t[lane]);
-                    assert_eq!(
-                        scalar.map(f32::to_bits),
-                        simd.map(f32::to_bits),
-                        "ray {ray:?} t_max {t_max} lane {lane}"
-                    );
-                }
+                assert_sphere_lanes_are_scalar(&packet, &shapes, &ray, t_max);
             }
         }
     }
