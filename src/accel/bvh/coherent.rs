@@ -9,8 +9,8 @@
 //! bit: a lane repeats the single-ray shape test operation for operation, and ties go to
 //! the lower index, so the order shapes are met in does not matter.
 
-use super::packet::{Flat, Prim};
-use super::{BOX_SLACK, Bvh, Entry, Node8, PACKED, Stack, WIDTH, inverse};
+use super::leaf4::{Flat, Prim};
+use super::{BOX_SLACK, Bvh, Entry, Node8, STORED, Stack, WIDTH, inverse};
 use crate::accel::Hit;
 use crate::accel::simd::SimdLevel;
 use crate::math::Ray;
@@ -18,17 +18,17 @@ use crate::scene::Sphere;
 use crate::scene::shape::EDGE_SLACK;
 
 /// Runs `$body` with each shape of the leaf `$entry` as `$shape` (its index) and
-/// `$prim`, whether the leaf lists indices or holds packets. A macro, not a closure:
+/// `$prim`, whether the leaf lists indices or holds copies. A macro, not a closure:
 /// the body must be compiled into the caller, with the caller's instruction set.
 macro_rules! for_each_shape {
     ($bvh:ident, $entry:expr, |$shape:ident, $prim:ident| $body:block) => {{
         let first = $entry.child as usize;
-        if $entry.count & PACKED != 0 {
-            let n = ($entry.count & !PACKED) as usize;
-            for packet in &$bvh.packets[first..first + n] {
+        if $entry.count & STORED != 0 {
+            let n = ($entry.count & !STORED) as usize;
+            for leaf in &$bvh.stored[first..first + n] {
                 for lane in 0..4 {
-                    if let Some($prim) = packet.prim(lane) {
-                        let $shape = packet.shape(lane);
+                    if let Some($prim) = leaf.prim(lane) {
+                        let $shape = leaf.shape(lane);
                         $body
                     }
                 }
@@ -114,7 +114,7 @@ impl Rays {
     }
 
     /// Rays that meet the triangle or rectangle `f` before their bound, with the
-    /// distances: [`super::packet::Packet::intersect_flat`] with rays for lanes.
+    /// distances: [`super::leaf4::Leaf4::intersect_flat`] with rays for lanes.
     #[inline(always)]
     fn meet(&self, f: &Flat, bound: &Lanes) -> (u32, Lanes) {
         let [dx, dy, dz] = &self.dir;

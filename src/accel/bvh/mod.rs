@@ -8,11 +8,11 @@
 
 mod build;
 mod coherent;
-mod packet;
+mod leaf4;
 
 pub use coherent::PACKET_RAYS;
 
-pub use packet::MAX_SHAPES;
+pub use leaf4::MAX_SHAPES;
 
 use super::Hit;
 use super::simd::SimdLevel;
@@ -20,7 +20,7 @@ use crate::math::{Aabb, Ray};
 use crate::scene::Shapes;
 use build::{BinaryBvh, MAX_DEPTH};
 use glam::Vec4;
-use packet::{Packet, PacketRay, padded_bounds};
+use leaf4::{Leaf4, RayLanes, padded_bounds};
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
 
@@ -31,8 +31,9 @@ const BOX_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// Children per node.
 const WIDTH: usize = 8;
-/// Marks a leaf stored as precomputed packets rather than shape indices.
-const PACKED: u32 = 1 << 31;
+/// Marks a leaf stored as [`Leaf4`] copies with precomputed edges rather than shape
+/// indices.
+const STORED: u32 = 1 << 31;
 /// Scenes of at most this many shapes are one leaf: every ray tests them all.
 const TINY_SCENE: usize = 16;
 /// The root of a tree with inner nodes: node 0.
@@ -53,7 +54,7 @@ struct Node8 {
     /// Inner child: node index. Leaf child: its first entry in `Bvh::prims`.
     child: [u32; WIDTH],
     /// 0 for an inner child; for a leaf its number of shapes (in `Bvh::prims`), or
-    /// [`PACKED`] and its number of packets (in `Bvh::packets`).
+    /// [`STORED`] and its number of [`Leaf4`]s (in `Bvh::stored`).
     count: [u32; WIDTH],
 }
 
@@ -288,10 +289,10 @@ pub struct Bvh<'s> {
     /// Shape indices, leaf by leaf: a leaf names its shapes and the traversal reads
     /// their corners from the scene, so the tree adds four bytes a shape to the nodes.
     prims: Vec<u32>,
-    /// Leaves holding a sphere or a rectangle, copied into packets with their edges
+    /// Leaves holding a sphere or a rectangle, copied into [`Leaf4`]s with their edges
     /// precomputed: such shapes are few, and gathering them cost a 2014 scene a tenth of
     /// its time.
-    packets: Vec<Packet>,
+    stored: Vec<Leaf4>,
     shape_count: usize,
     simd: SimdLevel,
 }
@@ -311,7 +312,7 @@ impl<'s> Bvh<'s> {
             root: EMPTY_ROOT,
             nodes: Vec::new(),
             prims: Vec::new(),
-            packets: Vec::new(),
+            stored: Vec::new(),
             shape_count: shapes.len(),
             simd: simd.supported(),
         };
@@ -330,7 +331,7 @@ impl<'s> Bvh<'s> {
         bvh.nodes.push(EMPTY_NODE);
         bvh.collapse(&binary, 0, 0);
         bvh.nodes.shrink_to_fit();
-        bvh.packets.shrink_to_fit();
+        bvh.stored.shrink_to_fit();
         bvh
     }
 
@@ -351,7 +352,7 @@ impl<'s> Bvh<'s> {
     pub fn memory_bytes(&self) -> usize {
         self.nodes.capacity() * size_of::<Node8>()
             + self.prims.capacity() * size_of::<u32>()
-            + self.packets.capacity() * size_of::<Packet>()
+            + self.stored.capacity() * size_of::<Leaf4>()
     }
 
     #[inline]
@@ -359,7 +360,7 @@ impl<'s> Bvh<'s> {
         if self.root.count > 0 {
             // A scene of a few shapes is one leaf: no boxes to set up, no stack.
             let mut best = None;
-            self.leaf_closest(self.root, &PacketRay::new(ray), ray, t_max, &mut best);
+            self.leaf_closest(self.root, &RayLanes::new(ray), ray, t_max, &mut best);
             return best;
         }
         #[cfg(target_arch = "x86_64")]
@@ -390,7 +391,7 @@ impl<'s> Bvh<'s> {
         if self.shape_count == 0 {
             return None;
         }
-        let lanes = PacketRay::new(ray);
+        let lanes = RayLanes::new(ray);
         let mut best: Option<Hit> = None;
         let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
@@ -424,7 +425,7 @@ impl<'s> Bvh<'s> {
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
         if self.root.count > 0 {
-            return self.leaf_blocks(self.root, &PacketRay::new(ray), t_max, &blocks);
+            return self.leaf_blocks(self.root, &RayLanes::new(ray), t_max, &blocks);
         }
         #[cfg(target_arch = "x86_64")]
         if self.simd == SimdLevel::Avx2 {
@@ -451,7 +452,7 @@ impl<'s> Bvh<'s> {
         if self.shape_count == 0 {
             return false;
         }
-        let lanes = PacketRay::new(ray);
+        let lanes = RayLanes::new(ray);
         let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
@@ -483,21 +484,21 @@ impl Bvh<'_> {
     fn leaf_closest(
         &self,
         entry: Entry,
-        lanes: &PacketRay,
+        lanes: &RayLanes,
         ray: &Ray,
         t_max: f32,
         best: &mut Option<Hit>,
     ) {
         let first = entry.child as usize;
-        if entry.count & PACKED != 0 {
-            let n = (entry.count & !PACKED) as usize;
-            for packet in &self.packets[first..first + n] {
-                packet_closest(packet, lanes, ray, t_max, best);
+        if entry.count & STORED != 0 {
+            let n = (entry.count & !STORED) as usize;
+            for leaf in &self.stored[first..first + n] {
+                leaf4_closest(leaf, lanes, ray, t_max, best);
             }
         } else {
             for four in self.prims[first..first + entry.count as usize].chunks(4) {
-                let packet = Packet::new(self.shapes, four);
-                packet_closest(&packet, lanes, ray, t_max, best);
+                let leaf = Leaf4::new(self.shapes, four);
+                leaf4_closest(&leaf, lanes, ray, t_max, best);
             }
         }
     }
@@ -507,24 +508,24 @@ impl Bvh<'_> {
     fn leaf_blocks(
         &self,
         entry: Entry,
-        lanes: &PacketRay,
+        lanes: &RayLanes,
         t_max: f32,
         blocks: &impl Fn(u32) -> bool,
     ) -> bool {
         // Loops, not iterator closures: a closure would not inherit the caller's
         // instruction set.
         let first = entry.child as usize;
-        if entry.count & PACKED != 0 {
-            let n = (entry.count & !PACKED) as usize;
-            for packet in &self.packets[first..first + n] {
-                if packet_blocks(packet, lanes, t_max, blocks) {
+        if entry.count & STORED != 0 {
+            let n = (entry.count & !STORED) as usize;
+            for leaf in &self.stored[first..first + n] {
+                if leaf4_blocks(leaf, lanes, t_max, blocks) {
                     return true;
                 }
             }
         } else {
             for four in self.prims[first..first + entry.count as usize].chunks(4) {
-                let packet = Packet::new(self.shapes, four);
-                if packet_blocks(&packet, lanes, t_max, blocks) {
+                let leaf = Leaf4::new(self.shapes, four);
+                if leaf4_blocks(&leaf, lanes, t_max, blocks) {
                     return true;
                 }
             }
@@ -533,32 +534,26 @@ impl Bvh<'_> {
     }
 }
 
-/// Updates `best` with the hits of one leaf packet.
+/// Updates `best` with the hits of one leaf leaf.
 #[inline(always)]
-fn packet_closest(
-    packet: &Packet,
-    lanes: &PacketRay,
-    ray: &Ray,
-    t_max: f32,
-    best: &mut Option<Hit>,
-) {
-    let (mut mask, t) = packet.intersect_flat(lanes, Hit::bound(best, t_max));
+fn leaf4_closest(leaf: &Leaf4, lanes: &RayLanes, ray: &Ray, t_max: f32, best: &mut Option<Hit>) {
+    let (mut mask, t) = leaf.intersect_flat(lanes, Hit::bound(best, t_max));
     while mask != 0 {
         let lane = mask.trailing_zeros() as usize;
         mask &= mask - 1;
-        let shape = packet.shape(lane);
+        let shape = leaf.shape(lane);
         if Hit::beats(t[lane], shape, best) {
             *best = Some(Hit { t: t[lane], shape });
         }
     }
-    let spheres = packet.sphere_lanes();
+    let spheres = leaf.sphere_lanes();
     if spheres == 0 {
         return;
     }
     if spheres & (spheres - 1) == 0 {
         let lane = spheres.trailing_zeros() as usize;
-        let shape = packet.shape(lane);
-        if let Some(t) = packet.sphere(lane).intersect(ray, Hit::bound(best, t_max))
+        let shape = leaf.shape(lane);
+        if let Some(t) = leaf.sphere(lane).intersect(ray, Hit::bound(best, t_max))
             && Hit::beats(t, shape, best)
         {
             *best = Some(Hit { t, shape });
@@ -568,43 +563,38 @@ fn packet_closest(
     // All spheres against one bound: a sphere's distance does not depend on the bound,
     // only whether it counts, and one the tighter bound of a nearer sphere would have
     // rejected cannot beat that sphere (ties included, the bound being a step past).
-    let (mut mask, t) = packet.intersect_spheres(lanes, Hit::bound(best, t_max));
+    let (mut mask, t) = leaf.intersect_spheres(lanes, Hit::bound(best, t_max));
     while mask != 0 {
         let lane = mask.trailing_zeros() as usize;
         mask &= mask - 1;
-        let shape = packet.shape(lane);
+        let shape = leaf.shape(lane);
         if Hit::beats(t[lane], shape, best) {
             *best = Some(Hit { t: t[lane], shape });
         }
     }
 }
 
-/// Whether a shape of one leaf packet for which `blocks` holds meets the ray.
+/// Whether a shape of one leaf leaf for which `blocks` holds meets the ray.
 #[inline(always)]
-fn packet_blocks(
-    packet: &Packet,
-    lanes: &PacketRay,
-    t_max: f32,
-    blocks: &impl Fn(u32) -> bool,
-) -> bool {
-    let mut mask = packet.intersect_flat(lanes, t_max).0;
+fn leaf4_blocks(leaf: &Leaf4, lanes: &RayLanes, t_max: f32, blocks: &impl Fn(u32) -> bool) -> bool {
+    let mut mask = leaf.intersect_flat(lanes, t_max).0;
     while mask != 0 {
         let lane = mask.trailing_zeros() as usize;
         mask &= mask - 1;
-        if blocks(packet.shape(lane)) {
+        if blocks(leaf.shape(lane)) {
             return true;
         }
     }
-    if packet.sphere_lanes() == 0 {
+    if leaf.sphere_lanes() == 0 {
         return false;
     }
     // Hit first: `blocks` may note the shapes it is asked about (the whitted model's
     // walk through glass), and a sphere the ray misses is not on its way.
-    let mut mask = packet.intersect_spheres(lanes, t_max).0;
+    let mut mask = leaf.intersect_spheres(lanes, t_max).0;
     while mask != 0 {
         let lane = mask.trailing_zeros() as usize;
         mask &= mask - 1;
-        if blocks(packet.shape(lane)) {
+        if blocks(leaf.shape(lane)) {
             return true;
         }
     }
@@ -613,7 +603,7 @@ fn packet_blocks(
 
 impl Bvh<'_> {
     /// Stores the shapes `leaf` as a leaf: their indices when all are triangles, else
-    /// packets with precomputed edges.
+    /// [`Leaf4`]s with precomputed edges.
     fn leaf(&mut self, leaf: &[u32]) -> Entry {
         if leaf.iter().all(|&i| self.shapes.is_triangle(i as usize)) {
             let child = self.prims.len() as u32;
@@ -624,12 +614,12 @@ impl Bvh<'_> {
                 t: 0.0,
             }
         } else {
-            let child = self.packets.len() as u32;
-            self.packets
-                .extend(leaf.chunks(4).map(|four| Packet::mixed(self.shapes, four)));
+            let child = self.stored.len() as u32;
+            self.stored
+                .extend(leaf.chunks(4).map(|four| Leaf4::mixed(self.shapes, four)));
             Entry {
                 child,
-                count: PACKED | leaf.len().div_ceil(4) as u32,
+                count: STORED | leaf.len().div_ceil(4) as u32,
                 t: 0.0,
             }
         }

@@ -1,6 +1,7 @@
 //! Leaf shapes four at a time: a leaf's triangles and rectangles are stored side by side
 //! in lanes (structure of arrays) and one ray meets all four with 4-lane SIMD
-//! Moller-Trumbore. Spheres ride in lanes of their own and are tested one by one.
+//! Moller-Trumbore. Spheres ride in lanes of their own, met by a 4-lane test of their own.
+//! (A leaf of four shapes is a `Leaf4`; "packet" is kept for rays traced together.)
 //!
 //! Each lane repeats, operation for operation, what [`intersect_parallelogram`] does in
 //! scalar code (the same products, summed in the same order, and no fused multiply-add),
@@ -26,7 +27,7 @@ const EMPTY_LANE: u32 = u32::MAX;
 /// holds zero edges. Zero edges make the determinant 0, which the test rejects.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(16))]
-pub struct Packet {
+pub struct Leaf4 {
     p: [Vec4; 3],
     e1: [Vec4; 3],
     e2: [Vec4; 3],
@@ -35,7 +36,7 @@ pub struct Packet {
     shape: [u32; 4],
 }
 
-/// One triangle or rectangle of a packet, for tests against many rays.
+/// One triangle or rectangle of a leaf, for tests against many rays.
 #[derive(Clone, Copy, Debug)]
 pub struct Flat {
     pub p: [f32; 3],
@@ -44,16 +45,17 @@ pub struct Flat {
     pub max_sum: f32,
 }
 
-/// Per-ray constants of the packet test.
-pub struct PacketRay {
+/// One ray's origin and direction in all four lanes: the per-ray constants of the leaf
+/// test.
+pub struct RayLanes {
     origin: [Vec4; 3],
     dir: [Vec4; 3],
 }
 
-impl PacketRay {
+impl RayLanes {
     #[inline]
-    pub fn new(ray: &Ray) -> PacketRay {
-        PacketRay {
+    pub fn new(ray: &Ray) -> RayLanes {
+        RayLanes {
             origin: ray.origin.to_array().map(Vec4::splat),
             dir: ray.dir.to_array().map(Vec4::splat),
         }
@@ -95,10 +97,10 @@ impl Prim {
     }
 }
 
-impl Packet {
+impl Leaf4 {
     /// Gathers `shapes[i]` for each `i` of `indices` (at most four) into lanes.
     #[inline(always)]
-    pub fn new(shapes: &Shapes, indices: &[u32]) -> Packet {
+    pub fn new(shapes: &Shapes, indices: &[u32]) -> Leaf4 {
         debug_assert!(indices.len() <= 4);
         let corners = shapes.corner_slice();
         let positions = shapes.positions();
@@ -111,15 +113,15 @@ impl Packet {
             // they cannot go stale.
             let c = unsafe { *corners.get_unchecked(index as usize) };
             if c[0] == OTHER {
-                // Leaves with other shapes are stored as packets; this serves callers
+                // Leaves with other shapes are stored as copies; this serves callers
                 // that mix them all the same.
-                return Packet::mixed(shapes, indices);
+                return Leaf4::mixed(shapes, indices);
             }
             shape[lane] = index;
             // SAFETY: a triangle's corners index `positions` (an invariant of `Shapes`).
             v[lane] = c.map(|k| unsafe { *positions.get_unchecked(k as usize) });
         }
-        // Lanes built in registers: writing them one float at a time into the packet
+        // Lanes built in registers: writing them one float at a time into the leaf
         // and reading them back as vectors stalled every load.
         let column = |corner: usize, axis: usize| {
             Vec4::new(
@@ -130,7 +132,7 @@ impl Packet {
             )
         };
         let [a, b, c] = [0, 1, 2].map(|corner| [0, 1, 2].map(|axis| column(corner, axis)));
-        Packet {
+        Leaf4 {
             e1: [0, 1, 2].map(|axis| b[axis] - a[axis]),
             e2: [0, 1, 2].map(|axis| c[axis] - a[axis]),
             p: a,
@@ -140,9 +142,9 @@ impl Packet {
         }
     }
 
-    /// [`Packet::new`] for any shapes, spheres and rectangles too, one lane at a time.
-    pub fn mixed(shapes: &Shapes, indices: &[u32]) -> Packet {
-        let mut packet = Packet {
+    /// [`Leaf4::new`] for any shapes, spheres and rectangles too, one lane at a time.
+    pub fn mixed(shapes: &Shapes, indices: &[u32]) -> Leaf4 {
+        let mut leaf = Leaf4 {
             p: [Vec4::ZERO; 3],
             e1: [Vec4::ZERO; 3],
             e2: [Vec4::ZERO; 3],
@@ -151,25 +153,25 @@ impl Packet {
             shape: [EMPTY_LANE; 4],
         };
         for (lane, &index) in indices.iter().enumerate() {
-            packet.shape[lane] = index;
+            leaf.shape[lane] = index;
             match Prim::of(shapes, index) {
                 Prim::Flat(f) => {
                     for axis in 0..3 {
-                        packet.p[axis][lane] = f.p[axis];
-                        packet.e1[axis][lane] = f.e1[axis];
-                        packet.e2[axis][lane] = f.e2[axis];
+                        leaf.p[axis][lane] = f.p[axis];
+                        leaf.e1[axis][lane] = f.e1[axis];
+                        leaf.e2[axis][lane] = f.e2[axis];
                     }
-                    packet.max_sum[lane] = f.max_sum;
+                    leaf.max_sum[lane] = f.max_sum;
                 }
                 Prim::Sphere(s) => {
                     for axis in 0..3 {
-                        packet.p[axis][lane] = s.center[axis];
+                        leaf.p[axis][lane] = s.center[axis];
                     }
-                    packet.radius[lane] = s.radius;
+                    leaf.radius[lane] = s.radius;
                 }
             }
         }
-        packet
+        leaf
     }
 
     /// Shape index of `lane`.
@@ -181,7 +183,7 @@ impl Packet {
     /// Lanes (bit `i` for lane `i`) whose triangle or rectangle the ray meets in
     /// `(0, t_max)`, with the distances.
     #[inline]
-    pub fn intersect_flat(&self, ray: &PacketRay, t_max: f32) -> (u32, Vec4) {
+    pub fn intersect_flat(&self, ray: &RayLanes, t_max: f32) -> (u32, Vec4) {
         let [dx, dy, dz] = ray.dir;
         let [e1x, e1y, e1z] = self.e1;
         let [e2x, e2y, e2z] = self.e2;
@@ -216,10 +218,10 @@ impl Packet {
     }
 
     /// Sphere lanes the ray meets in `(0, t_max)`, with the distances: every sphere of
-    /// the packet at once, each lane the operations of [`Sphere::intersect`] in the same
+    /// the leaf at once, each lane the operations of [`Sphere::intersect`] in the same
     /// order (dot products summed x, y then z, as glam's), so the same bits.
     #[inline]
-    pub fn intersect_spheres(&self, ray: &PacketRay, t_max: f32) -> (u32, Vec4) {
+    pub fn intersect_spheres(&self, ray: &RayLanes, t_max: f32) -> (u32, Vec4) {
         let [dx, dy, dz] = ray.dir;
         let ox = ray.origin[0] - self.p[0];
         let oy = ray.origin[1] - self.p[1];
@@ -303,16 +305,16 @@ mod tests {
     use super::*;
     use crate::scene::{Rectangle, Triangle};
 
-    /// The packet's sphere test against `ray`, lane by lane the scalar test of
+    /// The leaf's sphere test against `ray`, lane by lane the scalar test of
     /// `shapes[lane]` bit for bit (and no hit in a lane that holds no sphere); the
     /// scalar answers.
     fn assert_sphere_lanes_are_scalar(
-        packet: &Packet,
+        leaf: &Leaf4,
         shapes: &[Shape],
         ray: &Ray,
         t_max: f32,
     ) -> [Option<f32>; 4] {
-        let (mask, t) = packet.intersect_spheres(&PacketRay::new(ray), t_max);
+        let (mask, t) = leaf.intersect_spheres(&RayLanes::new(ray), t_max);
         std::array::from_fn(|lane| {
             let simd = (mask >> lane & 1 == 1).then(|| t[lane]);
             let Some(Shape::Sphere(_)) = shapes.get(lane) else {
@@ -341,7 +343,7 @@ mod tests {
         })
     }
 
-    /// Spheres three to a packet beside a rectangle, against rays from outside, from
+    /// Spheres three to a leaf beside a rectangle, against rays from outside, from
     /// inside, from points on the surface (the case of every reflected ray), grazing
     /// the edges and with bounds cutting through them: each sphere lane gives what the
     /// scalar test gives, bit for bit.
@@ -363,8 +365,8 @@ mod tests {
                 .collect();
             let mut shapes: Vec<Shape> = spheres.iter().map(|&s| Shape::Sphere(s)).collect();
             shapes.insert(1, square_at_z7());
-            let packet = Packet::new(&Shapes::from(&shapes[..]), &[0, 1, 2, 3]);
-            assert_eq!(packet.sphere_lanes(), 0b1101);
+            let leaf = Leaf4::new(&Shapes::from(&shapes[..]), &[0, 1, 2, 3]);
+            assert_eq!(leaf.sphere_lanes(), 0b1101);
             for k in 0..40 {
                 let target = &spheres[k % 3];
                 let origin = match k % 4 {
@@ -384,7 +386,7 @@ mod tests {
                 } else {
                     25.0 * unit()
                 };
-                let answers = assert_sphere_lanes_are_scalar(&packet, &shapes, &ray, t_max);
+                let answers = assert_sphere_lanes_are_scalar(&leaf, &shapes, &ray, t_max);
                 for lane in [0, 2, 3] {
                     let scalar = answers[lane];
                     hits += usize::from(scalar.is_some());
@@ -420,7 +422,7 @@ mod tests {
                 radius: 1e-30,
             }),
         ];
-        let packet = Packet::new(&Shapes::from(&shapes[..]), &[0, 1, 2, 3]);
+        let leaf = Leaf4::new(&Shapes::from(&shapes[..]), &[0, 1, 2, 3]);
         let nan = f32::NAN;
         let rays = [
             Ray::new(Vec3::ZERO, Vec3::X),
@@ -435,7 +437,7 @@ mod tests {
         ];
         for ray in rays {
             for t_max in [f32::INFINITY, 1e-30, 0.0, -1.0, nan, 4.0] {
-                assert_sphere_lanes_are_scalar(&packet, &shapes, &ray, t_max);
+                assert_sphere_lanes_are_scalar(&leaf, &shapes, &ray, t_max);
             }
         }
     }
@@ -456,10 +458,10 @@ mod tests {
             }),
             square_at_z7(),
         ];
-        let packet = Packet::new(&Shapes::from(&shapes[..]), &[0, 1, 2]);
-        assert_eq!(packet.sphere_lanes(), 0b010);
+        let leaf = Leaf4::new(&Shapes::from(&shapes[..]), &[0, 1, 2]);
+        assert_eq!(leaf.sphere_lanes(), 0b010);
         assert_eq!(
-            packet.sphere(1),
+            leaf.sphere(1),
             Sphere {
                 center: Vec3::new(0.0, 0.0, 9.0),
                 radius: 2.0
@@ -471,7 +473,7 @@ mod tests {
                 Vec3::new(0.3 * a.sin(), 0.2 * a.cos(), 0.1),
                 Vec3::new(0.2 * a.cos(), 0.15 * a.sin(), 1.0),
             );
-            let (mask, t) = packet.intersect_flat(&PacketRay::new(&ray), f32::INFINITY);
+            let (mask, t) = leaf.intersect_flat(&RayLanes::new(&ray), f32::INFINITY);
             assert_eq!(
                 mask & 0b1010,
                 0,
