@@ -109,7 +109,7 @@ impl<'a> Classic<'a> {
             hit,
             shadows: KnownShadows::NONE,
         };
-        self.shade(r, found, None, depth, acc, count);
+        self.shade(r, found, depth, acc, count);
     }
 
     /// [`Classic::trace`] for a ray whose hit was found ahead.
@@ -125,16 +125,15 @@ impl<'a> Classic<'a> {
             return;
         }
         count.rays += 1;
-        self.shade(r, found, None, depth, acc, count);
+        self.shade(r, found, depth, acc, count);
     }
 
     /// Adds the contributions of `r`, whose closest hit and shadow answers are
-    /// `found`, and its children (`children` holds what theirs found ahead).
+    /// `found`, and its children.
     fn shade(
         &self,
         r: ClassicRay,
         found: Found,
-        children: Option<&[Option<Found>; 2]>,
         depth: u32,
         acc: &mut WeightedColor,
         count: &mut RayCount,
@@ -143,11 +142,31 @@ impl<'a> Classic<'a> {
             return;
         };
         let p = r.ray.at(hit.t);
-        let m = self.scene.material(hit.shape);
         let n = self.normal(hit.shape, p);
-        let i = r.intensity;
+        let m = self.scene.material(hit.shape);
+        self.shade_surface(&r, hit.shape, p, n, found.shadows, acc, count);
+        for child in child_rays(&r, p, n, m).into_iter().flatten() {
+            self.trace(child, depth + 1, acc, count);
+        }
+    }
 
-        acc.add(self.surface_color(hit.shape, p), i * m.ambient);
+    /// The terms of `r`'s hit on `shape` at `p` (normal `n`) besides its children:
+    /// ambient, diffuse and each light's shadow or highlight.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn shade_surface(
+        &self,
+        r: &ClassicRay,
+        shape: u32,
+        p: Vec3,
+        n: Vec3,
+        shadows: KnownShadows,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        let m = self.scene.material(shape);
+        let i = r.intensity;
+        acc.add(self.surface_color(shape, p), i * m.ambient);
         acc.add(Vec3::ONE, i * m.diffuse);
         let shading = Highlight {
             view_dir: r.ray.dir,
@@ -155,29 +174,27 @@ impl<'a> Classic<'a> {
             specular: m.specular,
             shininess: m.shininess,
         };
-        self.add_lights(p, &shading, i, found.shadows, acc, count);
-
-        for (k, child) in child_rays(&r, p, n, m).into_iter().enumerate() {
-            let Some(child) = child else {
-                continue;
-            };
-            match children.and_then(|c| c[k]) {
-                Some(found) => self.trace_found(child, found, depth + 1, acc, count),
-                None => self.trace(child, depth + 1, acc, count),
-            }
-        }
+        self.add_lights(p, &shading, i, shadows, acc, count);
     }
 
-    /// Where the hit of camera ray `r` sends its reflected and refracted rays, when
-    /// [`Classic::trace`] would trace them.
-    fn children_of(&self, r: &ClassicRay, hit: Option<Hit>) -> [Option<ClassicRay>; 2] {
-        let Some(hit) = hit else {
-            return [None; 2];
-        };
+    /// The point, normal and traced children of camera ray `r`'s hit (the rays
+    /// [`Classic::shade`] would go on to at depth 1), or `None` where it hits nothing.
+    #[allow(clippy::type_complexity)]
+    fn children_of(
+        &self,
+        r: &ClassicRay,
+        hit: Option<Hit>,
+    ) -> Option<(Vec3, Vec3, [Option<ClassicRay>; 2])> {
+        let hit = hit?;
         let p = r.ray.at(hit.t);
         let n = self.normal(hit.shape, p);
         let m = self.scene.material(hit.shape);
-        child_rays(r, p, n, m).map(|c| c.filter(|c| 1 <= MAX_DEPTH && c.intensity >= MIN_INTENSITY))
+        let rays = child_rays(r, p, n, m);
+        Some((
+            p,
+            n,
+            rays.map(|c| c.filter(|c| 1 <= MAX_DEPTH && c.intensity >= MIN_INTENSITY)),
+        ))
     }
 
     /// The rays' hits, given, with their shadow rays toward each light traced ahead
@@ -356,14 +373,15 @@ impl Integrator for Classic<'_> {
             ior: self.camera_ior,
         };
         let found = self.found_ahead(rays, hits);
-        let mut children = [[None; 2]; PACKET_RAYS];
-        let kids: [[Option<ClassicRay>; 2]; PACKET_RAYS] = std::array::from_fn(|i| {
-            if i < n {
-                self.children_of(&camera_ray(i), hits[i])
-            } else {
-                [None; 2]
+        let mut at = [(Vec3::ZERO, Vec3::ZERO); PACKET_RAYS];
+        let mut kids = [[None; 2]; PACKET_RAYS];
+        for i in 0..n {
+            if let Some((p, n, rays)) = self.children_of(&camera_ray(i), hits[i]) {
+                at[i] = (p, n);
+                kids[i] = rays;
             }
-        });
+        }
+        let mut children = [[None; 2]; PACKET_RAYS];
         for k in 0..2 {
             let mut batch = [NO_RAY; PACKET_RAYS];
             let mut owner = [0usize; PACKET_RAYS];
@@ -389,15 +407,26 @@ impl Integrator for Classic<'_> {
         for i in 0..n {
             // What `trace` does at depth 0, with the closest hit already found.
             count.rays += 1;
+            let Some(hit) = found[i].hit else {
+                continue;
+            };
             let k = slot(samplers, i);
-            self.shade(
-                camera_ray(i),
-                found[i],
-                Some(&children[i]),
-                0,
+            let (p, normal) = at[i];
+            let r = camera_ray(i);
+            self.shade_surface(
+                &r,
+                hit.shape,
+                p,
+                normal,
+                found[i].shadows,
                 &mut accs[k],
                 count,
             );
+            for c in 0..2 {
+                if let (Some(child), Some(found)) = (kids[i][c], children[i][c]) {
+                    self.trace_found(child, found, 1, &mut accs[k], count);
+                }
+            }
         }
     }
 
