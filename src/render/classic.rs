@@ -228,11 +228,19 @@ impl<'a> Classic<'a> {
         count: &mut RayCount,
     ) {
         for (j, light) in self.scene.lights.iter().enumerate() {
+            // An answer found ahead means the ray exists (`from_light` gave one), and
+            // a blocked one needs nothing else of it.
+            let known = known.blocked(j);
+            if known == Some(true) {
+                count.rays += 1;
+                acc.add(Vec3::ZERO, SHADOW_WEIGHT * i);
+                continue;
+            }
             let Some((shadow, t_max)) = from_light(light.position, p) else {
                 continue;
             };
             count.rays += 1;
-            let blocked = match known.blocked(j) {
+            let blocked = match known {
                 Some(blocked) => blocked,
                 None => self.accel.occluded(&shadow, t_max, |s| self.blocks(s)),
             };
