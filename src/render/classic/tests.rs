@@ -284,3 +284,95 @@ fn shading_reads_rectangle_frames_by_their_place_among_the_other_shapes() {
         assert_eq!(frame.normal, Vec3::Z);
     }
 }
+
+/// A tile's camera rays shaded as a packet (hits, shadow rays and children found
+/// ahead) give each pixel what the ray traced alone gives, bit for bit, and count the
+/// same rays: over a mirroring floor with an opaque ball's shadows and highlights, and a
+/// glass ball whose rays refract and reflect.
+#[test]
+fn camera_packets_shade_as_each_ray_traced_alone() {
+    let mut floor_material = material(1.0, 1.0, 0.8, 20.0);
+    floor_material.reflect = 0.4;
+    let mut glass = material(0.2, 0.1, 0.9, 60.0);
+    glass.reflect = 0.2;
+    glass.refract = 0.7;
+    glass.ior = 1.5;
+    glass.transparent = true;
+    let ball = |x: f32, y: f32, r: f32| {
+        Shape::Sphere(Sphere {
+            center: Vec3::new(x, y, r),
+            radius: r,
+        })
+    };
+    let s = scene(
+        vec![floor_material, material(1.0, 1.0, 0.5, 8.0), glass],
+        vec![
+            (floor(), 0),
+            (ball(-2.5, 1.0, 1.5), 1),
+            (ball(2.5, -1.0, 2.0), 2),
+        ],
+        vec![Vec3::new(-6.0, 4.0, 9.0), Vec3::new(5.0, 6.0, 12.0)],
+    );
+    let accel = Accel::build(AccelKind::Bvh, &s.shapes);
+    let classic = Classic::new(&s, &accel, 1.0);
+    let eye = Vec3::new(0.0, -3.0, 14.0);
+    let (w, h) = (32, 32);
+    let ray_at = |x: u32, y: u32| {
+        let target = Vec3::new(
+            (x as f32 + 0.5) / w as f32 * 18.0 - 9.0,
+            (y as f32 + 0.5) / h as f32 * 18.0 - 9.0,
+            0.0,
+        );
+        Ray::new(eye, (target - eye).normalize())
+    };
+    let (mut shadowed, mut in_glass) = (0, 0);
+    let (mut packed_count, mut alone_count) = (RayCount::default(), RayCount::default());
+    for ty in (0..h).step_by(4) {
+        for tx in (0..w).step_by(4) {
+            let rays: Vec<Ray> = (0..16).map(|i| ray_at(tx + i % 4, ty + i / 4)).collect();
+            let mut hits = [None; PACKET_RAYS];
+            accel.closest_packet(&rays, f32::INFINITY, &mut hits);
+            let mut samplers: Vec<PixelSampler> = (0..16)
+                .map(|i| PixelSampler::new(0, tx + i % 4, ty + i / 4))
+                .collect();
+            let mut packed = [WeightedColor::default(); 16];
+            classic.trace_camera_packet(
+                &rays,
+                &hits,
+                &mut samplers,
+                &mut packed,
+                &mut packed_count,
+            );
+            for (i, ray) in rays.iter().enumerate() {
+                let mut alone = WeightedColor::default();
+                let mut sampler = PixelSampler::new(0, tx + i as u32 % 4, ty + i as u32 / 4);
+                classic.trace_camera_ray(*ray, &mut sampler, &mut alone, &mut alone_count);
+                assert_eq!(
+                    (
+                        packed[i].sum.to_array().map(f32::to_bits),
+                        packed[i].weight.to_bits()
+                    ),
+                    (
+                        alone.sum.to_array().map(f32::to_bits),
+                        alone.weight.to_bits()
+                    ),
+                    "tile ({tx}, {ty}) ray {i}"
+                );
+                // What the tiles cover, so that the comparison means something.
+                let Some(hit) = hits[i] else { continue };
+                let p = ray.at(hit.t);
+                if hit.shape == 0 {
+                    let (shadow, t_max) = from_light(s.lights[0].position, p).unwrap();
+                    shadowed += usize::from(accel.occluded(&shadow, t_max, |k| k == 1));
+                }
+                in_glass += usize::from(hit.shape == 2);
+            }
+        }
+    }
+    assert_eq!(packed_count.rays, alone_count.rays);
+    assert!(
+        shadowed > 10,
+        "{shadowed} floor points in the ball's shadow"
+    );
+    assert!(in_glass > 10, "{in_glass} rays on the glass ball");
+}
