@@ -12,6 +12,7 @@
 use super::leaf4::{Flat, Prim};
 use super::{BOX_SLACK, Bvh, Entry, Node8, STORED, Stack, WIDTH, inverse};
 use crate::accel::Hit;
+#[cfg(target_arch = "x86_64")]
 use crate::accel::simd::SimdLevel;
 use crate::math::Ray;
 use crate::scene::Sphere;
