@@ -35,9 +35,10 @@ fn write(format: VideoFormat, name: &str, count: u32, fps: f64) -> (tempfile::Te
     (dir, path)
 }
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[test]
+#[cfg(feature = "h264")]
 fn mp4_has_every_frame_at_the_right_size_and_rate() {
     let (_dir, path) = write(VideoFormat::Mp4, "a.mp4", 10, 24.0);
     let size = std::fs::metadata(&path).unwrap().len();
@@ -73,6 +74,27 @@ fn mp4_has_every_frame_at_the_right_size_and_rate() {
         assert!(!s.bytes.is_empty(), "sample {i} is empty");
         assert_eq!(s.start_time, (i as u64 - 1) * 1000);
     }
+}
+
+/// Without the encoder, MP4 output is refused by name and leaves no file.
+#[test]
+#[cfg(not(feature = "h264"))]
+fn mp4_without_h264_is_refused_and_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("a.mp4");
+    let e = encode(
+        VideoFormat::Mp4,
+        &path,
+        (32, 18),
+        24.0,
+        2,
+        &mut |i| Ok(card(i, 32, 18)),
+        &|| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("a.mp4") && e.contains("without H.264"), "{e}");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
 #[test]
@@ -181,9 +203,10 @@ fn mp4_needs_sixteen_pixels_a_side() {
 }
 
 #[test]
+#[cfg(feature = "h264")]
 fn mp4_refuses_a_rate_it_cannot_keep_and_keeps_slow_rates() {
     let mut out = std::io::Cursor::new(Vec::new());
-    let e = mp4::Mp4::new(&mut out, Path::new("a.mp4"), 32, 18, 0.0004)
+    let e = mp4::Mp4::new(&mut out, std::path::Path::new("a.mp4"), 32, 18, 0.0004)
         .err()
         .unwrap()
         .to_string();
