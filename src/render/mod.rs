@@ -368,6 +368,10 @@ impl<'a> Renderer<'a> {
                 );
             } else {
                 for (k, out) in strip.iter_mut().enumerate() {
+                    // A pixel of many rays is a long wait: Ctrl-C should not last a strip.
+                    if self.cancelled() {
+                        return;
+                    }
                     let x = x_lo + (k % row_len) as u32;
                     let y = y0 + (k / row_len) as u32;
                     *out = self
@@ -383,7 +387,9 @@ impl<'a> Renderer<'a> {
                 }
             }
             total_rays.fetch_add(count.rays, Ordering::Relaxed);
-            progress((strip.len() / row_len) as u64);
+            if !self.cancelled() {
+                progress((strip.len() / row_len) as u64);
+            }
         };
         if plan.aa == 1 {
             // One traced pixel to each output pixel: no band buffers to fill and copy.
@@ -513,6 +519,10 @@ impl<'a> Renderer<'a> {
             )
         };
         for x0 in (0..row_len).step_by(TILE_COLUMNS) {
+            // Checked tile by tile: a strip of a wide frame takes a while.
+            if self.cancelled() {
+                return;
+            }
             let mut n = 0;
             for r in 0..rows {
                 for c in x0..(x0 + TILE_COLUMNS).min(row_len) {

@@ -42,6 +42,100 @@ mod cancel_tests {
         flag.store(false, Ordering::Relaxed);
         assert!(renderer.render(&|_| {}).is_ok());
     }
+
+    /// A shading model that raises the cancel flag on its first call and counts its
+    /// calls (each a tile of camera rays, or one ray).
+    struct Cancelling<'a> {
+        flag: &'a AtomicBool,
+        calls: AtomicU64,
+    }
+
+    impl Cancelling<'_> {
+        fn called(&self) {
+            self.calls.fetch_add(1, Ordering::Relaxed);
+            self.flag.store(true, Ordering::Relaxed);
+        }
+    }
+
+    impl Integrator for Cancelling<'_> {
+        fn lens_packets(&self) -> bool {
+            false
+        }
+
+        fn trace_camera_ray(
+            &self,
+            _: Ray,
+            _: &mut PixelSampler,
+            _: &mut WeightedColor,
+            _: &mut RayCount,
+        ) {
+            self.called();
+        }
+
+        fn trace_camera_packet(
+            &self,
+            _: &[Ray],
+            _: &[Option<Hit>],
+            _: &mut [PixelSampler],
+            _: &mut [WeightedColor],
+            _: &mut RayCount,
+        ) {
+            self.called();
+        }
+    }
+
+    /// Cancelling stops a strip at its next tile (one ray a pixel) or its next pixel
+    /// (many rays a pixel), not at its end: on a frame 2048 pixels wide, a strip is 128
+    /// tiles, or 8192 pixels of 8 lens rays.
+    #[test]
+    fn a_cancelled_strip_stops_at_its_next_tile_or_pixel() {
+        let scene = super::with_unit_ball(Scene {
+            materials: vec![Material::default_white()],
+            ..Scene::default()
+        });
+        let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 2048, 8);
+        let accel = Accel::build(crate::accel::AccelKind::Bvh, &scene.shapes);
+        let threads = rayon::current_num_threads() as u64;
+        for (dof_rays, per_call) in [(None, 1), (Some(8), 8)] {
+            let flag = AtomicBool::new(false);
+            let settings = RenderSettings {
+                dof_rays,
+                ..RenderSettings::default()
+            };
+            let renderer = Renderer::new(&scene, &camera, settings)
+                .unwrap()
+                .cancel_on(&flag);
+            let cancelling = Cancelling {
+                flag: &flag,
+                calls: AtomicU64::new(0),
+            };
+            let progressed = AtomicU64::new(0);
+            let out = renderer.render_frame(
+                &cancelling,
+                &accel,
+                Instant::now(),
+                &|n| {
+                    progressed.fetch_add(n, Ordering::Relaxed);
+                },
+                &|_, _| {},
+            );
+            assert!(matches!(
+                renderer.finished(out),
+                Err(crate::Error::Interrupted)
+            ));
+            // Each thread finishes the tile or pixel it is in.
+            let calls = cancelling.calls.into_inner();
+            assert!(
+                calls <= threads * per_call,
+                "{calls} calls, {dof_rays:?} lens rays"
+            );
+            assert_eq!(
+                progressed.into_inner(),
+                0,
+                "a cancelled strip reports no rows"
+            );
+        }
+    }
 }
 
 mod lens_packet_tests {
