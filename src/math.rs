@@ -16,7 +16,7 @@ impl Ray {
     pub fn new(origin: Vec3, dir: Vec3) -> Ray {
         Ray {
             origin,
-            dir: dir.normalize(),
+            dir: normalize(dir),
         }
     }
 
@@ -24,6 +24,26 @@ impl Ray {
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + self.dir * t
     }
+}
+
+/// The cross product `a x b`, each component one product minus another, rounded
+/// separately. glam's own fuses the subtraction into the second product on aarch64, so
+/// its bits would differ by machine (and from the leaf test's lanes, which spell the
+/// same expressions out).
+#[inline]
+pub fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    Vec3::new(
+        a.y * b.z - a.z * b.y,
+        a.z * b.x - a.x * b.z,
+        a.x * b.y - a.y * b.x,
+    )
+}
+
+/// `v` scaled to unit length: each component divided by the length. glam's own
+/// multiplies by the length's reciprocal on aarch64 instead, which rounds differently.
+#[inline]
+pub fn normalize(v: Vec3) -> Vec3 {
+    v / v.length()
 }
 
 /// Relative size of the offset that lifts a secondary ray's origin off the surface it

@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::math::Vec3;
+use crate::math::normalize;
 use crate::scene::Shape;
 
 fn example(file: &str) -> String {
@@ -104,7 +105,7 @@ fn a_posed_camera_at_a_known_frame() {
     )
     .unwrap();
     let (_, c) = a.pose(0).unwrap();
-    let to_glass = (Vec3::new(-20.0, 40.0, 40.0) - c.eye).normalize();
+    let to_glass = normalize(Vec3::new(-20.0, 40.0, 40.0) - c.eye);
     assert!(close(c.frame().forward, to_glass));
     let a = parse_str(
         "frames = 2\nfps = 1\n\

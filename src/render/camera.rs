@@ -89,6 +89,7 @@ impl CameraRays {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::normalize;
 
     /// Eye at the origin looking along +x; 4 x 2 pixels, s = 0.5, d = 1: the screen is
     /// the square [-2, 2] x [-1, 1] at x = 1, pixels one unit wide.
@@ -120,17 +121,17 @@ mod tests {
         // Top-left pixel centre: right -1.5, down -0.5 (i.e. up, +z 0.5).
         let tl = rays.pinhole(0, 0);
         assert!(
-            close(tl.dir, Vec3::new(1.0, -1.5, 0.5).normalize()),
+            close(tl.dir, normalize(Vec3::new(1.0, -1.5, 0.5))),
             "{tl:?}"
         );
         let br = rays.pinhole(3, 1);
         assert!(
-            close(br.dir, Vec3::new(1.0, 1.5, -0.5).normalize()),
+            close(br.dir, normalize(Vec3::new(1.0, 1.5, -0.5))),
             "{br:?}"
         );
         // Between the four central pixels lies the view axis.
         let a = rays.pinhole(1, 0).dir + rays.pinhole(2, 1).dir;
-        assert!(close(a.normalize(), Vec3::X));
+        assert!(close(normalize(a), Vec3::X));
     }
 
     #[test]
@@ -139,7 +140,7 @@ mod tests {
         // 8 x 4 pixels of half size: the first centre is at right -1.75, down -0.75.
         assert!(close(
             rays.pinhole(0, 0).dir,
-            Vec3::new(1.0, -1.75, 0.75).normalize()
+            normalize(Vec3::new(1.0, -1.75, 0.75))
         ));
     }
 

@@ -9,6 +9,7 @@
 use super::shadows::{KnownShadows, from_light, trace_ahead};
 use super::{Integrator, NO_RAY, PACKET_RAYS, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
+use crate::math::normalize;
 use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect};
 use crate::scene::shape::{Rectangle, SurfaceCoords};
 use crate::scene::{Material, Scene, Shape};
@@ -354,7 +355,7 @@ pub fn refract(d: Vec3, n: Vec3, ray_ior: f32, material_ior: f32) -> Option<(Vec
         return None;
     }
     let dir = d / eta - (cos_i / eta - cos_t2.sqrt()) * n;
-    Some((dir.normalize(), target))
+    Some((normalize(dir), target))
 }
 
 impl Integrator for Classic<'_> {

@@ -2,6 +2,7 @@
 //! exact dielectric Fresnel reflectance.
 
 use crate::math::Vec3;
+use crate::math::normalize;
 
 /// Direction of `d` refracted through a surface with unit normal `n` facing the side `d`
 /// comes from (`d.n < 0`), from index `eta_i` into `eta_t`; `None` past the critical
@@ -15,7 +16,7 @@ pub fn refract(d: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> Option<Vec3> {
         return None;
     }
     let cos_t = (1.0 - sin2_t).sqrt();
-    Some((eta * d + (eta * cos_i - cos_t) * n).normalize())
+    Some(normalize(eta * d + (eta * cos_i - cos_t) * n))
 }
 
 /// Fresnel reflectance of an unpolarised wave meeting a dielectric boundary at

@@ -96,6 +96,7 @@ pub fn from_light(light: Vec3, p: Vec3) -> Option<(Ray, f32)> {
 mod tests {
     use super::*;
     use crate::math::Vec3;
+    use crate::math::normalize;
     use crate::scene::{Shape, Shapes, Sphere};
 
     /// A unit sphere 5 along +z.
@@ -113,7 +114,7 @@ mod tests {
         // Rays from the origin fanning across the sphere: the middle ones are blocked
         // before t = 10 (light 0), none before t = 3 (light 1); ray 2 is not traced
         // toward light 1.
-        let dir = |i: usize| Vec3::new(i as f32 * 0.1 - 0.3, 0.0, 1.0).normalize();
+        let dir = |i: usize| normalize(Vec3::new(i as f32 * 0.1 - 0.3, 0.0, 1.0));
         let mut known = [KnownShadows::NONE; 7];
         trace_ahead(
             &accel,

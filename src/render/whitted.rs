@@ -10,6 +10,8 @@
 use super::optics::{fresnel_dielectric, refract};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
+use crate::math::cross;
+use crate::math::normalize;
 use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect};
 use crate::scene::{
     Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
@@ -338,7 +340,7 @@ impl<'a> Whitted<'a> {
         if t == Vec3::ZERO {
             return sp;
         }
-        let b = n.cross(t);
+        let b = cross(n, t);
         let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
         let m = Vec3::new(c.x, c.y, c.z) * 2.0 - Vec3::ONE;
         let bent = (t * m.x + b * m.y + n * m.z).normalize_or_zero();
@@ -445,7 +447,7 @@ impl<'a> Whitted<'a> {
                 }
             }
             LightKind::Quad { u, v } => {
-                let normal = u.cross(*v);
+                let normal = cross(*u, *v);
                 let area = normal.length();
                 let normal = normal / area;
                 for i in 0..n {
@@ -486,7 +488,7 @@ impl<'a> Whitted<'a> {
                     let cos = 1.0 - a * (1.0 - cos_max);
                     let sin = (1.0 - cos * cos).max(0.0).sqrt();
                     let (sp, cp) = (b * std::f32::consts::TAU).sin_cos();
-                    let dir = (axis * cos + t1 * (sin * cp) + t2 * (sin * sp)).normalize();
+                    let dir = normalize(axis * cos + t1 * (sin * cp) + t2 * (sin * sp));
                     // Distance to the near side of the sphere along `dir`.
                     let along = dist_c * cos;
                     let dist = along - (r2 - (d2 - along * along)).max(0.0).sqrt();

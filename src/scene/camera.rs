@@ -1,6 +1,7 @@
 //! The 2014 camera (CMR file, report section 5.2.3; SPEC 3.1).
 
 use crate::math::Vec3;
+use crate::math::cross;
 
 /// Camera as the CMR file states it. Angles in degrees: `theta` is the polar angle from
 /// +z (z is up), `phi` the azimuth from +x.
@@ -116,14 +117,14 @@ pub fn angles_of(d: Vec3) -> (f32, f32) {
 /// frame stays orthonormal.
 pub fn look_at_frame(forward: Vec3, up: Vec3) -> Frame {
     let forward = forward.normalize_or(Vec3::X);
-    let mut right = forward.cross(up).normalize_or_zero();
+    let mut right = cross(forward, up).normalize_or_zero();
     if right.length_squared() < 0.5 {
         right = forward.any_orthonormal_vector();
     }
     Frame {
         forward,
         right,
-        down: forward.cross(right),
+        down: cross(forward, right),
     }
 }
 

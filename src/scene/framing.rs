@@ -3,6 +3,8 @@
 //! model.obj out.png` shows.
 
 use super::{Background, Camera, Light, LightKind, Scene};
+use crate::math::cross;
+use crate::math::normalize;
 use crate::math::{Aabb, Vec3};
 
 /// Horizontal field of view of the default camera, in degrees: a normal lens.
@@ -20,7 +22,7 @@ pub fn three_quarter_view(bounds: Aabb, up: Vec3, width: u32, height: u32) -> Ca
     } else {
         (bounds.center(), (0.5 * bounds.extent().length()).max(1e-6))
     };
-    let dir = (front - 0.75 * right + 0.5 * up).normalize();
+    let dir = normalize(front - 0.75 * right + 0.5 * up);
     // The narrower of the two fields of view must hold the sphere, with 10% to spare.
     let half_h = (DEFAULT_FOV * 0.5).to_radians();
     let half_v = (half_h.tan() * height as f32 / width.max(1) as f32).atan();
@@ -39,13 +41,13 @@ pub fn three_quarter_view(bounds: Aabb, up: Vec3, width: u32, height: u32) -> Ca
 /// write), -y and +x when z is up.
 fn horizontal_axes(up: Vec3) -> (Vec3, Vec3) {
     let helper = if up.z.abs() < 0.9 { Vec3::Z } else { -Vec3::Y };
-    let right = helper.cross(up).normalize_or(Vec3::X);
+    let right = cross(helper, up).normalize_or(Vec3::X);
     let right = if right.dot(Vec3::X) < 0.0 {
         -right
     } else {
         right
     };
-    let front = right.cross(up).normalize();
+    let front = normalize(cross(right, up));
     (front, right)
 }
 
@@ -56,8 +58,8 @@ fn horizontal_axes(up: Vec3) -> (Vec3, Vec3) {
 pub fn add_default_lighting(scene: &mut Scene, camera: &Camera) {
     let f = camera.frame();
     let up = -f.down;
-    let key = (-f.right + 1.2 * up - 0.6 * f.forward).normalize();
-    let fill = (f.right + 0.2 * up - 0.8 * f.forward).normalize();
+    let key = normalize(-f.right + 1.2 * up - 0.6 * f.forward);
+    let fill = normalize(f.right + 0.2 * up - 0.8 * f.forward);
     for (toward_light, intensity) in [(key, 0.9f32), (fill, 0.3)] {
         scene.lights.push(Light {
             kind: LightKind::Directional {
@@ -86,7 +88,7 @@ mod tests {
         let c = three_quarter_view(bounds, Vec3::Y, 1600, 900);
         let f = c.frame();
         // Looks at the centre.
-        let to_center = (bounds.center() - c.eye).normalize();
+        let to_center = normalize(bounds.center() - c.eye);
         assert!((f.forward - to_center).length() < 1e-5);
         // From the front (+z), the left (-x) and above (+y).
         assert!(

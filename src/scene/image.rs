@@ -4,6 +4,7 @@
 
 use super::material::{TextureSlot, srgb_channel_to_linear};
 use crate::math::Vec3;
+use crate::math::cross;
 use glam::Vec4;
 use std::sync::LazyLock;
 
@@ -95,7 +96,7 @@ impl ImageTexture {
     /// Equirectangular lookup of direction `d` (unit), with `up` the image's vertical
     /// axis: the top row looks up, the centre column looks along `forward`.
     pub fn sample_direction(&self, d: Vec3, up: Vec3, forward: Vec3) -> Vec3 {
-        let right = forward.cross(up);
+        let right = cross(forward, up);
         let y = d.dot(up).clamp(-1.0, 1.0);
         let phi = d.dot(right).atan2(d.dot(forward));
         let u = 0.5 + phi / std::f32::consts::TAU;

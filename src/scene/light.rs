@@ -2,6 +2,7 @@
 //! (SPEC 4.3): directional, spot, and area lights sampled with stratified shadow rays.
 
 use crate::math::Vec3;
+use crate::math::cross;
 
 /// A light. The classic model uses only `position` (every light is a white point light
 /// there); the whitted model uses everything.
@@ -80,7 +81,7 @@ impl Light {
         for &i in shapes {
             if let Some(super::Shape::Triangle(t)) = scene_shapes.try_get(i as usize) {
                 let [a, b, c] = t.v;
-                let area = 0.5 * f64::from((b - a).cross(c - a).length());
+                let area = 0.5 * f64::from(cross(b - a, c - a).length());
                 if area > 0.0 && area.is_finite() {
                     total += area;
                     kept.push(i);

@@ -5,6 +5,7 @@
 //! intersectors read geometry only; a mesh names the run of shapes it owns.
 
 use crate::math::Vec3;
+use crate::math::cross;
 
 /// Per-vertex attributes of the triangles `Scene::shapes[first_shape..][..len]`.
 /// Each attribute array is empty when the file gave none; its index triples then are
@@ -118,7 +119,7 @@ pub fn smooth_normals(scene: &mut super::Scene, shapes: std::ops::Range<u32>) {
             continue;
         };
         // Twice the area times the unit normal.
-        let face = (t.v[1] - t.v[0]).cross(t.v[2] - t.v[0]);
+        let face = cross(t.v[1] - t.v[0], t.v[2] - t.v[0]);
         let face = if face.is_finite() { face } else { Vec3::ZERO };
         let idx = t.v.map(|p| {
             let key = p.to_array().map(f32::to_bits);
@@ -162,6 +163,7 @@ pub fn smooth_normals(scene: &mut super::Scene, shapes: std::ops::Range<u32>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::normalize;
     use crate::scene::{Material, Scene, Shape, Triangle};
 
     #[test]
@@ -189,7 +191,7 @@ mod tests {
             "two shared corners, two of their own"
         );
         let shared = mesh.normal(0, [1.0, 0.0, 0.0]).unwrap();
-        let expected = (Vec3::Z + Vec3::Y * 2.0).normalize();
+        let expected = normalize(Vec3::Z + Vec3::Y * 2.0);
         assert!((shared - expected).length() < 1e-6, "{shared}");
         // A corner of one face only keeps that face's normal.
         assert_eq!(mesh.normal(0, [0.0, 0.0, 1.0]), Some(Vec3::Z));

@@ -3,6 +3,7 @@
 //! Each answers the geometric questions the renderer asks: where a ray first meets it,
 //! its geometric normal, its bounds, and the planar coordinates a texture is read at.
 
+use crate::math::cross;
 use crate::math::{Aabb, Ray, Vec3};
 
 /// Barycentric slack of triangle and rectangle tests. Two faces that share an edge must
@@ -128,7 +129,7 @@ pub(crate) fn intersect_parallelogram(
     max_sum: f32,
     t_max: f32,
 ) -> Option<f32> {
-    let pvec = ray.dir.cross(e2);
+    let pvec = cross(ray.dir, e2);
     let det = e1.dot(pvec);
     if det == 0.0 || !det.is_finite() {
         return None;
@@ -139,7 +140,7 @@ pub(crate) fn intersect_parallelogram(
     if !(-EDGE_SLACK..=1.0 + EDGE_SLACK).contains(&u) {
         return None;
     }
-    let qvec = tvec.cross(e1);
+    let qvec = cross(tvec, e1);
     let v = ray.dir.dot(qvec) * inv_det;
     if !(-EDGE_SLACK..=1.0 + EDGE_SLACK).contains(&v) || u + v > max_sum + EDGE_SLACK {
         return None;
@@ -157,7 +158,7 @@ impl Triangle {
 
     pub fn normal(&self) -> Vec3 {
         let [a, b, c] = self.v;
-        (b - a).cross(c - a).normalize_or(Vec3::Z)
+        cross(b - a, c - a).normalize_or(Vec3::Z)
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -204,7 +205,7 @@ impl Rectangle {
 
     pub fn normal(&self) -> Vec3 {
         let [a, b, c, _] = self.v;
-        (b - a).cross(c - a).normalize_or(Vec3::Z)
+        cross(b - a, c - a).normalize_or(Vec3::Z)
     }
 
     pub fn bounds(&self) -> Aabb {

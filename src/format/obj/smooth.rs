@@ -5,6 +5,7 @@
 
 use super::ObjTriangle;
 use crate::math::Vec3;
+use crate::math::cross;
 
 /// Gives every triangle without normals and with a smoothing group `vn` indices into
 /// new normals appended to `normals`: one per (position, group) pair.
@@ -25,7 +26,7 @@ pub fn smooth_normals(positions: &[Vec3], triangles: &mut [ObjTriangle], normals
     corners.sort_unstable();
     let face_normal = |t: usize| {
         let [a, b, c] = triangles[t].v.map(|i| positions[i as usize]);
-        (b - a).cross(c - a)
+        cross(b - a, c - a)
     };
     let mut assigned: Vec<(usize, u32)> = Vec::with_capacity(corners.len());
     for run in corners.chunk_by(|a, b| a.0 == b.0) {
@@ -50,6 +51,7 @@ pub fn smooth_normals(positions: &[Vec3], triangles: &mut [ObjTriangle], normals
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::normalize;
 
     fn triangle(v: [u32; 3], smoothing: u32) -> ObjTriangle {
         ObjTriangle {
@@ -83,19 +85,19 @@ mod tests {
         smooth_normals(&positions, &mut triangles, &mut normals);
         // Left face: normal (-1, 0, 1)·1 per unit area, area sqrt(2); the right pair:
         // (1, 0, 1), area 2 sqrt(2). The ridge at 1 sees both right triangles.
-        let left = (positions[1] - positions[0]).cross(positions[2] - positions[0]);
+        let left = cross(positions[1] - positions[0], positions[2] - positions[0]);
         assert_eq!(left, Vec3::new(-2.0, 0.0, 2.0));
-        let ridge = (Vec3::new(-2.0, 0.0, 2.0) + Vec3::new(2.0, 0.0, 2.0) * 2.0).normalize();
+        let ridge = normalize(Vec3::new(-2.0, 0.0, 2.0) + Vec3::new(2.0, 0.0, 2.0) * 2.0);
         let n = |t: usize, k: usize| normals[triangles[t].vn.unwrap()[k] as usize];
         assert_eq!(n(0, 1), ridge);
         assert_eq!(n(1, 0), ridge);
         assert_eq!(n(2, 0), ridge);
-        assert_eq!(n(0, 0), Vec3::new(-2.0, 0.0, 2.0).normalize());
-        assert_eq!(n(1, 1), Vec3::new(2.0, 0.0, 2.0).normalize());
+        assert_eq!(n(0, 0), normalize(Vec3::new(-2.0, 0.0, 2.0)));
+        assert_eq!(n(1, 1), normalize(Vec3::new(2.0, 0.0, 2.0)));
         assert_eq!(n(0, 2), Vec3::Z);
         // Group 0 stays flat; group 2 does not share with group 1.
         assert_eq!(triangles[3].vn, None);
-        assert_eq!(n(4, 1), Vec3::new(-2.0, 0.0, 2.0).normalize());
+        assert_eq!(n(4, 1), normalize(Vec3::new(-2.0, 0.0, 2.0)));
         // One normal per (position, group): 5 in group 1, 3 in group 2, after the file's.
         assert_eq!(normals.len(), 1 + 5 + 3);
         assert_eq!(normals[0], Vec3::X);

@@ -202,6 +202,7 @@ fn fan(ring: impl IntoIterator<Item = u32>, out: &mut Vec<[u32; 3]>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::cross;
     use proptest::prelude::*;
 
     fn split(points: &[[f32; 3]]) -> (Method, Vec<[u32; 3]>) {
@@ -309,13 +310,13 @@ mod tests {
                 .iter()
                 .map(|t| {
                     let [a, b, c] = t.map(|i| corners[i as usize]);
-                    (b - a).cross(c - a).x / 2.0
+                    cross(b - a, c - a).x / 2.0
                 })
                 .sum();
             assert_eq!(area.abs(), 3.0);
             assert!(triangles.iter().all(|t| {
                 let [a, b, c] = t.map(|i| corners[i as usize]);
-                (b - a).cross(c - a).x * area >= 0.0
+                cross(b - a, c - a).x * area >= 0.0
             }));
         }
     }

@@ -12,6 +12,7 @@ use super::transform::Transform;
 use super::{camera, lights, settings, tracks};
 use crate::Result;
 use crate::format::FileSettings;
+use crate::math::cross;
 use crate::math::{Aabb, Vec3};
 use crate::scene::{
     Albedo, Camera, Group, Light, LightKind, Material, Rectangle, Scene, Shape, Surface,
@@ -402,7 +403,7 @@ impl Builder {
         let half = 0.5 * PLANE_SCALE * size;
         for &(i, p, n) in &self.planes {
             let t1 = n.any_orthonormal_vector();
-            let t2 = n.cross(t1);
+            let t2 = cross(n, t1);
             let (a, b) = (t1 * half, t2 * half);
             self.scene.shapes.set(
                 i,

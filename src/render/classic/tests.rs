@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::accel::{Accel, AccelKind};
+use crate::math::normalize;
 use crate::scene::{Light, Material, Rectangle, Shape, Sphere};
 
 const C: Vec3 = Vec3::new(0.5, 0.25, 1.0);
@@ -164,7 +165,7 @@ fn nothing_hit_is_black() {
 fn snell_bends_toward_the_normal_entering_water() {
     // Normal points into the water (down); a ray going down at 45 degrees enters.
     let n = -Vec3::Z;
-    let d = Vec3::new(1.0, 0.0, -1.0).normalize();
+    let d = normalize(Vec3::new(1.0, 0.0, -1.0));
     let (t, ior) = refract(d, n, 1.0, 1.33).unwrap();
     assert_eq!(ior, 1.33);
     let sin_t = std::f32::consts::FRAC_1_SQRT_2 / 1.33;
@@ -323,7 +324,7 @@ fn camera_packets_shade_as_each_ray_traced_alone() {
             (y as f32 + 0.5) / h as f32 * 18.0 - 9.0,
             0.0,
         );
-        Ray::new(eye, (target - eye).normalize())
+        Ray::new(eye, normalize(target - eye))
     };
     let (mut shadowed, mut in_glass) = (0, 0);
     let (mut packed_count, mut alone_count) = (RayCount::default(), RayCount::default());

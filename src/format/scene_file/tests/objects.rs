@@ -1,6 +1,8 @@
 //! Each object type and transform, with exact positions: spheres, quads, triangles, boxes, disks, cylinders, planes and mesh files.
 
 use super::*;
+use crate::math::cross;
+use crate::math::normalize;
 use crate::scene::{Albedo, Shape};
 
 #[test]
@@ -75,7 +77,7 @@ fn a_box_is_six_rectangles_facing_out() {
     let mut normals = Vec::new();
     for s in f.scene.shapes.iter() {
         let Shape::Rectangle(r) = s else { panic!() };
-        let n = (r.v[1] - r.v[0]).cross(r.v[3] - r.v[0]).normalize();
+        let n = normalize(cross(r.v[1] - r.v[0], r.v[3] - r.v[0]));
         let centre = (r.v[0] + r.v[2]) * 0.5;
         assert!(n.dot(centre) > 0.0, "{r:?} faces in");
         normals.push(n);
@@ -99,7 +101,7 @@ fn a_disk_is_a_fan_whose_normal_transforms_by_the_inverse_transpose() {
     assert_eq!((mesh.first_shape, mesh.len), (0, SEGMENTS));
     mesh.check().unwrap();
     // (1, 1, 0) under diag(2, 1, 1): inverse transpose diag(1/2, 1, 1) gives (1/2, 1, 0).
-    assert_close(mesh.normals[0], v(0.5, 1.0, 0.0).normalize());
+    assert_close(mesh.normals[0], normalize(v(0.5, 1.0, 0.0)));
     // The geometric normals agree with the smooth one.
     for s in f.scene.shapes.iter() {
         let Shape::Triangle(t) = s else { panic!() };
@@ -124,7 +126,7 @@ fn a_cylinder_has_radial_side_normals_and_two_caps() {
             let radial = v(p.x - 1.0, p.y, 0.0);
             assert!((radial.length() - 0.5).abs() < 1e-5);
             let normal = mesh.normals[mesh.normal_indices[i][k] as usize];
-            assert_close(normal, radial.normalize());
+            assert_close(normal, normalize(radial));
         }
     }
     // Caps face down and up.
@@ -155,7 +157,7 @@ fn a_plane_is_a_square_a_hundred_times_the_rest_of_the_scene() {
         assert!((p.y + 1.0).abs() < 1e-3);
         assert!(((p.x.abs().max(p.z.abs())) - half).abs() < 1e-2, "{p}");
     }
-    let n = (r.v[1] - r.v[0]).cross(r.v[3] - r.v[0]).normalize();
+    let n = normalize(cross(r.v[1] - r.v[0], r.v[3] - r.v[0]));
     assert_close(n, Vec3::Y);
 }
 

@@ -1,6 +1,7 @@
 //! Animation tracks naming objects, lights, materials and the camera; the showcase scene rendered.
 
 use super::*;
+use crate::math::normalize;
 
 #[test]
 fn tracks_may_name_objects_lights_materials_and_the_camera() {
@@ -46,7 +47,7 @@ fn the_showcase_renders_a_mirror_glass_and_checker() {
     // Where the mirror's normal tilts up by half (toward (0, 0.5, 1)), it sends the view
     // up and back over the camera to the sky: the pixel is 0.9 of the sky (the mirror
     // has no colour of its own, and its tight highlights point elsewhere).
-    let mirror = pixel(Vec3::new(-1.2, 1.0, 0.0) + Vec3::new(0.0, 0.5, 1.0).normalize());
+    let mirror = pixel(Vec3::new(-1.2, 1.0, 0.0) + normalize(Vec3::new(0.0, 0.5, 1.0)));
     assert!(close_rel(mirror, sky * 0.9, 0.05), "mirror {mirror}");
     // The glass is bright: it shows the lit floor and sky through it, never black.
     let glass = pixel(Vec3::new(1.3, 1.0, 1.6));

@@ -2,6 +2,7 @@
 //! traversals, tinted glass meshes, and the limits on crossings.
 
 use super::*;
+use crate::math::normalize;
 use crate::scene::{ImageTexture, Texels, TextureSlot, Triangle};
 
 /// Glass that transmits `t` per crossing.
@@ -261,7 +262,7 @@ pub(super) fn random_shadow(
     let from = point(Vec3::new(-5.0, 0.0, -4.0), Vec3::new(5.0, 5.0, 4.0));
     let to = point(toward[0], toward[1]);
     let ng = (point(Vec3::NEG_ONE, Vec3::ONE)).normalize_or(Vec3::Y);
-    let (dir, dist) = ((to - from).normalize(), (to - from).length());
+    let (dir, dist) = (normalize(to - from), (to - from).length());
     let dist = match i % 4 {
         0 => f32::INFINITY,
         1 => dist * 3.0,
@@ -326,7 +327,7 @@ fn a_tinted_glass_mesh_tints_once_per_side_even_through_its_edges() {
         let accel = Accel::build(kind, &s.shapes);
         let w = Whitted::new(&s, &accel, &surfaces, 10, 0.0);
         for (at, dir) in entries {
-            let dir = dir.normalize();
+            let dir = normalize(dir);
             let from = at - 4.0 * dir;
             // The light 3 past the entry, beyond the box; the opaque floor below every
             // ray, and so no blocker.
@@ -430,7 +431,7 @@ fn shadow_answers(s: &Scene, from: Vec3, to: Vec3) -> Vec<(String, Vec3)> {
     let surfaces = s.resolved_surfaces();
     let casters = Casters::of(s, &surfaces).expect("clear shapes outnumber the rest");
     let ls = LightSample {
-        dir: (to - from).normalize(),
+        dir: normalize(to - from),
         dist: (to - from).length(),
         e: Vec3::ONE,
     };
