@@ -86,7 +86,8 @@ mod cancel_tests {
 
     /// Cancelling stops a strip at its next tile (one ray a pixel) or its next pixel
     /// (many rays a pixel), not at its end: on a frame 2048 pixels wide, a strip is 128
-    /// tiles, or 8192 pixels of 8 lens rays.
+    /// tiles, or 8192 pixels of 8 lens rays. With anti-aliasing no band is resampled or
+    /// written after it.
     #[test]
     fn a_cancelled_strip_stops_at_its_next_tile_or_pixel() {
         let scene = super::with_unit_ball(Scene {
@@ -96,10 +97,11 @@ mod cancel_tests {
         let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 2048, 8);
         let accel = Accel::build(crate::accel::AccelKind::Bvh, &scene.shapes);
         let threads = rayon::current_num_threads() as u64;
-        for (dof_rays, per_call) in [(None, 1), (Some(8), 8)] {
+        for (dof_rays, aa, per_call) in [(None, 1, 1), (Some(8), 1, 8), (None, 2, 1)] {
             let flag = AtomicBool::new(false);
             let settings = RenderSettings {
                 dof_rays,
+                aa: Some(aa),
                 ..RenderSettings::default()
             };
             let renderer = Renderer::new(&scene, &camera, settings)
@@ -109,7 +111,7 @@ mod cancel_tests {
                 flag: &flag,
                 calls: AtomicU64::new(0),
             };
-            let progressed = AtomicU64::new(0);
+            let (progressed, written) = (AtomicU64::new(0), AtomicU64::new(0));
             let out = renderer.render_frame(
                 &cancelling,
                 &accel,
@@ -117,7 +119,9 @@ mod cancel_tests {
                 &|n| {
                     progressed.fetch_add(n, Ordering::Relaxed);
                 },
-                &|_, _| {},
+                &|_, _| {
+                    written.fetch_add(1, Ordering::Relaxed);
+                },
             );
             assert!(matches!(
                 renderer.finished(out),
@@ -125,15 +129,11 @@ mod cancel_tests {
             ));
             // Each thread finishes the tile or pixel it is in.
             let calls = cancelling.calls.into_inner();
-            assert!(
-                calls <= threads * per_call,
-                "{calls} calls, {dof_rays:?} lens rays"
-            );
-            assert_eq!(
-                progressed.into_inner(),
-                0,
-                "a cancelled strip reports no rows"
-            );
+            let case = format!("{dof_rays:?} lens rays, AA {aa}");
+            assert!(calls <= threads * per_call, "{calls} calls, {case}");
+            assert_eq!(progressed.into_inner(), 0, "progress reported, {case}");
+            // No band is resampled or handed on once the render is cancelled.
+            assert_eq!(written.into_inner(), 0, "rows written, {case}");
         }
     }
 }
