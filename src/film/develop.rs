@@ -153,7 +153,11 @@ impl Develop {
             radiance * self.exposure.exp2()
         };
         // NaN and negatives (and 0 × ∞ from an extreme exposure) develop to black.
-        let exposed = if exposed > 0.0 { exposed } else { 0.0 };
+        // Decided on the bits: `exposed > 0.0` may be compiled to a maximum with 0
+        // (aarch64's `fmaxnm`), which makes a signalling NaN quiet instead of 0, and
+        // the clamp then takes that NaN for 1.
+        let positive = exposed.to_bits().wrapping_sub(1) < f32::INFINITY.to_bits();
+        let exposed = if positive { exposed } else { 0.0 };
         self.transfer.encode(self.tonemap.apply(exposed))
     }
 
@@ -512,6 +516,25 @@ mod tests {
         let pixels: Vec<[f32; 3]> = values.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
         let h = pixels.len() as u32 / 61;
         (Image::new(61, h, pixels), values)
+    }
+
+    /// Every NaN develops to black, signalling ones too, on every machine.
+    #[test]
+    fn nan_develops_to_black() {
+        let nans = [
+            0x7fc0_0000,
+            0xffc0_0000,
+            0x7fc0_1234,
+            0x7f80_0001,
+            0xff80_0001,
+            0x7fbf_ffff,
+        ];
+        for d in developments() {
+            for bits in nans {
+                let v = std::hint::black_box(f32::from_bits(bits));
+                assert_eq!(quantize(d.channel(v)), 0, "{d:?} {bits:08x}");
+            }
+        }
     }
 
     #[test]
