@@ -6,7 +6,7 @@
 #
 #   tools/aarch64-same-images.sh            # exit 0 when every image is the same
 #   tools/aarch64-same-images.sh --tests    # also run the library's tests under qemu
-#                                           # (slow: the proptests run emulated)
+#                                           # (about 20 minutes on two cores)
 #
 # Needs the aarch64 standard library (rustup target add aarch64-unknown-linux-gnu), a
 # cross linker and qemu-user (apt-get install gcc-aarch64-linux-gnu
@@ -73,6 +73,9 @@ for name in scene0 scene1; do
 done
 
 if [[ ${1:-} == --tests ]]; then
-    cargo test --lib --no-default-features --target $target -- --test-threads "$(nproc)"
+    # Every f32 from 0 to 1 through the 8-bit cut-offs is a billion values: hours
+    # under emulation, and the cut-off test on chosen values covers the same code.
+    cargo test --lib --no-default-features --target $target -- --test-threads "$(nproc)" \
+        --skip cut_offs_match_the_formula_for_every_f32_up_to_1
 fi
 exit $failed
