@@ -1,8 +1,7 @@
 //! Animation files end to end in the library: parsing, posing, errors, frames.
 
 use super::*;
-use crate::math::Vec3;
-use crate::math::normalize;
+use crate::math::{Vec3, normalize};
 use crate::scene::Shape;
 
 fn example(file: &str) -> String {

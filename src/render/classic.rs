@@ -9,8 +9,7 @@
 use super::shadows::{KnownShadows, from_light, trace_ahead};
 use super::{Integrator, NO_RAY, PACKET_RAYS, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::normalize;
-use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect};
+use crate::math::{Ray, Vec3, highlight_pow, normalize, offset_origin, reflect};
 use crate::scene::shape::{Rectangle, SurfaceCoords};
 use crate::scene::{Material, Scene, Shape};
 

@@ -1,8 +1,7 @@
 //! Optics both shading models rely on, in their physical form: Snell's law and the
 //! exact dielectric Fresnel reflectance.
 
-use crate::math::Vec3;
-use crate::math::normalize;
+use crate::math::{Vec3, normalize};
 
 /// Direction of `d` refracted through a surface with unit normal `n` facing the side `d`
 /// comes from (`d.n < 0`), from index `eta_i` into `eta_t`; `None` past the critical

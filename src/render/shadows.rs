@@ -95,8 +95,7 @@ pub fn from_light(light: Vec3, p: Vec3) -> Option<(Ray, f32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Vec3;
-    use crate::math::normalize;
+    use crate::math::{Vec3, normalize};
     use crate::scene::{Shape, Shapes, Sphere};
 
     /// A unit sphere 5 along +z.

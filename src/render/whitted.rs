@@ -10,9 +10,7 @@
 use super::optics::{fresnel_dielectric, refract};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::cross;
-use crate::math::normalize;
-use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect};
+use crate::math::{Ray, Vec3, cross, highlight_pow, normalize, offset_origin, reflect};
 use crate::scene::{
     Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
     material::srgb_to_linear,

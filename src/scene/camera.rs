@@ -1,7 +1,6 @@
 //! The 2014 camera (CMR file, report section 5.2.3; SPEC 3.1).
 
-use crate::math::Vec3;
-use crate::math::cross;
+use crate::math::{Vec3, cross};
 
 /// Camera as the CMR file states it. Angles in degrees: `theta` is the polar angle from
 /// +z (z is up), `phi` the azimuth from +x.

@@ -3,9 +3,7 @@
 //! model.obj out.png` shows.
 
 use super::{Background, Camera, Light, LightKind, Scene};
-use crate::math::cross;
-use crate::math::normalize;
-use crate::math::{Aabb, Vec3};
+use crate::math::{Aabb, Vec3, cross, normalize};
 
 /// Horizontal field of view of the default camera, in degrees: a normal lens.
 pub const DEFAULT_FOV: f32 = 40.0;

@@ -3,8 +3,7 @@
 //! float texels (HDR environment maps) as they are.
 
 use super::material::{TextureSlot, srgb_channel_to_linear};
-use crate::math::Vec3;
-use crate::math::cross;
+use crate::math::{Vec3, cross};
 use glam::Vec4;
 use std::sync::LazyLock;
 

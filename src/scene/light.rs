@@ -1,8 +1,7 @@
 //! Lights: the 2014 point light, and the kinds the physically based model adds
 //! (SPEC 4.3): directional, spot, and area lights sampled with stratified shadow rays.
 
-use crate::math::Vec3;
-use crate::math::cross;
+use crate::math::{Vec3, cross};
 
 /// A light. The classic model uses only `position` (every light is a white point light
 /// there); the whitted model uses everything.

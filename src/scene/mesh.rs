@@ -4,8 +4,7 @@
 //! The positions stay in `Scene::shapes` (one `Shape::Triangle` each) so the
 //! intersectors read geometry only; a mesh names the run of shapes it owns.
 
-use crate::math::Vec3;
-use crate::math::cross;
+use crate::math::{Vec3, cross};
 
 /// Per-vertex attributes of the triangles `Scene::shapes[first_shape..][..len]`.
 /// Each attribute array is empty when the file gave none; its index triples then are

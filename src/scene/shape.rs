@@ -3,8 +3,7 @@
 //! Each answers the geometric questions the renderer asks: where a ray first meets it,
 //! its geometric normal, its bounds, and the planar coordinates a texture is read at.
 
-use crate::math::cross;
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{Aabb, Ray, Vec3, cross};
 
 /// Barycentric slack of triangle and rectangle tests. Two faces that share an edge must
 /// not let a ray slip between them; the 2014 program grew each triangle by the same

@@ -4,8 +4,7 @@
 //! then barely bends the shared normal.
 
 use super::ObjTriangle;
-use crate::math::Vec3;
-use crate::math::cross;
+use crate::math::{Vec3, cross};
 
 /// Gives every triangle without normals and with a smoothing group `vn` indices into
 /// new normals appended to `normals`: one per (position, group) pair.

@@ -1,7 +1,6 @@
 //! The OBJ reader, statement by statement, on small texts.
 
-use crate::math::cross;
-use crate::math::normalize;
+use crate::math::{cross, normalize};
 use std::collections::HashMap;
 
 use proptest::prelude::*;

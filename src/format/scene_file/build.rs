@@ -12,8 +12,7 @@ use super::transform::Transform;
 use super::{camera, lights, settings, tracks};
 use crate::Result;
 use crate::format::FileSettings;
-use crate::math::cross;
-use crate::math::{Aabb, Vec3};
+use crate::math::{Aabb, Vec3, cross};
 use crate::scene::{
     Albedo, Camera, Group, Light, LightKind, Material, Rectangle, Scene, Shape, Surface,
 };

@@ -1,8 +1,7 @@
 //! Each object type and transform, with exact positions: spheres, quads, triangles, boxes, disks, cylinders, planes and mesh files.
 
 use super::*;
-use crate::math::cross;
-use crate::math::normalize;
+use crate::math::{cross, normalize};
 use crate::scene::{Albedo, Shape};
 
 #[test]

@@ -3,8 +3,7 @@
 
 use super::*;
 use crate::accel::AccelKind;
-use crate::math::normalize;
-use crate::math::surface_epsilon;
+use crate::math::{normalize, surface_epsilon};
 use crate::scene::{Material, Rectangle, Sphere};
 
 /// A scene of `shapes`, each with its own surface.
