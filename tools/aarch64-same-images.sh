@@ -23,6 +23,7 @@ rustup target list --installed | grep -qx $target ||
     rustup target add $target >/dev/null || skip "the $target standard library did not install"
 if ! command -v aarch64-linux-gnu-gcc >/dev/null || ! command -v qemu-aarch64 >/dev/null; then
     command -v apt-get >/dev/null || skip "no aarch64-linux-gnu-gcc or qemu-aarch64, and no apt-get"
+    apt-get update -qq >/dev/null || true
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
         gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user >/dev/null ||
         skip "gcc-aarch64-linux-gnu and qemu-user did not install"
@@ -33,8 +34,9 @@ export CC_aarch64_unknown_linux_gnu=aarch64-linux-gnu-gcc
 export CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER="qemu-aarch64 -L /usr/aarch64-linux-gnu"
 cargo build --release --bin prism --quiet
 cargo build --release --bin prism --no-default-features --target $target --quiet
-native=$PWD/target/release/prism
-arm=(qemu-aarch64 -L /usr/aarch64-linux-gnu "$PWD/target/$target/release/prism")
+out_dir=$(cd "${CARGO_TARGET_DIR:-target}" && pwd)
+native=$out_dir/release/prism
+arm=(qemu-aarch64 -L /usr/aarch64-linux-gnu "$out_dir/$target/release/prism")
 
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
