@@ -19,33 +19,19 @@ pub const MAX_LEAF: usize = 8;
 /// becomes a leaf however many shapes it holds (only pathological inputs get here).
 pub const MAX_DEPTH: u32 = 64;
 
-/// A node of the binary tree. Children of an inner node are adjacent: `first` and
-/// `first + 1`. A leaf holds `order[first..first + count]`.
-#[derive(Clone, Copy, Debug)]
-pub struct Node2 {
-    pub bounds: Aabb,
-    pub first: u32,
-    /// 0 for an inner node.
-    pub count: u32,
-}
-
-impl Node2 {
-    pub fn is_leaf(&self) -> bool {
-        self.count > 0
-    }
-}
-
 /// The binary tree over `boxes`, and the order its leaves list the boxes in.
 pub struct BinaryBvh {
-    pub nodes: Vec<Node2>,
+    pub tree: Tree,
     pub order: Vec<u32>,
 }
 
 /// Ranges larger than this split their two halves across threads.
 const PARALLEL_MIN: usize = 4096;
 
-/// The tree as the parallel build makes it; flattened into [`Node2`]s afterwards.
-enum Tree {
+/// A node of the binary tree, as the parallel build makes it. A leaf holds
+/// `order[start..start + count]`.
+#[derive(Debug, PartialEq)]
+pub enum Tree {
     Leaf {
         bounds: Aabb,
         start: u32,
@@ -53,8 +39,26 @@ enum Tree {
     },
     Inner {
         bounds: Aabb,
+        /// Nodes in this subtree, itself included.
+        nodes: u32,
         children: Box<[Tree; 2]>,
     },
+}
+
+impl Tree {
+    pub fn bounds(&self) -> &Aabb {
+        match self {
+            Tree::Leaf { bounds, .. } | Tree::Inner { bounds, .. } => bounds,
+        }
+    }
+
+    /// Nodes in this subtree, itself included.
+    pub fn nodes(&self) -> usize {
+        match self {
+            Tree::Leaf { .. } => 1,
+            Tree::Inner { nodes, .. } => *nodes as usize,
+        }
+    }
 }
 
 /// A shape's box and index, the unit the build sorts: partitioning these rather than
@@ -110,14 +114,7 @@ pub fn build(boxes: &[Aabb]) -> BinaryBvh {
     let centroids = centroids_of(&refs);
     let tree = subtree(&mut refs, 0, bounds, centroids, 0);
     let order = refs.iter().map(|r| r.id).collect();
-    let mut nodes = Vec::with_capacity(2 * boxes.len() / 3 + 1);
-    nodes.push(Node2 {
-        bounds,
-        first: 0,
-        count: 0,
-    });
-    flatten(&tree, 0, &mut nodes);
-    BinaryBvh { nodes, order }
+    BinaryBvh { tree, order }
 }
 
 /// Builds the subtree over `items`, which sit at `start` in the whole order.
@@ -128,33 +125,74 @@ fn subtree(items: &mut [PrimRef], start: usize, bounds: Aabb, centroids: Aabb, d
     } else {
         None
     };
-    let mid = match split {
+    let halves = match split {
         Some(split) => Some(partition(items, &split)),
         // Coincident centroids: halve the range if it is too big for one leaf.
-        None if count > MAX_LEAF && depth < MAX_DEPTH => Some(count / 2),
+        None if count > MAX_LEAF && depth < MAX_DEPTH => {
+            let (left, right) = items.split_at(count / 2);
+            Some([Side::of(left), Side::of(right)])
+        }
         None => None,
     };
-    let Some(mid) = mid.filter(|&m| m > 0 && m < count) else {
+    let Some([left_side, right_side]) = halves.filter(|[l, _]| l.count > 0 && l.count < count)
+    else {
         return Tree::Leaf {
             bounds,
             start: start as u32,
             count: count as u32,
         };
     };
+    let mid = left_side.count;
     let (left, right) = items.split_at_mut(mid);
-    let child = |items: &mut [PrimRef], start: usize| {
-        let bounds = bounds_of(items);
-        let centroids = centroids_of(items);
-        subtree(items, start, bounds, centroids, depth + 1)
+    let child = |items: &mut [PrimRef], start: usize, side: Side| {
+        subtree(items, start, side.bounds, side.centroids, depth + 1)
     };
     let (l, r) = if count > PARALLEL_MIN {
-        rayon::join(|| child(left, start), || child(right, start + mid))
+        rayon::join(
+            || child(left, start, left_side),
+            || child(right, start + mid, right_side),
+        )
     } else {
-        (child(left, start), child(right, start + mid))
+        (
+            child(left, start, left_side),
+            child(right, start + mid, right_side),
+        )
     };
     Tree::Inner {
         bounds,
+        nodes: (1 + l.nodes() + r.nodes()) as u32,
         children: Box::new([l, r]),
+    }
+}
+
+/// One side of a split: how many shapes, their bounds and their centroids' bounds.
+#[derive(Clone, Copy)]
+struct Side {
+    count: usize,
+    bounds: Aabb,
+    centroids: Aabb,
+}
+
+impl Side {
+    const EMPTY: Side = Side {
+        count: 0,
+        bounds: Aabb::EMPTY,
+        centroids: Aabb::EMPTY,
+    };
+
+    fn of(items: &[PrimRef]) -> Side {
+        Side {
+            count: items.len(),
+            bounds: bounds_of(items),
+            centroids: centroids_of(items),
+        }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, r: &PrimRef) {
+        self.count += 1;
+        self.bounds = self.bounds.union(r.bounds());
+        self.centroids = self.centroids.grow(r.center());
     }
 }
 
@@ -170,39 +208,6 @@ fn centroids_of(items: &[PrimRef]) -> Aabb {
         .fold(Aabb::EMPTY, |acc, r| acc.grow(r.center()))
 }
 
-/// Writes `tree` into `nodes[at]`, its children side by side after the nodes so far.
-fn flatten(tree: &Tree, at: usize, nodes: &mut Vec<Node2>) {
-    match tree {
-        &Tree::Leaf {
-            bounds,
-            start,
-            count,
-        } => {
-            nodes[at] = Node2 {
-                bounds,
-                first: start,
-                count,
-            }
-        }
-        Tree::Inner { bounds, children } => {
-            let first = nodes.len();
-            nodes[at] = Node2 {
-                bounds: *bounds,
-                first: first as u32,
-                count: 0,
-            };
-            let placeholder = Node2 {
-                bounds: Aabb::EMPTY,
-                first: 0,
-                count: 0,
-            };
-            nodes.extend([placeholder, placeholder]);
-            flatten(&children[0], first, nodes);
-            flatten(&children[1], first + 1, nodes);
-        }
-    }
-}
-
 /// A plane between bins `bin - 1` and `bin` on `axis`.
 struct Split {
     axis: usize,
@@ -214,63 +219,80 @@ struct Split {
 impl Split {
     #[inline]
     fn bin_of(&self, c: Vec3) -> usize {
-        (((c[self.axis] - self.min) * self.scale) as usize).min(BINS - 1)
+        bin_index((c[self.axis] - self.min) * self.scale)
     }
+}
+
+/// The bin `x` bins past the first falls in: its whole part, held to the bins (NaN
+/// goes to the first, as a saturating cast would put it).
+#[inline(always)]
+fn bin_index(x: f32) -> usize {
+    let x = x.max(0.0).min((BINS - 1) as f32);
+    // SAFETY: `x` is a number in 0..=BINS - 1, which a u32 holds.
+    unsafe { x.to_int_unchecked::<u32>() as usize }
 }
 
 /// The cheapest split by SAH, or `None` when a leaf is at least as cheap.
 fn best_split(items: &[PrimRef], bounds: Aabb, centroids: Aabb) -> Option<Split> {
     let extent = centroids.extent();
-    let splits = [0, 1, 2].map(|axis| Split {
-        axis,
-        bin: 0,
-        min: centroids.min[axis],
-        scale: BINS as f32 * (1.0 - 1e-6) / extent[axis],
-    });
+    let origin = centroids.min;
+    let scale = Vec3::splat(BINS as f32 * (1.0 - 1e-6)) / extent;
     let live = [0, 1, 2].map(|axis| extent[axis] > 0.0);
-    // One pass over the shapes bins all three axes.
+    // One pass over the shapes bins all three axes; `used` marks the bins filled.
     let mut all_bins = [[EMPTY_BIN; BINS]; 3];
+    let mut used = [0u32; 3];
     for r in items {
         let (b, c) = (r.bounds(), r.center());
+        let at = (c - origin) * scale;
         for axis in 0..3 {
             if live[axis] {
-                let bin = &mut all_bins[axis][splits[axis].bin_of(c)];
+                let k = bin_index(at[axis]);
+                let bin = &mut all_bins[axis][k];
                 bin.bounds = bin.bounds.union(b);
                 bin.count += 1;
+                used[axis] |= 1 << k;
             }
         }
     }
+    // Planes are priced only after a filled bin: the planes up to the next filled bin
+    // part the shapes alike and cost the same, and the first of them wins the tie.
     let mut best: Option<(f32, Split)> = None;
     for axis in 0..3 {
         if !live[axis] {
             continue;
         }
-        let split = &splits[axis];
         let bins = &all_bins[axis];
-        // right_cost[k]: area x count of bins k.. (sweep from the right).
+        // right_cost[k], for a filled bin k: area x count of bins k.. (from the right).
         let mut right_cost = [0.0f32; BINS];
         let mut acc = EMPTY_BIN;
-        for k in (1..BINS).rev() {
+        let mut rest = used[axis];
+        while rest != 0 {
+            let k = (u32::BITS - 1 - rest.leading_zeros()) as usize;
+            rest &= !(1 << k);
             acc.bounds = acc.bounds.union(bins[k].bounds);
             acc.count += bins[k].count;
             right_cost[k] = half_area(&acc.bounds) * packets(acc.count as usize);
         }
         let mut acc = EMPTY_BIN;
-        for k in 1..BINS {
-            acc.bounds = acc.bounds.union(bins[k - 1].bounds);
-            acc.count += bins[k - 1].count;
-            if acc.count == 0 || acc.count as usize == items.len() {
-                continue;
+        let mut rest = used[axis];
+        while rest != 0 {
+            let k = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            if rest == 0 {
+                break;
             }
-            let cost = half_area(&acc.bounds) * packets(acc.count as usize) + right_cost[k];
+            let next = rest.trailing_zeros() as usize;
+            acc.bounds = acc.bounds.union(bins[k].bounds);
+            acc.count += bins[k].count;
+            let cost = half_area(&acc.bounds) * packets(acc.count as usize) + right_cost[next];
             if best.as_ref().is_none_or(|(c, _)| cost < *c) {
                 best = Some((
                     cost,
                     Split {
                         axis,
-                        bin: k,
-                        min: split.min,
-                        scale: split.scale,
+                        bin: k + 1,
+                        min: origin[axis],
+                        scale: scale[axis],
                     },
                 ));
             }
@@ -286,18 +308,22 @@ fn best_split(items: &[PrimRef], bounds: Aabb, centroids: Aabb) -> Option<Split>
     splits_pay.then_some(split)
 }
 
-/// Moves the items left of the split plane to the front; returns how many there are.
-fn partition(items: &mut [PrimRef], split: &Split) -> usize {
+/// Moves the items left of the split plane to the front, and describes the two sides
+/// (the left first), found on the same pass.
+fn partition(items: &mut [PrimRef], split: &Split) -> [Side; 2] {
+    let (mut left, mut right) = (Side::EMPTY, Side::EMPTY);
     let (mut i, mut j) = (0, items.len());
     while i < j {
         if split.bin_of(items[i].center()) < split.bin {
+            left.add(&items[i]);
             i += 1;
         } else {
             j -= 1;
+            right.add(&items[i]);
             items.swap(i, j);
         }
     }
-    i
+    [left, right]
 }
 
 /// Cost of testing `n` shapes: leaves test them four at a time.
@@ -344,34 +370,160 @@ mod tests {
         };
         let (a, b) = (on(1), on(3));
         assert_eq!(a.order, b.order);
-        assert_eq!(a.nodes.len(), b.nodes.len());
-        for (x, y) in a.nodes.iter().zip(&b.nodes) {
-            assert_eq!((x.bounds, x.first, x.count), (y.bounds, y.first, y.count));
-        }
+        assert_eq!(a.tree.nodes(), b.tree.nodes());
+        assert!(a.tree == b.tree);
     }
 
     #[test]
     fn every_box_is_in_one_leaf_inside_its_ancestors() {
         let boxes = boxes(3000);
-        let tree = build(&boxes);
+        let built = build(&boxes);
         let mut seen = vec![0u32; boxes.len()];
-        let mut stack = vec![0usize];
-        while let Some(at) = stack.pop() {
-            let node = tree.nodes[at];
-            if node.is_leaf() {
-                assert!(node.count as usize <= MAX_LEAF);
-                for &i in &tree.order[node.first as usize..(node.first + node.count) as usize] {
-                    seen[i as usize] += 1;
-                    assert_eq!(node.bounds.union(boxes[i as usize]), node.bounds);
+        let mut stack = vec![&built.tree];
+        let mut nodes = 0;
+        while let Some(node) = stack.pop() {
+            nodes += 1;
+            match node {
+                &Tree::Leaf {
+                    bounds,
+                    start,
+                    count,
+                } => {
+                    assert!(count as usize <= MAX_LEAF);
+                    for &i in &built.order[start as usize..(start + count) as usize] {
+                        seen[i as usize] += 1;
+                        assert_eq!(bounds.union(boxes[i as usize]), bounds);
+                    }
                 }
-            } else {
-                for child in [node.first as usize, node.first as usize + 1] {
-                    let inner = tree.nodes[child].bounds;
-                    assert_eq!(node.bounds.union(inner), node.bounds);
-                    stack.push(child);
+                Tree::Inner {
+                    bounds, children, ..
+                } => {
+                    for child in children.iter() {
+                        assert_eq!(bounds.union(*child.bounds()), *bounds);
+                        stack.push(child);
+                    }
                 }
             }
         }
         assert!(seen.iter().all(|&n| n == 1));
+        assert_eq!(built.tree.nodes(), nodes);
+    }
+
+    /// The plane every candidate is priced for, the first of the cheapest: the split
+    /// [`best_split`] must find pricing only the planes after filled bins.
+    fn best_split_of_every_plane(
+        items: &[PrimRef],
+        bounds: Aabb,
+        centroids: Aabb,
+    ) -> Option<Split> {
+        let extent = centroids.extent();
+        let mut best: Option<(f32, Split)> = None;
+        for axis in 0..3 {
+            if extent[axis] <= 0.0 {
+                continue;
+            }
+            let split = |bin| Split {
+                axis,
+                bin,
+                min: centroids.min[axis],
+                scale: BINS as f32 * (1.0 - 1e-6) / extent[axis],
+            };
+            let mut bins = [EMPTY_BIN; BINS];
+            for r in items {
+                let bin = &mut bins[split(0).bin_of(r.center())];
+                bin.bounds = bin.bounds.union(r.bounds());
+                bin.count += 1;
+            }
+            for k in 1..BINS {
+                let side = |range: std::ops::Range<usize>| {
+                    bins[range].iter().fold(EMPTY_BIN, |acc, b| Bin {
+                        bounds: acc.bounds.union(b.bounds),
+                        count: acc.count + b.count,
+                    })
+                };
+                let (left, right) = (side(0..k), side(k..BINS));
+                if left.count == 0 || right.count == 0 {
+                    continue;
+                }
+                let cost = half_area(&left.bounds) * packets(left.count as usize)
+                    + half_area(&right.bounds) * packets(right.count as usize);
+                if best.as_ref().is_none_or(|(c, _)| cost < *c) {
+                    best = Some((cost, split(k)));
+                }
+            }
+        }
+        let (cost, split) = best?;
+        let area = half_area(&bounds);
+        let pays = area.is_nan()
+            || area <= 0.0
+            || TRAVERSAL_COST + cost / area < packets(items.len())
+            || items.len() > MAX_LEAF;
+        pays.then_some(split)
+    }
+
+    /// Pricing only the planes after filled bins changes no split, and the two sides
+    /// found while partitioning are those of the parted shapes: the tree is the one of
+    /// every plane priced and every side measured again.
+    #[test]
+    fn splits_and_sides_are_those_of_every_plane_and_every_shape() {
+        let all = boxes(20_000);
+        let mut checked = 0;
+        for n in [2usize, 3, 5, 8, 9, 17, 40, 100, 1000, 20_000] {
+            for offset in [0, 7, 501] {
+                let Some(chosen) = all.get(offset..offset + n) else {
+                    continue;
+                };
+                let mut items: Vec<PrimRef> = chosen
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| PrimRef {
+                        min: b.min.to_array(),
+                        id: i as u32,
+                        max: b.max.to_array(),
+                    })
+                    .collect();
+                let (bounds, centroids) = (bounds_of(&items), centroids_of(&items));
+                let fast = best_split(&items, bounds, centroids);
+                let slow = best_split_of_every_plane(&items, bounds, centroids);
+                let key = |s: &Option<Split>| s.as_ref().map(|s| (s.axis, s.bin));
+                assert_eq!(key(&fast), key(&slow), "{n} shapes from {offset}");
+                let Some(split) = fast else { continue };
+                let [left, right] = partition(&mut items, &split);
+                let (l, r) = items.split_at(left.count);
+                for (side, part) in [(left, l), (right, r)] {
+                    let whole = Side::of(part);
+                    assert_eq!(side.count, whole.count);
+                    assert_eq!(side.bounds, whole.bounds);
+                    assert_eq!(side.centroids, whole.centroids);
+                }
+                assert!(l.iter().all(|r| split.bin_of(r.center()) < split.bin));
+                assert!(r.iter().all(|r| split.bin_of(r.center()) >= split.bin));
+                checked += 1;
+            }
+        }
+        assert!(checked > 20);
+    }
+
+    #[test]
+    fn a_bin_index_is_held_to_the_bins_as_a_saturating_cast_would_be() {
+        for x in [
+            -1e30,
+            -1.0,
+            -0.0,
+            0.0,
+            0.5,
+            1.0,
+            30.999,
+            31.0,
+            31.5,
+            32.0,
+            1e30,
+            f32::NAN,
+        ] {
+            let cast = (x as usize).min(BINS - 1);
+            assert_eq!(bin_index(x), cast, "{x}");
+        }
+        assert_eq!(bin_index(f32::INFINITY), BINS - 1);
+        assert_eq!(bin_index(f32::NEG_INFINITY), 0);
     }
 }

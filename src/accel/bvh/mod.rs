@@ -18,7 +18,7 @@ use super::Hit;
 use super::simd::SimdLevel;
 use crate::math::{Aabb, Ray};
 use crate::scene::Shapes;
-use build::{BinaryBvh, MAX_DEPTH};
+use build::{MAX_DEPTH, Tree};
 use glam::Vec4;
 use leaf4::{Leaf4, RayLanes, padded_bounds};
 use rayon::prelude::*;
@@ -326,10 +326,10 @@ impl<'s> Bvh<'s> {
         }
         let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
         let binary = build::build(&boxes);
-        bvh.nodes.reserve_exact(binary.nodes.len() / 2 + 1);
+        bvh.nodes.reserve_exact(binary.tree.nodes() / 2 + 1);
         bvh.prims.reserve_exact(shapes.len());
         bvh.nodes.push(EMPTY_NODE);
-        bvh.collapse(&binary, 0, 0);
+        bvh.collapse(&binary.tree, &binary.order, 0);
         bvh.nodes.shrink_to_fit();
         bvh.stored.shrink_to_fit();
         bvh
@@ -455,7 +455,9 @@ impl<'s> Bvh<'s> {
         let lanes = RayLanes::new(ray);
         let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
-        while let Some(entry) = stack.pop() {
+        // A node with one child hit goes straight on to it, past the stack.
+        let mut next: Option<Entry> = None;
+        while let Some(entry) = next.take().or_else(|| stack.pop()) {
             if entry.count > 0 {
                 if self.leaf_blocks(entry, &lanes, t_max, &blocks) {
                     return true;
@@ -464,6 +466,15 @@ impl<'s> Bvh<'s> {
             }
             let node = &self.nodes[entry.child as usize];
             let (mut mask, _) = boxes.hit(node, t_max);
+            if mask != 0 && mask & (mask - 1) == 0 {
+                let lane = mask.trailing_zeros() as usize;
+                next = Some(Entry {
+                    child: node.child[lane],
+                    count: node.count[lane],
+                    t: 0.0,
+                });
+                continue;
+            }
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
@@ -625,47 +636,59 @@ impl Bvh<'_> {
         }
     }
 
-    /// Fills `nodes[slot]` with up to eight descendants of binary node `at`: its
+    /// Fills `nodes[slot]` with up to eight descendants of binary node `tree`: its
     /// children, then repeatedly the children of the largest inner one among them.
-    /// Leaves become runs of shape indices.
-    fn collapse(&mut self, binary: &BinaryBvh, at: usize, slot: usize) {
-        let src = &binary.nodes;
-        let mut members: Vec<usize> = if src[at].is_leaf() {
-            vec![at]
-        } else {
-            let first = src[at].first as usize;
-            vec![first, first + 1]
-        };
-        while members.len() < WIDTH {
-            let widest = members
-                .iter()
-                .enumerate()
-                .filter(|&(_, &m)| !src[m].is_leaf())
-                .max_by(|a, b| area(&src[*a.1].bounds).total_cmp(&area(&src[*b.1].bounds)));
-            let Some((i, &m)) = widest else { break };
-            let first = src[m].first as usize;
-            members[i] = first;
-            members.insert(i + 1, first + 1);
+    /// Leaves become runs of shape indices (`order` lists each leaf's shapes).
+    fn collapse(&mut self, tree: &Tree, order: &[u32], slot: usize) {
+        let mut members = [tree; WIDTH];
+        let mut len = 1;
+        if let Tree::Inner { children, .. } = tree {
+            members[..2].copy_from_slice(&[&children[0], &children[1]]);
+            len = 2;
+        }
+        while len < WIDTH {
+            // The largest inner member; the last of equals.
+            let mut widest: Option<(usize, f32)> = None;
+            for (i, m) in members[..len].iter().enumerate() {
+                if let Tree::Inner { bounds, .. } = m {
+                    let a = area(bounds);
+                    if widest.is_none_or(|(_, w)| a.total_cmp(&w).is_ge()) {
+                        widest = Some((i, a));
+                    }
+                }
+            }
+            let Some((i, _)) = widest else { break };
+            let Tree::Inner { children, .. } = members[i] else {
+                unreachable!("only inner members are opened")
+            };
+            members.copy_within(i + 1..len, i + 2);
+            members[i] = &children[0];
+            members[i + 1] = &children[1];
+            len += 1;
         }
         let mut node = EMPTY_NODE;
-        let mut inner = Vec::new();
-        for (lane, &m) in members.iter().enumerate() {
-            node.set_box(lane, &src[m].bounds);
-            if src[m].is_leaf() {
-                let (first, count) = (src[m].first as usize, src[m].count as usize);
-                let leaf = &binary.order[first..first + count];
-                let e = self.leaf(leaf);
-                node.child[lane] = e.child;
-                node.count[lane] = e.count;
-            } else {
-                node.child[lane] = self.nodes.len() as u32;
-                self.nodes.push(EMPTY_NODE);
-                inner.push((m, node.child[lane] as usize));
+        let mut inner = [(tree, 0usize); WIDTH];
+        let mut inner_len = 0;
+        for (lane, &m) in members[..len].iter().enumerate() {
+            node.set_box(lane, m.bounds());
+            match *m {
+                Tree::Leaf { start, count, .. } => {
+                    let (first, count) = (start as usize, count as usize);
+                    let e = self.leaf(&order[first..first + count]);
+                    node.child[lane] = e.child;
+                    node.count[lane] = e.count;
+                }
+                Tree::Inner { .. } => {
+                    node.child[lane] = self.nodes.len() as u32;
+                    self.nodes.push(EMPTY_NODE);
+                    inner[inner_len] = (m, node.child[lane] as usize);
+                    inner_len += 1;
+                }
             }
         }
         self.nodes[slot] = node;
-        for (m, child_slot) in inner {
-            self.collapse(binary, m, child_slot);
+        for &(m, child_slot) in &inner[..inner_len] {
+            self.collapse(m, order, child_slot);
         }
     }
 }
