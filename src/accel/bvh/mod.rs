@@ -8,6 +8,7 @@
 
 mod build;
 mod coherent;
+mod collapse;
 mod leaf4;
 
 pub use coherent::PACKET_RAYS;
@@ -18,7 +19,8 @@ use super::Hit;
 use super::simd::SimdLevel;
 use crate::math::{Aabb, Ray};
 use crate::scene::Shapes;
-use build::{MAX_DEPTH, Tree};
+use build::MAX_DEPTH;
+use collapse::Collapsed;
 use glam::Vec4;
 use leaf4::{Leaf4, RayLanes, padded_bounds};
 use rayon::prelude::*;
@@ -319,17 +321,20 @@ impl<'s> Bvh<'s> {
         if shapes.is_empty() {
             return bvh;
         }
+        let mut out = Collapsed::default();
         if shapes.len() <= TINY_SCENE {
             let all: Vec<u32> = (0..shapes.len() as u32).collect();
-            bvh.root = bvh.leaf(&all);
-            return bvh;
+            bvh.root = out.leaf(shapes, &all);
+        } else {
+            let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
+            let binary = build::build(&boxes);
+            out.nodes.reserve_exact(binary.tree.nodes() / 2 + 1);
+            out.prims.reserve_exact(shapes.len());
+            out.collapse(shapes, &binary.tree, &binary.order);
         }
-        let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
-        let binary = build::build(&boxes);
-        bvh.nodes.reserve_exact(binary.tree.nodes() / 2 + 1);
-        bvh.prims.reserve_exact(shapes.len());
-        bvh.nodes.push(EMPTY_NODE);
-        bvh.collapse(&binary.tree, &binary.order, 0);
+        bvh.nodes = out.nodes;
+        bvh.prims = out.prims;
+        bvh.stored = out.stored;
         bvh.nodes.shrink_to_fit();
         bvh.stored.shrink_to_fit();
         bvh
@@ -610,92 +615,6 @@ fn leaf4_blocks(leaf: &Leaf4, lanes: &RayLanes, t_max: f32, blocks: &impl Fn(u32
         }
     }
     false
-}
-
-impl Bvh<'_> {
-    /// Stores the shapes `leaf` as a leaf: their indices when all are triangles, else
-    /// [`Leaf4`]s with precomputed edges.
-    fn leaf(&mut self, leaf: &[u32]) -> Entry {
-        if leaf.iter().all(|&i| self.shapes.is_triangle(i as usize)) {
-            let child = self.prims.len() as u32;
-            self.prims.extend_from_slice(leaf);
-            Entry {
-                child,
-                count: leaf.len() as u32,
-                t: 0.0,
-            }
-        } else {
-            let child = self.stored.len() as u32;
-            self.stored
-                .extend(leaf.chunks(4).map(|four| Leaf4::mixed(self.shapes, four)));
-            Entry {
-                child,
-                count: STORED | leaf.len().div_ceil(4) as u32,
-                t: 0.0,
-            }
-        }
-    }
-
-    /// Fills `nodes[slot]` with up to eight descendants of binary node `tree`: its
-    /// children, then repeatedly the children of the largest inner one among them.
-    /// Leaves become runs of shape indices (`order` lists each leaf's shapes).
-    fn collapse(&mut self, tree: &Tree, order: &[u32], slot: usize) {
-        let mut members = [tree; WIDTH];
-        let mut len = 1;
-        if let Tree::Inner { children, .. } = tree {
-            members[..2].copy_from_slice(&[&children[0], &children[1]]);
-            len = 2;
-        }
-        while len < WIDTH {
-            // The largest inner member; the last of equals.
-            let mut widest: Option<(usize, f32)> = None;
-            for (i, m) in members[..len].iter().enumerate() {
-                if let Tree::Inner { bounds, .. } = m {
-                    let a = area(bounds);
-                    if widest.is_none_or(|(_, w)| a.total_cmp(&w).is_ge()) {
-                        widest = Some((i, a));
-                    }
-                }
-            }
-            let Some((i, _)) = widest else { break };
-            let Tree::Inner { children, .. } = members[i] else {
-                unreachable!("only inner members are opened")
-            };
-            members.copy_within(i + 1..len, i + 2);
-            members[i] = &children[0];
-            members[i + 1] = &children[1];
-            len += 1;
-        }
-        let mut node = EMPTY_NODE;
-        let mut inner = [(tree, 0usize); WIDTH];
-        let mut inner_len = 0;
-        for (lane, &m) in members[..len].iter().enumerate() {
-            node.set_box(lane, m.bounds());
-            match *m {
-                Tree::Leaf { start, count, .. } => {
-                    let (first, count) = (start as usize, count as usize);
-                    let e = self.leaf(&order[first..first + count]);
-                    node.child[lane] = e.child;
-                    node.count[lane] = e.count;
-                }
-                Tree::Inner { .. } => {
-                    node.child[lane] = self.nodes.len() as u32;
-                    self.nodes.push(EMPTY_NODE);
-                    inner[inner_len] = (m, node.child[lane] as usize);
-                    inner_len += 1;
-                }
-            }
-        }
-        self.nodes[slot] = node;
-        for &(m, child_slot) in &inner[..inner_len] {
-            self.collapse(m, order, child_slot);
-        }
-    }
-}
-
-fn area(b: &Aabb) -> f32 {
-    let e = b.extent();
-    e.x * e.y + e.y * e.z + e.z * e.x
 }
 
 #[cfg(test)]
