@@ -73,6 +73,14 @@ struct PrimRef {
 }
 
 impl PrimRef {
+    fn new(id: u32, b: &Aabb) -> PrimRef {
+        PrimRef {
+            min: b.min.to_array(),
+            id,
+            max: b.max.to_array(),
+        }
+    }
+
     #[inline(always)]
     fn bounds(&self) -> Aabb {
         Aabb {
@@ -104,11 +112,7 @@ pub fn build(boxes: &[Aabb]) -> BinaryBvh {
     let mut refs: Vec<PrimRef> = boxes
         .par_iter()
         .enumerate()
-        .map(|(i, b)| PrimRef {
-            min: b.min.to_array(),
-            id: i as u32,
-            max: b.max.to_array(),
-        })
+        .map(|(i, b)| PrimRef::new(i as u32, b))
         .collect();
     let bounds = bounds_of(&refs);
     let centroids = centroids_of(&refs);
@@ -476,11 +480,7 @@ mod tests {
                 let mut items: Vec<PrimRef> = chosen
                     .iter()
                     .enumerate()
-                    .map(|(i, b)| PrimRef {
-                        min: b.min.to_array(),
-                        id: i as u32,
-                        max: b.max.to_array(),
-                    })
+                    .map(|(i, b)| PrimRef::new(i as u32, b))
                     .collect();
                 let (bounds, centroids) = (bounds_of(&items), centroids_of(&items));
                 let fast = best_split(&items, bounds, centroids);
