@@ -282,6 +282,22 @@ impl BoxTest for Boxes8 {
     }
 }
 
+/// The box a shape is built into. A shape with a NaN coordinate is never hit, but a NaN
+/// in a box would spread to the bounds of the nodes above it (how far depends on the
+/// order of the unions), hiding shapes that can be hit: such a shape gets a point box
+/// at the origin instead, where rays that pass test it and miss.
+fn build_box(shape: &crate::scene::Shape) -> Aabb {
+    let b = padded_bounds(shape);
+    if b.min.is_nan() || b.max.is_nan() {
+        Aabb {
+            min: glam::Vec3A::ZERO,
+            max: glam::Vec3A::ZERO,
+        }
+    } else {
+        b
+    }
+}
+
 pub struct Bvh<'s> {
     shapes: &'s Shapes,
     /// Where every ray starts: node 0, or for a scene of a few shapes one leaf of them
@@ -326,7 +342,7 @@ impl<'s> Bvh<'s> {
             let all: Vec<u32> = (0..shapes.len() as u32).collect();
             bvh.root = out.leaf(shapes, &all);
         } else {
-            let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
+            let boxes: Vec<Aabb> = shapes.par_iter().map(|s| build_box(&s)).collect();
             let binary = build::build(&boxes);
             out.nodes.reserve_exact(binary.tree.nodes() / 2 + 1);
             out.prims.reserve_exact(shapes.len());
@@ -667,6 +683,35 @@ mod tests {
         let none = Shapes::new();
         assert!(Bvh::build(&none).closest(&ray, f32::INFINITY).is_none());
         assert!(!Bvh::build(&none).occluded(&ray, f32::INFINITY, |_| true));
+    }
+
+    #[test]
+    fn shapes_with_a_nan_coordinate_hide_no_other_shape() {
+        // A 30 x 30 grid of triangles in z = 0, every seventh one broken by a NaN.
+        let mut shapes = Vec::new();
+        let mut broken = Vec::new();
+        for i in 0..900 {
+            let (x, y) = ((i % 30) as f32, (i / 30) as f32);
+            let mut v = [
+                Vec3::new(x, y, 0.0),
+                Vec3::new(x + 1.0, y, 0.0),
+                Vec3::new(x, y + 1.0, 0.0),
+            ];
+            if i % 7 == 3 {
+                v[i % 3][(i / 7) % 3] = f32::NAN;
+                broken.push(i);
+            }
+            shapes.push(Shape::Triangle(Triangle { v }));
+        }
+        let shapes = Shapes::from(shapes);
+        let bvh = Bvh::build(&shapes);
+        for i in 0..900u32 {
+            let (x, y) = ((i % 30) as f32 + 0.25, (i / 30) as f32 + 0.25);
+            let ray = Ray::new(Vec3::new(x, y, 3.0), -Vec3::Z);
+            let expected = (!broken.contains(&(i as usize))).then_some(Hit { t: 3.0, shape: i });
+            assert_eq!(bvh.closest(&ray, f32::INFINITY), expected, "triangle {i}");
+            assert_eq!(bvh.occluded(&ray, 4.0, |_| true), expected.is_some());
+        }
     }
 
     #[test]
