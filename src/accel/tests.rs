@@ -287,3 +287,34 @@ fn accel_names_parse_back() {
     }
     assert!("bsp".parse::<AccelKind>().unwrap_err().contains("expected"));
 }
+
+/// A shape with a NaN coordinate is never hit and hides no other shape, whichever
+/// intersector: every seventh triangle of a grid is broken, and rays aimed at the others
+/// find them.
+#[test]
+fn shapes_with_a_nan_coordinate_hide_no_other_shape() {
+    let mut shapes = Vec::new();
+    for i in 0..900 {
+        let (x, y) = ((i % 30) as f32, (i / 30) as f32);
+        let mut corners = [v([x, y, 0.0]), v([x + 1.0, y, 0.0]), v([x, y + 1.0, 0.0])];
+        if i % 7 == 3 {
+            corners[i % 3][(i / 7) % 3] = f32::NAN;
+        }
+        shapes.push(Shape::Triangle(Triangle { v: corners }));
+    }
+    let shapes = Shapes::from(shapes);
+    for kind in [AccelKind::Bvh, AccelKind::Octree, AccelKind::List] {
+        let accel = Accel::build(kind, &shapes);
+        for i in 0..900u32 {
+            let (x, y) = ((i % 30) as f32 + 0.25, (i / 30) as f32 + 0.25);
+            let ray = Ray::new(v([x, y, 3.0]), -Vec3::Z);
+            let expected = (i % 7 != 3).then_some(Hit { t: 3.0, shape: i });
+            assert_eq!(
+                accel.closest(&ray, f32::INFINITY),
+                expected,
+                "{kind} triangle {i}"
+            );
+            assert_eq!(accel.occluded(&ray, 4.0, |_| true), expected.is_some());
+        }
+    }
+}

@@ -686,35 +686,6 @@ mod tests {
     }
 
     #[test]
-    fn shapes_with_a_nan_coordinate_hide_no_other_shape() {
-        // A 30 x 30 grid of triangles in z = 0, every seventh one broken by a NaN.
-        let mut shapes = Vec::new();
-        let mut broken = Vec::new();
-        for i in 0..900 {
-            let (x, y) = ((i % 30) as f32, (i / 30) as f32);
-            let mut v = [
-                Vec3::new(x, y, 0.0),
-                Vec3::new(x + 1.0, y, 0.0),
-                Vec3::new(x, y + 1.0, 0.0),
-            ];
-            if i % 7 == 3 {
-                v[i % 3][(i / 7) % 3] = f32::NAN;
-                broken.push(i);
-            }
-            shapes.push(Shape::Triangle(Triangle { v }));
-        }
-        let shapes = Shapes::from(shapes);
-        let bvh = Bvh::build(&shapes);
-        for i in 0..900u32 {
-            let (x, y) = ((i % 30) as f32 + 0.25, (i / 30) as f32 + 0.25);
-            let ray = Ray::new(Vec3::new(x, y, 3.0), -Vec3::Z);
-            let expected = (!broken.contains(&(i as usize))).then_some(Hit { t: 3.0, shape: i });
-            assert_eq!(bvh.closest(&ray, f32::INFINITY), expected, "triangle {i}");
-            assert_eq!(bvh.occluded(&ray, 4.0, |_| true), expected.is_some());
-        }
-    }
-
-    #[test]
     fn coincident_shapes_beyond_a_leaf_still_build_and_tie_to_the_lowest_index() {
         let tri = Shape::Triangle(Triangle {
             v: [
