@@ -73,7 +73,18 @@ struct PrimRef {
 }
 
 impl PrimRef {
+    /// Shape `id` with box `b`. A shape with a NaN coordinate is never hit, but a NaN
+    /// in a box would spread to the bounds of the nodes above it (how far depends on
+    /// the order of the unions), hiding shapes that can be hit: such a shape gets a
+    /// point box at the origin instead, where rays that pass test it and miss.
     fn new(id: u32, b: &Aabb) -> PrimRef {
+        if b.min.is_nan() || b.max.is_nan() {
+            return PrimRef {
+                min: [0.0; 3],
+                id,
+                max: [0.0; 3],
+            };
+        }
         PrimRef {
             min: b.min.to_array(),
             id,
@@ -114,18 +125,18 @@ pub fn build(boxes: &[Aabb]) -> BinaryBvh {
         .enumerate()
         .map(|(i, b)| PrimRef::new(i as u32, b))
         .collect();
-    let bounds = bounds_of(&refs);
-    let centroids = centroids_of(&refs);
-    let tree = subtree(&mut refs, 0, bounds, centroids, 0);
+    let all = Side::of(&refs);
+    let tree = subtree(&mut refs, 0, all, 0);
     let order = refs.iter().map(|r| r.id).collect();
     BinaryBvh { tree, order }
 }
 
-/// Builds the subtree over `items`, which sit at `start` in the whole order.
-fn subtree(items: &mut [PrimRef], start: usize, bounds: Aabb, centroids: Aabb, depth: u32) -> Tree {
-    let count = items.len();
+/// Builds the subtree over `items` (measured by `side`), which sit at `start` in the
+/// whole order.
+fn subtree(items: &mut [PrimRef], start: usize, side: Side, depth: u32) -> Tree {
+    let (count, bounds) = (items.len(), side.bounds);
     let split = if count > 1 && depth < MAX_DEPTH {
-        best_split(items, bounds, centroids)
+        best_split(items, bounds, side.centroids)
     } else {
         None
     };
@@ -148,9 +159,8 @@ fn subtree(items: &mut [PrimRef], start: usize, bounds: Aabb, centroids: Aabb, d
     };
     let mid = left_side.count;
     let (left, right) = items.split_at_mut(mid);
-    let child = |items: &mut [PrimRef], start: usize, side: Side| {
-        subtree(items, start, side.bounds, side.centroids, depth + 1)
-    };
+    let child =
+        |items: &mut [PrimRef], start: usize, side: Side| subtree(items, start, side, depth + 1);
     let (l, r) = if count > PARALLEL_MIN {
         rayon::join(
             || child(left, start, left_side),

@@ -68,6 +68,20 @@ const EMPTY_NODE: Node8 = Node8 {
 };
 
 impl Node8 {
+    /// The entry of the one child in `mask` (entered at `t[lane]`), where exactly one
+    /// is hit: the traversal goes straight on to it, past the stack.
+    #[inline(always)]
+    fn only_child(&self, mask: u32, t: &[f32; WIDTH]) -> Option<Entry> {
+        (mask != 0 && mask & (mask - 1) == 0).then(|| {
+            let lane = mask.trailing_zeros() as usize;
+            Entry {
+                child: self.child[lane],
+                count: self.count[lane],
+                t: t[lane],
+            }
+        })
+    }
+
     fn set_box(&mut self, lane: usize, b: &Aabb) {
         for axis in 0..3 {
             self.min[axis][lane / 4][lane % 4] = b.min[axis];
@@ -282,22 +296,6 @@ impl BoxTest for Boxes8 {
     }
 }
 
-/// The box a shape is built into. A shape with a NaN coordinate is never hit, but a NaN
-/// in a box would spread to the bounds of the nodes above it (how far depends on the
-/// order of the unions), hiding shapes that can be hit: such a shape gets a point box
-/// at the origin instead, where rays that pass test it and miss.
-fn build_box(shape: &crate::scene::Shape) -> Aabb {
-    let b = padded_bounds(shape);
-    if b.min.is_nan() || b.max.is_nan() {
-        Aabb {
-            min: glam::Vec3A::ZERO,
-            max: glam::Vec3A::ZERO,
-        }
-    } else {
-        b
-    }
-}
-
 pub struct Bvh<'s> {
     shapes: &'s Shapes,
     /// Where every ray starts: node 0, or for a scene of a few shapes one leaf of them
@@ -342,7 +340,7 @@ impl<'s> Bvh<'s> {
             let all: Vec<u32> = (0..shapes.len() as u32).collect();
             bvh.root = out.leaf(shapes, &all);
         } else {
-            let boxes: Vec<Aabb> = shapes.par_iter().map(|s| build_box(&s)).collect();
+            let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
             let binary = build::build(&boxes);
             out.nodes.reserve_exact(binary.tree.nodes() / 2 + 1);
             out.prims.reserve_exact(shapes.len());
@@ -416,7 +414,6 @@ impl<'s> Bvh<'s> {
         let mut best: Option<Hit> = None;
         let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
-        // A node with one child hit goes straight on to it, past the stack.
         let mut next: Option<Entry> = None;
         while let Some(entry) = next.take().or_else(|| stack.pop()) {
             let bound = Hit::bound(&best, t_max);
@@ -429,13 +426,8 @@ impl<'s> Bvh<'s> {
             }
             let node = &self.nodes[entry.child as usize];
             let (mask, t_near) = boxes.hit(node, bound);
-            if mask != 0 && mask & (mask - 1) == 0 {
-                let lane = mask.trailing_zeros() as usize;
-                next = Some(Entry {
-                    child: node.child[lane],
-                    count: node.count[lane],
-                    t: t_near[lane],
-                });
+            next = node.only_child(mask, &t_near);
+            if next.is_some() {
                 continue;
             }
             stack.push_children(node, mask, &t_near);
@@ -476,7 +468,6 @@ impl<'s> Bvh<'s> {
         let lanes = RayLanes::new(ray);
         let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
-        // A node with one child hit goes straight on to it, past the stack.
         let mut next: Option<Entry> = None;
         while let Some(entry) = next.take().or_else(|| stack.pop()) {
             if entry.count > 0 {
@@ -486,14 +477,9 @@ impl<'s> Bvh<'s> {
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
-            let (mut mask, _) = boxes.hit(node, t_max);
-            if mask != 0 && mask & (mask - 1) == 0 {
-                let lane = mask.trailing_zeros() as usize;
-                next = Some(Entry {
-                    child: node.child[lane],
-                    count: node.count[lane],
-                    t: 0.0,
-                });
+            let (mut mask, t_near) = boxes.hit(node, t_max);
+            next = node.only_child(mask, &t_near);
+            if next.is_some() {
                 continue;
             }
             while mask != 0 {
