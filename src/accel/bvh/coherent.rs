@@ -43,6 +43,38 @@ macro_rules! for_each_shape {
     }};
 }
 
+/// A lane's answer as the sign of a 32-bit lane, for [`lane_bits`].
+#[inline(always)]
+fn lane_flag(hit: bool) -> u32 {
+    0u32.wrapping_sub(u32::from(hit))
+}
+
+/// Bit `i` set for each lane `i` flagged by [`lane_flag`]: one `movmskps` per four
+/// lanes, where shifting and or-ing the lanes one by one compiled to a reduction of
+/// shifted vectors.
+#[inline(always)]
+fn lane_bits<const N: usize>(flags: &[u32; N]) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_castsi128_ps, _mm_loadu_si128, _mm_movemask_ps};
+        let mut bits = 0;
+        for (q, four) in flags.chunks_exact(4).enumerate() {
+            // SAFETY: SSE2 is part of x86-64; `four` is four u32s, read unaligned.
+            let m =
+                unsafe { _mm_movemask_ps(_mm_castsi128_ps(_mm_loadu_si128(four.as_ptr().cast()))) };
+            bits |= (m as u32) << (4 * q);
+        }
+        bits
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        flags
+            .iter()
+            .enumerate()
+            .fold(0, |bits, (i, &f)| bits | (f >> 31) << i)
+    }
+}
+
 /// Rays in a packet.
 pub const PACKET_RAYS: usize = 16;
 
@@ -100,18 +132,18 @@ impl Rays {
                 t_far[i] = if far < t_far[i] { far } else { t_far[i] };
             }
         }
-        let mut mask = 0;
+        let mut hits = [0u32; PACKET_RAYS];
         let mut first = f32::INFINITY;
         for i in 0..PACKET_RAYS {
             let hit = t_near[i] <= t_far[i] * BOX_SLACK;
-            mask |= u32::from(hit) << i;
+            hits[i] = lane_flag(hit);
             first = if hit && t_near[i] < first {
                 t_near[i]
             } else {
                 first
             };
         }
-        (mask, first)
+        (lane_bits(&hits), first)
     }
 
     /// Rays that meet the triangle or rectangle `f` before their bound, with the
@@ -122,7 +154,7 @@ impl Rays {
         let [e1x, e1y, e1z] = f.e1;
         let [e2x, e2y, e2z] = f.e2;
         let mut t = [0.0f32; PACKET_RAYS];
-        let mut mask = 0;
+        let mut hits = [0u32; PACKET_RAYS];
         let lo = -EDGE_SLACK;
         let hi = 1.0 + EDGE_SLACK;
         let max_sum = f.max_sum + EDGE_SLACK;
@@ -144,9 +176,9 @@ impl Rays {
             let finite = det.is_finite() & (det != 0.0);
             let inside = (u >= lo) & (u <= hi) & (v >= lo) & (v <= hi) & (u + v <= max_sum);
             let in_range = (t[i] > 0.0) & (t[i] < bound[i]);
-            mask |= u32::from(finite & inside & in_range) << i;
+            hits[i] = lane_flag(finite & inside & in_range);
         }
-        (mask, t)
+        (lane_bits(&hits), t)
     }
 
     /// Rays that meet `sphere` before their bound, with the distances:
@@ -158,7 +190,7 @@ impl Rays {
         let c = sphere.center;
         let r2 = sphere.radius * sphere.radius;
         let mut t = [0.0f32; PACKET_RAYS];
-        let mut mask = 0;
+        let mut hits = [0u32; PACKET_RAYS];
         for i in 0..PACKET_RAYS {
             let ox = self.origin[0][i] - c.x;
             let oy = self.origin[1][i] - c.y;
@@ -182,26 +214,61 @@ impl Rays {
             t[i] = if first { t0 } else { t1 };
             // A NaN discriminant, which the scalar test lets through, gives NaN roots
             // and no hit there either.
-            mask |= u32::from((disc >= 0.0) & (first | second)) << i;
+            hits[i] = lane_flag((disc >= 0.0) & (first | second));
         }
-        (mask, t)
+        (lane_bits(&hits), t)
     }
 }
 
 /// Bounds over a packet's rays whose directions share their signs on every axis: the
-/// range of their origins and of their inverse directions. A node's eight boxes are
-/// tested once against these ranges instead of once per ray.
+/// range of their inverse directions, and per axis the origin bound each slab plane
+/// needs. A node's eight boxes are tested once against these instead of once per ray.
 ///
-/// The test is conservative: rounding is monotone, so each ray's own slab distances lie
-/// between the products of the ranges' corners, and a box some ray enters is never
-/// culled (it may be entered for none, which only costs time). Leaves still test each
-/// ray exactly, so the answers are the single-ray ones.
+/// The test is conservative: rounding is monotone, so with the direction positive on an
+/// axis every ray's `(near - o) * inv` is at least `(near - o_max) * inv`, which lies
+/// between that difference times the smallest and the largest inverse (and its far
+/// plane's at most `(far - o_min) * inv`, likewise); with the direction negative the
+/// origin bounds swap. A box some ray enters is never culled (it may be entered for
+/// none, which only costs time). Leaves still test each ray exactly, so the answers are
+/// the single-ray ones.
 struct Frustum {
-    o_lo: [f32; 3],
-    o_hi: [f32; 3],
+    /// The origin bound the near plane is measured from: the largest origin where the
+    /// direction is positive, the smallest where it is negative.
+    o_near: [f32; 3],
+    /// The other bound, for the far plane.
+    o_far: [f32; 3],
     inv_lo: [f32; 3],
     inv_hi: [f32; 3],
     negative: [bool; 3],
+}
+
+/// The smaller of two numbers, as one `minps`: `f32::min` spends two more instructions
+/// on NaN, which the frustum's values are not (they are checked finite, and a NaN
+/// product would only leave a box entered).
+#[inline(always)]
+fn min(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
+}
+
+/// The larger of two numbers, as one `maxps` (see [`min`]).
+#[inline(always)]
+fn max(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
+}
+
+/// The largest of a packet's bounds, halving the lanes each step rather than folding
+/// them one after another.
+#[inline(always)]
+fn widest_of(bound: &Lanes) -> f32 {
+    let mut m = *bound;
+    let mut half = PACKET_RAYS / 2;
+    while half > 0 {
+        for i in 0..half {
+            m[i] = max(m[i], m[i + half]);
+        }
+        half /= 2;
+    }
+    m[0]
 }
 
 impl Frustum {
@@ -211,14 +278,15 @@ impl Frustum {
     #[inline(always)]
     fn of(rays: &Rays, n: usize) -> Option<Frustum> {
         let mut f = Frustum {
-            o_lo: [f32::INFINITY; 3],
-            o_hi: [f32::NEG_INFINITY; 3],
+            o_near: [0.0; 3],
+            o_far: [0.0; 3],
             inv_lo: [f32::INFINITY; 3],
             inv_hi: [f32::NEG_INFINITY; 3],
             negative: [false; 3],
         };
         for axis in 0..3 {
             let negative = rays.dir[axis][0].is_sign_negative();
+            let (mut o_lo, mut o_hi) = (f32::INFINITY, f32::NEG_INFINITY);
             for i in 0..n {
                 let (o, inv) = (rays.origin[axis][i], rays.inv_dir[axis][i]);
                 if rays.dir[axis][i].is_sign_negative() != negative
@@ -227,11 +295,12 @@ impl Frustum {
                 {
                     return None;
                 }
-                f.o_lo[axis] = f.o_lo[axis].min(o);
-                f.o_hi[axis] = f.o_hi[axis].max(o);
-                f.inv_lo[axis] = f.inv_lo[axis].min(inv);
-                f.inv_hi[axis] = f.inv_hi[axis].max(inv);
+                o_lo = min(o_lo, o);
+                o_hi = max(o_hi, o);
+                f.inv_lo[axis] = min(f.inv_lo[axis], inv);
+                f.inv_hi[axis] = max(f.inv_hi[axis], inv);
             }
+            (f.o_near[axis], f.o_far[axis]) = if negative { (o_lo, o_hi) } else { (o_hi, o_lo) };
             f.negative[axis] = negative;
         }
         Some(f)
@@ -253,22 +322,22 @@ impl Frustum {
             } else {
                 (row(&node.min[axis]), row(&node.max[axis]))
             };
-            let (o_lo, o_hi) = (self.o_lo[axis], self.o_hi[axis]);
+            let (o_near, o_far) = (self.o_near[axis], self.o_far[axis]);
             let (i_lo, i_hi) = (self.inv_lo[axis], self.inv_hi[axis]);
             for lane in 0..WIDTH {
-                let (a, b) = (near[lane] - o_hi, near[lane] - o_lo);
-                let lo = (a * i_lo).min(a * i_hi).min(b * i_lo).min(b * i_hi);
-                let (c, d) = (far[lane] - o_hi, far[lane] - o_lo);
-                let hi = (c * i_lo).max(c * i_hi).max(d * i_lo).max(d * i_hi);
+                let a = near[lane] - o_near;
+                let lo = min(a * i_lo, a * i_hi);
+                let c = far[lane] - o_far;
+                let hi = max(c * i_lo, c * i_hi);
                 t_near[lane] = if lo > t_near[lane] { lo } else { t_near[lane] };
                 t_far[lane] = if hi < t_far[lane] { hi } else { t_far[lane] };
             }
         }
-        let mut mask = 0;
+        let mut hits = [0u32; WIDTH];
         for lane in 0..WIDTH {
-            mask |= u32::from(t_near[lane] <= t_far[lane] * BOX_SLACK) << lane;
+            hits[lane] = lane_flag(t_near[lane] <= t_far[lane] * BOX_SLACK);
         }
-        (mask, t_near)
+        (lane_bits(&hits), t_near)
     }
 }
 
@@ -308,9 +377,10 @@ impl Bvh<'_> {
         // Lanes without a ray get -inf, so no box or shape is ever entered for them.
         let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
         bound[..rays.len()].fill(t_max);
+        // The largest bound, kept as the bounds fall: a box beyond it helps no ray.
+        let mut widest = t_max;
         let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
-            let widest = bound.iter().fold(f32::NEG_INFINITY, |m, &b| m.max(b));
             if entry.t > widest * BOX_SLACK {
                 continue;
             }
@@ -343,6 +413,7 @@ impl Bvh<'_> {
                         }
                     }
                 });
+                widest = widest_of(&bound);
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
@@ -411,6 +482,7 @@ impl Bvh<'_> {
         // A blocked ray's bound drops to -inf: it needs nothing more.
         let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
         bound[..rays.len()].copy_from_slice(t_max);
+        let mut widest = widest_of(&bound);
         let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
@@ -430,13 +502,13 @@ impl Bvh<'_> {
                                 *b = f32::NEG_INFINITY;
                             }
                         }
+                        widest = widest_of(&bound);
                     }
                 });
                 continue;
             }
             let node = &self.nodes[entry.child as usize];
             if let Some(frustum) = &frustum {
-                let widest = bound.iter().fold(f32::NEG_INFINITY, |m, &b| m.max(b));
                 let (mask, t) = frustum.enter(node, widest);
                 stack.push_children(node, mask, &t);
                 continue;
@@ -455,5 +527,87 @@ impl Bvh<'_> {
             }
         }
         blocked
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{BoxTest, Boxes4, EMPTY_NODE};
+    use super::*;
+    use crate::math::{Aabb, Vec3};
+    use proptest::prelude::*;
+
+    #[test]
+    fn lane_bits_sets_the_bit_of_each_flagged_lane() {
+        for pattern in [0u32, 1, 0x8000, 0xffff, 0xa5c3, 0x1248, 0x7ffe] {
+            let flags: [u32; PACKET_RAYS] =
+                std::array::from_fn(|i| lane_flag(pattern >> i & 1 == 1));
+            assert_eq!(lane_bits(&flags), pattern);
+        }
+        let eight: [u32; WIDTH] = std::array::from_fn(|i| lane_flag(i % 3 == 0));
+        assert_eq!(lane_bits(&eight), 0b0100_1001);
+    }
+
+    fn node_of(boxes: &[Aabb]) -> Node8 {
+        let mut node = EMPTY_NODE;
+        for (lane, b) in boxes.iter().enumerate() {
+            node.set_box(lane, b);
+        }
+        node
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// Every box a ray of the packet enters is entered by the frustum, no later
+        /// than the ray enters it: the frustum never culls what a leaf would hit.
+        #[test]
+        fn the_frustum_enters_every_box_a_ray_enters_and_no_later(
+            signs in prop::array::uniform3(any::<bool>()),
+            base in prop::array::uniform3(-4.0f32..4.0),
+            spread in 0.0f32..2.0,
+            rays in prop::collection::vec(
+                (prop::array::uniform3(0.0f32..1.0), prop::array::uniform3(0.0f32..1.0)),
+                1..=PACKET_RAYS,
+            ),
+            boxes in prop::collection::vec(
+                (prop::array::uniform3(-6.0f32..6.0), prop::array::uniform3(0.0f32..3.0)),
+                WIDTH,
+            ),
+            bound in 0.5f32..40.0,
+        ) {
+            let rays: Vec<Ray> = rays
+                .iter()
+                .map(|(o, d)| {
+                    let origin = Vec3::from(base) + Vec3::from(*o) * spread;
+                    // Directions in one octant, a component may be zero.
+                    let dir = Vec3::from(std::array::from_fn::<f32, 3, _>(|a| {
+                        if signs[a] { -d[a] } else { d[a] }
+                    }));
+                    Ray { origin, dir }
+                })
+                .collect();
+            let boxes: Vec<Aabb> = boxes
+                .iter()
+                .map(|(lo, size)| Aabb {
+                    min: Vec3::from(*lo),
+                    max: Vec3::from(*lo) + Vec3::from(*size),
+                })
+                .collect();
+            let node = node_of(&boxes);
+            let lanes = Rays::new(&rays);
+            let frustum = Frustum::of(&lanes, rays.len());
+            prop_assume!(frustum.is_some());
+            let (mask, t) = frustum.unwrap().enter(&node, bound);
+            for ray in &rays {
+                let (ray_mask, ray_t) = Boxes4::new(ray).hit(&node, bound);
+                prop_assert_eq!(ray_mask & !mask, 0, "a box the ray enters is culled");
+                for lane in 0..WIDTH {
+                    if ray_mask >> lane & 1 == 1 {
+                        prop_assert!(t[lane] <= ray_t[lane], "lane {}: {} > {}", lane, t[lane], ray_t[lane]);
+                    }
+                }
+            }
+        }
     }
 }
