@@ -123,7 +123,7 @@ impl std::fmt::Display for BenchReport {
         let light = if self.light_from_scene {
             "first light"
         } else {
-            "the eye (the scene has no light)"
+            "the eye, as the scene has no light"
         };
         writeln!(
             f,

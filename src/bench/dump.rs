@@ -72,7 +72,7 @@ impl std::fmt::Display for DumpSummary {
             if self.light_from_scene {
                 "the first light"
             } else {
-                "the eye (the scene has no light)"
+                "the eye, as the scene has no light"
             }
         )
     }
