@@ -565,6 +565,38 @@ mod tests {
         node
     }
 
+    /// Rays from `base` plus each ray's share of `spread`, their directions turned into
+    /// the octant of `signs` (not normalised: the box test takes any direction), and
+    /// boxes from corners and sizes, those with a NaN left out.
+    fn packet_and_boxes(
+        signs: [bool; 3],
+        base: [f32; 3],
+        spread: [f32; 3],
+        rays: &[([f32; 3], [f32; 3])],
+        boxes: &[([f32; 3], [f32; 3])],
+    ) -> (Vec<Ray>, Vec<Aabb>) {
+        let rays = rays
+            .iter()
+            .map(|(o, d)| Ray {
+                origin: Vec3::from(std::array::from_fn::<f32, 3, _>(|a| {
+                    base[a] + o[a] * spread[a]
+                })),
+                dir: Vec3::from(std::array::from_fn::<f32, 3, _>(|a| {
+                    if signs[a] { -d[a] } else { d[a] }
+                })),
+            })
+            .collect();
+        let boxes = boxes
+            .iter()
+            .map(|(lo, size)| Aabb {
+                min: Vec3::from(*lo),
+                max: Vec3::from(*lo) + Vec3::from(*size),
+            })
+            .filter(|b| !b.min.is_nan() && !b.max.is_nan())
+            .collect();
+        (rays, boxes)
+    }
+
     /// Every box of `boxes` a ray of `rays` enters before `bound` (by the single-ray
     /// test) is entered by the rays' frustum, no later.
     fn frustum_holds_for(rays: &[Ray], boxes: &[Aabb], bound: f32) -> Result<(), TestCaseError> {
@@ -677,23 +709,7 @@ mod tests {
             ),
             bound in 0.5f32..40.0,
         ) {
-            let rays: Vec<Ray> = rays
-                .iter()
-                .map(|(o, d)| {
-                    let origin = Vec3::from(base) + Vec3::from(*o) * spread;
-                    let dir = Vec3::from(std::array::from_fn::<f32, 3, _>(|a| {
-                        if signs[a] { -d[a] } else { d[a] }
-                    }));
-                    Ray { origin, dir }
-                })
-                .collect();
-            let boxes: Vec<Aabb> = boxes
-                .iter()
-                .map(|(lo, size)| Aabb {
-                    min: Vec3::from(*lo),
-                    max: Vec3::from(*lo) + Vec3::from(*size),
-                })
-                .collect();
+            let (rays, boxes) = packet_and_boxes(signs, base, [spread; 3], &rays, &boxes);
             frustum_holds_for(&rays, &boxes, bound)?;
         }
 
@@ -718,25 +734,7 @@ mod tests {
             ),
             bound in prop_oneof![0.5f32..40.0, Just(f32::INFINITY), Just(0.0f32), -1.0f32..0.0],
         ) {
-            let rays: Vec<Ray> = rays
-                .iter()
-                .map(|(o, d)| {
-                    let origin = Vec3::from(std::array::from_fn::<f32, 3, _>(|a| base[a] + o[a] * spread[a]));
-                    // Directions in one octant; not normalised, as the box test takes any.
-                    let dir = Vec3::from(std::array::from_fn::<f32, 3, _>(|a| {
-                        if signs[a] { -d[a] } else { d[a] }
-                    }));
-                    Ray { origin, dir }
-                })
-                .collect();
-            let boxes: Vec<Aabb> = boxes
-                .iter()
-                .map(|(lo, size)| Aabb {
-                    min: Vec3::from(*lo),
-                    max: Vec3::from(*lo) + Vec3::from(*size),
-                })
-                .filter(|b| !b.min.is_nan() && !b.max.is_nan())
-                .collect();
+            let (rays, boxes) = packet_and_boxes(signs, base, spread, &rays, &boxes);
             frustum_holds_for(&rays, &boxes, bound)?;
         }
 
