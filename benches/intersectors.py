@@ -47,7 +47,7 @@ def main():
         if not scene.is_file():
             print(f"skipped {name}: {scene} is absent", file=sys.stderr)
             continue
-        for accel in ("bvh", "octree", "list"):
+        for accel in ("bvh", "bvh-copied", "octree", "list"):
             this_size = ["--width", "160"] if (name == "bunny" and accel == "list") else size
             r = bench(binary, scene, camera, accel, extra + this_size)
             note = f" ({r['width']}x{r['height']})" if this_size != size else ""

@@ -6,7 +6,7 @@ use std::fs;
 
 #[test]
 fn bench_json_has_every_figure() {
-    for accel in ["bvh", "octree", "list"] {
+    for accel in ["bvh", "bvh-copied", "octree", "list"] {
         let o = run(prism()
             .args(["bench", "--json", "--seconds", "0", "--threads", "2"])
             .args([example("example.objx"), example("example.cmr")])

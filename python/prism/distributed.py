@@ -298,7 +298,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--aa-filter", dest="filter",
                    choices=["nearest", "bilinear", "area", "bicubic", "lanczos"])
     r.add_argument("--integrator", choices=["classic", "whitted"])
-    r.add_argument("--accel", choices=["bvh", "octree", "list"])
+    r.add_argument("--accel", choices=["bvh", "bvh-copied", "octree", "list"])
     r.add_argument("--min-weight", type=float)
     r.add_argument("--exposure", type=float)
     r.add_argument("--tonemap", choices=["clamp", "reinhard", "aces"])

@@ -54,11 +54,23 @@ fn agree_on(shapes: &Shapes, rays: &[Ray]) -> Result<(), TestCaseError> {
         ("octree", Accel::build(AccelKind::Octree, shapes)),
         (
             "bvh sse2",
-            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Baseline)),
+            Accel::Bvh(Bvh::build_with(
+                shapes,
+                SimdLevel::Baseline,
+                Leaves::Indexed,
+            )),
         ),
         (
             "bvh avx2",
-            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Avx2)),
+            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Avx2, Leaves::Indexed)),
+        ),
+        (
+            "bvh copied sse2",
+            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Baseline, Leaves::Copied)),
+        ),
+        (
+            "bvh copied avx2",
+            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Avx2, Leaves::Copied)),
         ),
     ];
     for (kind, fast) in &fast {

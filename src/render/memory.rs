@@ -127,7 +127,7 @@ impl MemoryEstimate {
 fn accel_bytes_per_shape(accel: AccelKind) -> u64 {
     match accel {
         AccelKind::List => 0,
-        AccelKind::Bvh => BVH_BYTES_PER_SHAPE,
+        AccelKind::Bvh | AccelKind::BvhCopied => BVH_BYTES_PER_SHAPE,
         AccelKind::Octree => OCTREE_BYTES_PER_SHAPE,
     }
 }

@@ -15,6 +15,8 @@ pub(super) struct Collapsed {
     pub(super) nodes: Vec<Node8>,
     pub(super) prims: Vec<u32>,
     pub(super) stored: Vec<Leaf4>,
+    /// Whether leaves of triangles are stored as copies too.
+    pub(super) copy_triangles: bool,
 }
 
 impl Collapsed {
@@ -26,10 +28,10 @@ impl Collapsed {
         self.collapse_into(shapes, tree, order, slot);
     }
 
-    /// Stores the shapes `leaf` as a leaf: their indices when all are triangles, else
-    /// [`Leaf4`]s with precomputed edges.
+    /// Stores the shapes `leaf` as a leaf: their indices when all are triangles (unless
+    /// triangles are copied), else [`Leaf4`]s with precomputed edges.
     pub(super) fn leaf(&mut self, shapes: &Shapes, leaf: &[u32]) -> Entry {
-        if leaf.iter().all(|&i| shapes.is_triangle(i as usize)) {
+        if !self.copy_triangles && leaf.iter().all(|&i| shapes.is_triangle(i as usize)) {
             let child = self.prims.len() as u32;
             self.prims.extend_from_slice(leaf);
             Entry {

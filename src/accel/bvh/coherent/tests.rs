@@ -1,9 +1,20 @@
-use super::super::{BoxTest, Boxes4, EMPTY_NODE};
+use super::super::{BoxTest, Boxes4, EMPTY_NODE, Leaves};
 use super::*;
 use crate::accel::simd::SimdLevel;
 use crate::math::{Aabb, Vec3};
 use crate::scene::{Shape, Shapes};
 use proptest::prelude::*;
+
+/// Both instruction sets, each with both leaf layouts.
+fn levels_and_layouts() -> [(SimdLevel, Leaves); 4] {
+    let best = SimdLevel::best_supported();
+    [
+        (SimdLevel::Baseline, Leaves::Indexed),
+        (SimdLevel::Baseline, Leaves::Copied),
+        (best, Leaves::Indexed),
+        (best, Leaves::Copied),
+    ]
+}
 
 #[test]
 fn lane_bits_sets_the_bit_of_each_flagged_lane() {
@@ -132,8 +143,8 @@ fn a_nan_limit_blocks_nothing_and_hides_no_other_ray() {
     for nan_lane in [0, 8, 15] {
         let mut t_max = [100.0f32; PACKET_RAYS];
         t_max[nan_lane] = f32::NAN;
-        for simd in [SimdLevel::Baseline, SimdLevel::best_supported()] {
-            let bvh = Bvh::build_with(&shapes, simd);
+        for (simd, leaves) in levels_and_layouts() {
+            let bvh = Bvh::build_with(&shapes, simd, leaves);
             let blocked = bvh.occluded_packet(&rays, &t_max, |_| true);
             assert_eq!(
                 blocked,
@@ -232,8 +243,8 @@ proptest! {
         prop_assume!(!rays.is_empty());
         let limits = &limits[..rays.len()];
         let blocks = |s: u32| !s.is_multiple_of(3);
-        for simd in [SimdLevel::Baseline, SimdLevel::best_supported()] {
-            let bvh = Bvh::build_with(&shapes, simd);
+        for (simd, leaves) in levels_and_layouts() {
+            let bvh = Bvh::build_with(&shapes, simd, leaves);
             let mut hits = vec![None; rays.len()];
             bvh.closest_packet(&rays, t_max, &mut hits);
             let blocked = bvh.occluded_packet(&rays, limits, blocks);
