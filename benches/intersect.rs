@@ -43,14 +43,14 @@ fn intersectors(c: &mut Criterion) {
 
     let mut group = c.benchmark_group(format!("{name}/build"));
     group.sample_size(10);
-    for kind in [AccelKind::Bvh, AccelKind::Octree] {
+    for kind in [AccelKind::Bvh, AccelKind::BvhCopied, AccelKind::Octree] {
         group.bench_function(kind.name(), |b| {
             b.iter(|| Accel::build(kind, black_box(&scene.shapes)))
         });
     }
     group.finish();
 
-    for kind in [AccelKind::Bvh, AccelKind::Octree] {
+    for kind in [AccelKind::Bvh, AccelKind::BvhCopied, AccelKind::Octree] {
         let accel = Accel::build(kind, &scene.shapes);
         let points: Vec<_> = rays
             .iter()
@@ -83,7 +83,7 @@ fn intersectors(c: &mut Criterion) {
 
     let mut group = c.benchmark_group(format!("{name}/frame"));
     group.sample_size(10);
-    for kind in [AccelKind::Bvh, AccelKind::Octree] {
+    for kind in [AccelKind::Bvh, AccelKind::BvhCopied, AccelKind::Octree] {
         let settings = RenderSettings {
             accel: kind,
             threads: Some(1),

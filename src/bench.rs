@@ -9,6 +9,7 @@
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
+use std::hint::black_box;
 
 use crate::accel::{Accel, AccelKind, Hit, PACKET_RAYS};
 use crate::math::{Ray, Vec3};
@@ -296,11 +297,13 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
         .filter_map(|&p| shadow_ray(light, p))
         .collect();
     let shadow_s = repeat_for(min, || {
-        shadow_rays_single
-            .par_iter()
-            .with_min_len(64)
-            .filter(|(ray, t_max)| accel.occluded(ray, *t_max, |_| true))
-            .count();
+        black_box(
+            shadow_rays_single
+                .par_iter()
+                .with_min_len(64)
+                .filter(|(ray, t_max)| accel.occluded(ray, *t_max, |_| true))
+                .count(),
+        );
         shadow_rays_single.len()
     });
 
@@ -334,11 +337,13 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
     }
     let shadow_rays: usize = shadow_packets.iter().map(|(r, _)| r.len()).sum();
     let shadow_packet_s = repeat_for(min, || {
-        shadow_packets
-            .par_iter()
-            .with_min_len(8)
-            .map(|(r, l)| accel.occluded_packet(r, l, |_| true).count_ones())
-            .sum::<u32>();
+        black_box(
+            shadow_packets
+                .par_iter()
+                .with_min_len(8)
+                .map(|(r, l)| accel.occluded_packet(r, l, |_| true).count_ones())
+                .sum::<u32>(),
+        );
         shadow_rays
     });
 

@@ -45,6 +45,7 @@ fn image_is_identical_for_any_thread_count_and_intersector() {
     );
     assert_eq!(one, render("t4.ppm", &["--accel", "octree"]));
     assert_eq!(one, render("t5.ppm", &["--accel", "bvh"]));
+    assert_eq!(one, render("t6.ppm", &["--accel", "bvh-copied"]));
     assert_ne!(
         one,
         render("s.ppm", &["--seed", "10"]),

@@ -55,7 +55,7 @@ pub enum AccelKind {
     #[default]
     Bvh,
     /// The same hierarchy with each leaf's triangles copied into it: the fastest, at
-    /// about twice the memory ([`Leaves::Copied`]).
+    /// about twice the memory on a mesh ([`Leaves::Copied`]).
     BvhCopied,
 }
 

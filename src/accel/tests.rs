@@ -315,7 +315,7 @@ fn shapes_with_a_nan_coordinate_hide_no_other_shape() {
         shapes.push(Shape::Triangle(Triangle { v: corners }));
     }
     let shapes = Shapes::from(shapes);
-    for kind in [AccelKind::Bvh, AccelKind::Octree, AccelKind::List] {
+    for kind in AccelKind::ALL {
         let accel = Accel::build(kind, &shapes);
         for i in 0..900u32 {
             let (x, y) = ((i % 30) as f32 + 0.25, (i / 30) as f32 + 0.25);

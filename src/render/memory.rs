@@ -12,9 +12,13 @@ use crate::{Error, Result};
 
 /// Peak bytes per shape while the BVH is built (bounds, centres, the binary tree and
 /// the final eight-wide nodes and leaf indices live together for a moment); measured at
-/// 140–150 on the bunny and a 2 M-triangle mesh with leaf copies of the triangles, which
-/// the tree no longer keeps, so this is an upper bound.
+/// 140–150 on the bunny and a 2 M-triangle mesh when leaves still copied their
+/// triangles, 128–134 on meshes since, so a bound on meshes (scattered shapes, one to a
+/// leaf, take more nodes a shape).
 pub const BVH_BYTES_PER_SHAPE: u64 = 224;
+/// The same for `bvh-copied`: the tree above, and then each leaf's copies, at worst a
+/// 192-byte block of four lanes for a leaf of one shape.
+pub const BVH_COPIED_BYTES_PER_SHAPE: u64 = BVH_BYTES_PER_SHAPE + 192;
 /// The octree copies a shape into every cell it touches: 2 KB a triangle on the bunny.
 pub const OCTREE_BYTES_PER_SHAPE: u64 = 4096;
 /// Per output pixel: the traced band rows and the film (three f32), the developed image
@@ -127,7 +131,8 @@ impl MemoryEstimate {
 fn accel_bytes_per_shape(accel: AccelKind) -> u64 {
     match accel {
         AccelKind::List => 0,
-        AccelKind::Bvh | AccelKind::BvhCopied => BVH_BYTES_PER_SHAPE,
+        AccelKind::Bvh => BVH_BYTES_PER_SHAPE,
+        AccelKind::BvhCopied => BVH_COPIED_BYTES_PER_SHAPE,
         AccelKind::Octree => OCTREE_BYTES_PER_SHAPE,
     }
 }
@@ -266,12 +271,37 @@ mod tests {
         assert_eq!(e.accel, 1000 * BVH_BYTES_PER_SHAPE);
         assert_eq!(e.images, 0);
         assert!(e.film >= 5000 * FILM_BYTES_PER_PIXEL);
+        let copied = MemoryEstimate::of(&scene, AccelKind::BvhCopied, 100, 50, 1);
+        assert_eq!(copied.accel, 1000 * BVH_COPIED_BYTES_PER_SHAPE);
         let octree = MemoryEstimate::of(&scene, AccelKind::Octree, 100, 50, 1);
         assert_eq!(octree.accel, 1000 * OCTREE_BYTES_PER_SHAPE);
         assert_eq!(
             MemoryEstimate::of(&scene, AccelKind::List, 1, 1, 1).accel,
             0
         );
+    }
+
+    #[test]
+    fn a_built_intersector_keeps_less_than_its_estimate() {
+        // Scattered triangles, far apart: leaves of one shape, the copies' worst case.
+        let mut scene = spheres(0);
+        for i in 0..2000u32 {
+            let c = Vec3::new(
+                (i % 13) as f32 * 40.0,
+                (i / 13) as f32 * 40.0,
+                (i % 7) as f32,
+            );
+            let v = [c, c + Vec3::X, c + Vec3::Y];
+            scene.push_shape(Shape::Triangle(crate::scene::Triangle { v }), 0);
+        }
+        for kind in AccelKind::ALL {
+            let accel = crate::accel::Accel::build(kind, &scene.shapes);
+            let kept = accel.memory_bytes() as u64;
+            assert!(
+                kept <= 2000 * accel_bytes_per_shape(kind),
+                "{kind}: {kept} bytes"
+            );
+        }
     }
 
     #[test]

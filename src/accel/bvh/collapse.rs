@@ -7,6 +7,7 @@ use super::leaf4::Leaf4;
 use super::{EMPTY_NODE, Entry, Node8, STORED, WIDTH};
 use crate::math::Aabb;
 use crate::scene::Shapes;
+use rayon::prelude::*;
 
 /// A collapsed tree: its nodes (the root first), and the shape indices and leaf
 /// copies its leaves point into.
@@ -15,8 +16,6 @@ pub(super) struct Collapsed {
     pub(super) nodes: Vec<Node8>,
     pub(super) prims: Vec<u32>,
     pub(super) stored: Vec<Leaf4>,
-    /// Whether leaves of triangles are stored as copies too.
-    pub(super) copy_triangles: bool,
 }
 
 impl Collapsed {
@@ -28,10 +27,10 @@ impl Collapsed {
         self.collapse_into(shapes, tree, order, slot);
     }
 
-    /// Stores the shapes `leaf` as a leaf: their indices when all are triangles (unless
-    /// triangles are copied), else [`Leaf4`]s with precomputed edges.
+    /// Stores the shapes `leaf` as a leaf: their indices when all are triangles, else
+    /// [`Leaf4`]s with precomputed edges.
     pub(super) fn leaf(&mut self, shapes: &Shapes, leaf: &[u32]) -> Entry {
-        if !self.copy_triangles && leaf.iter().all(|&i| shapes.is_triangle(i as usize)) {
+        if leaf.iter().all(|&i| shapes.is_triangle(i as usize)) {
             let child = self.prims.len() as u32;
             self.prims.extend_from_slice(leaf);
             Entry {
@@ -49,6 +48,54 @@ impl Collapsed {
                 t: 0.0,
             }
         }
+    }
+
+    /// Stores every leaf of triangle indices as [`Leaf4`] copies instead, after the
+    /// others (for [`super::Leaves::Copied`]), and drops the indices. `root` is the
+    /// tree's entry, itself a leaf in a scene of a few shapes. The collapse walks the
+    /// tree on one thread; the copies, most of the bytes, are made on all of them.
+    pub(super) fn copy_triangle_leaves(&mut self, shapes: &Shapes, root: &mut Entry) {
+        let indexed = |e: &Entry| e.count > 0 && e.count & STORED == 0;
+        // Every indexed leaf's place, (node, lane), with the root as `None`.
+        let mut places: Vec<Option<(usize, usize)>> = Vec::new();
+        if indexed(root) {
+            places.push(None);
+        }
+        for (n, node) in self.nodes.iter().enumerate() {
+            for lane in 0..WIDTH {
+                if indexed(&node.entry(lane)) {
+                    places.push(Some((n, lane)));
+                }
+            }
+        }
+        // Each block of up to four: its leaf's first index and how many it takes.
+        let mut blocks: Vec<(u32, u32)> = Vec::new();
+        let mut first_block = self.stored.len() as u32;
+        for &place in &places {
+            let e = match place {
+                None => *root,
+                Some((n, lane)) => self.nodes[n].entry(lane),
+            };
+            let copied = Entry {
+                child: first_block,
+                count: STORED | e.count.div_ceil(4),
+                t: 0.0,
+            };
+            for start in (0..e.count).step_by(4) {
+                blocks.push((e.child + start, (e.count - start).min(4)));
+            }
+            first_block += e.count.div_ceil(4);
+            match place {
+                None => *root = copied,
+                Some((n, lane)) => self.nodes[n].set_entry(lane, copied),
+            }
+        }
+        let prims = std::mem::take(&mut self.prims);
+        self.stored.par_extend(
+            blocks.par_iter().map(|&(first, n)| {
+                Leaf4::mixed(shapes, &prims[first as usize..(first + n) as usize])
+            }),
+        );
     }
 
     /// Fills `nodes[slot]` with up to eight descendants of binary node `tree`, and

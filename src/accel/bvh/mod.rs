@@ -22,8 +22,9 @@ pub enum Leaves {
     /// from the mesh's shared vertices. Four bytes a triangle beside the nodes.
     Indexed,
     /// By copy: each leaf holds its triangles' corners and edges four to a block,
-    /// laid out as the leaf test reads them. About fifty bytes a triangle more, and
-    /// 10–40 % more rays a second, most on large meshes and on packets.
+    /// laid out as the leaf test reads them. On a mesh about fifty bytes a triangle
+    /// more (a 192-byte block for a leaf of one shape at worst), and 10–40 % more rays
+    /// a second, most on large meshes and on packets.
     Copied,
 }
 
@@ -92,6 +93,20 @@ impl Node8 {
                 t: t[lane],
             }
         })
+    }
+
+    /// Child `lane` as a traversal entry (at distance 0).
+    fn entry(&self, lane: usize) -> Entry {
+        Entry {
+            child: self.child[lane],
+            count: self.count[lane],
+            t: 0.0,
+        }
+    }
+
+    fn set_entry(&mut self, lane: usize, e: Entry) {
+        self.child[lane] = e.child;
+        self.count[lane] = e.count;
     }
 
     fn set_box(&mut self, lane: usize, b: &Aabb) {
@@ -316,10 +331,11 @@ pub struct Bvh<'s> {
     nodes: Vec<Node8>,
     /// Shape indices, leaf by leaf: a leaf names its shapes and the traversal reads
     /// their corners from the scene, so the tree adds four bytes a shape to the nodes.
+    /// Empty with [`Leaves::Copied`].
     prims: Vec<u32>,
-    /// Leaves holding a sphere or a rectangle, copied into [`Leaf4`]s with their edges
-    /// precomputed: such shapes are few, and gathering them cost a 2014 scene a tenth of
-    /// its time.
+    /// Leaves copied into [`Leaf4`]s with their edges precomputed: those holding a
+    /// sphere or a rectangle (such shapes are few, and gathering them cost a 2014 scene
+    /// a tenth of its time), and with [`Leaves::Copied`] every leaf.
     stored: Vec<Leaf4>,
     shape_count: usize,
     simd: SimdLevel,
@@ -348,10 +364,7 @@ impl<'s> Bvh<'s> {
         if shapes.is_empty() {
             return bvh;
         }
-        let mut out = Collapsed {
-            copy_triangles: leaves == Leaves::Copied,
-            ..Collapsed::default()
-        };
+        let mut out = Collapsed::default();
         if shapes.len() <= TINY_SCENE {
             let all: Vec<u32> = (0..shapes.len() as u32).collect();
             bvh.root = out.leaf(shapes, &all);
@@ -359,10 +372,11 @@ impl<'s> Bvh<'s> {
             let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
             let binary = build::build(&boxes);
             out.nodes.reserve_exact(binary.tree.nodes() / 2 + 1);
-            if leaves == Leaves::Indexed {
-                out.prims.reserve_exact(shapes.len());
-            }
+            out.prims.reserve_exact(shapes.len());
             out.collapse(shapes, &binary.tree, &binary.order);
+        }
+        if leaves == Leaves::Copied {
+            out.copy_triangle_leaves(shapes, &mut bvh.root);
         }
         bvh.nodes = out.nodes;
         bvh.prims = out.prims;
@@ -385,7 +399,7 @@ impl<'s> Bvh<'s> {
         self.simd
     }
 
-    /// Bytes held by the nodes and the leaves' shape indices.
+    /// Bytes held by the nodes and the leaves (shape indices and copies).
     pub fn memory_bytes(&self) -> usize {
         self.nodes.capacity() * size_of::<Node8>()
             + self.prims.capacity() * size_of::<u32>()

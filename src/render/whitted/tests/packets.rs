@@ -56,7 +56,7 @@ fn area_light_shadow_packets_give_the_single_ray_radiance() {
     let mut count = RayCount::default();
     for (name, s) in &cases {
         let surfaces = s.resolved_surfaces();
-        for kind in [AccelKind::Bvh, AccelKind::List] {
+        for kind in [AccelKind::Bvh, AccelKind::BvhCopied, AccelKind::List] {
             let accel = Accel::build(kind, &s.shapes);
             let packets = Whitted::new(s, &accel, &surfaces, 10, 0.0);
             let single = Whitted::new(s, &accel, &surfaces, 10, 0.0).one_shadow_ray_at_a_time();
