@@ -70,6 +70,16 @@ def test_a_region_is_a_crop_of_the_full_frame(example):
     assert same_bits(part, np.ascontiguousarray(full[7:27, 10:40]))
 
 
+def test_every_intersector_gives_the_same_pixels():
+    scene = prism.load_scene(SHOWCASE)
+    renders = {accel: prism.render(scene, width=64, height=36, accel=accel)
+               for accel in ("bvh", "bvh-copied", "octree", "list")}
+    for accel, pixels in renders.items():
+        assert same_bits(pixels, renders["bvh"]), accel
+    with pytest.raises(ValueError, match="expected bvh, bvh-copied, octree or list"):
+        prism.render(scene, width=64, height=36, accel="kd-tree")
+
+
 def test_bad_options_raise(example):
     scene, camera = example
     with pytest.raises(prism.SettingsError):
