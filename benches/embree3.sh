@@ -146,6 +146,8 @@ if sys.argv[3] == "1":
         "width": prism["width"], "height": prism["height"], "hit_fraction": prism["hit_fraction"],
         "prism_simd": prism["simd"], "prism_accel": prism["accel"],
         "prism_bytes_per_triangle": prism["bytes"] / max(prism["primitives"], 1),
+        "prism_accel_bytes_per_triangle": prism["accel_bytes"] / max(prism["primitives"], 1),
+        "embree_scene_bytes_per_triangle": embree["scene_bytes"] / max(embree["triangles"], 1),
         **{k: embree[k] for k in keep},
         "agreement": {k: embree[k] for k in ["hit_or_miss_differs", "other_triangle", "distance_differs", "disagree", "intersect16_differs_from_intersect1", "occluded_differs"]},
         "medians": [
@@ -178,6 +180,13 @@ for label, pkey, ekey, scale in lines:
         p, e = statistics.median(p) * scale, statistics.median(e) * scale
         print(f"| {label} | {t} | {p:.2f} | {e:.2f} | {ratio:.2f} |")
 a = embree
+n = max(a["triangles"], 1)
+print(
+    f"\nMemory, bytes a triangle: Prism's {prism['accel']} {prism['accel_bytes'] / n:.1f} beside its "
+    f"mesh's {(prism['bytes'] - prism['accel_bytes']) / n:.1f} (positions, index triples, materials); "
+    f"Embree's scene {a['scene_bytes'] / n:.1f} (its memory monitor: BVH and leaves) beside "
+    f"the application's vertex and index buffers, which it shares."
+)
 print(
     f"\nAgreement with Prism (rtcIntersect1): {a['hit_or_miss_differs']} hit/miss, "
     f"{a['other_triangle']} other triangle, {a['distance_differs']} distance > 1e-4, "

@@ -18,6 +18,9 @@
 //   occluded1_mrays    rtcOccluded1, shadow rays
 //   intersect16_mrays  rtcIntersect16, coherent context flag, primary rays in packets
 //                      of 16: one 4x4 pixel tile a packet (edge tiles have idle lanes)
+//   scene_bytes        what Embree's memory monitor counts for the last built scene:
+//                      its BVH and its triangle leaves (the application's vertex and
+//                      index buffers, shared with Embree, are not among them)
 // and how Embree's answers differ from Prism's (hits.bin, occluded.u8).
 //
 // Rays are handed to T std::threads in chunks of 4096 taken from a shared counter, so
@@ -114,6 +117,15 @@ Dump load(const std::string& dir) {
     }
     d.prism_occluded = read_array<uint8_t>(dir + "/occluded.u8", 1, d.shadow_rays);
     return d;
+}
+
+// Bytes Embree holds, as its memory monitor reports them (allocations positive, frees
+// negative).
+std::atomic<long long> embree_bytes{0};
+
+bool on_memory(void*, ssize_t bytes, bool) {
+    embree_bytes += bytes;
+    return true;
 }
 
 void on_error(void*, RTCError code, const char* message) {
@@ -226,13 +238,17 @@ int main(int argc, char** argv) {
     RTCDevice device = rtcNewDevice(config.c_str());
     if (!device) fail("rtcNewDevice failed: " + std::to_string(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(device, on_error, nullptr);
+    rtcSetDeviceMemoryMonitorFunction(device, on_memory, nullptr);
 
     std::vector<double> build_times;
     RTCScene scene = nullptr;
+    long long scene_bytes = 0;
     for (int b = 0; b < builds; ++b) {
         if (scene) rtcReleaseScene(scene);
+        long long before = embree_bytes;
         auto start = Clock::now();
         scene = build_scene(device, d, index);
+        scene_bytes = embree_bytes - before;
         build_times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
     }
     std::vector<double> sorted_builds = build_times;
@@ -360,6 +376,7 @@ int main(int argc, char** argv) {
         "{\"embree_version\":\"%d.%d.%d\",\"config\":\"%s\",\"tasking\":\"%s\",\"native_ray16\":%s,"
         "\"threads\":%d,\"triangles\":%zu,\"rays\":%zu,\"shadow_rays\":%zu,"
         "\"builds\":%d,\"build_s\":%.6f,\"build_min_s\":%.6f,\"build_first_s\":%.6f,"
+        "\"scene_bytes\":%lld,"
         "\"intersect1_mrays\":%.4f,\"intersect1_passes\":%d,"
         "\"occluded1_mrays\":%.4f,\"occluded1_passes\":%d,"
         "\"intersect16_mrays\":%.4f,\"intersect16_passes\":%d,\"packets\":\"%s\","
@@ -371,7 +388,7 @@ int main(int argc, char** argv) {
         tasking_system >= 0 && tasking_system < 3 ? tasking[tasking_system] : "?",
         rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) ? "true" : "false",
         threads, d.triangles, d.rays, d.shadow_rays, builds, build_s, sorted_builds.front(),
-        build_times.front(),
+        build_times.front(), scene_bytes,
         intersect1.mrays, intersect1.passes, occluded1.mrays, occluded1.passes,
         intersect16.mrays, intersect16.passes, tiles ? "4x4 tiles" : "16 consecutive rays",
         double(hits) / std::max<size_t>(d.rays, 1), hit_or_miss, other_triangle, distance,
