@@ -10,7 +10,7 @@
 //! the lower index, so the order shapes are met in does not matter.
 
 use super::leaf4::{Flat, Prim};
-use super::{BOX_SLACK, Bvh, Entry, Node8, STORED, Stack, WIDTH, inverse};
+use super::{BOX_SLACK, Bvh, Node8, STORED, Stack, WIDTH, inverse};
 use crate::accel::Hit;
 #[cfg(target_arch = "x86_64")]
 use crate::accel::simd::SimdLevel;
@@ -430,12 +430,7 @@ impl Bvh<'_> {
             for lane in 0..WIDTH {
                 let (mask, t) = lanes.enter(node, lane, &bound);
                 if mask != 0 {
-                    let e = Entry {
-                        child: node.child[lane],
-                        count: node.count[lane],
-                        t,
-                    };
-                    stack.push_sorted(e, base);
+                    stack.push_sorted(node.entry(lane, t), base);
                 }
             }
         }
@@ -525,12 +520,7 @@ impl Bvh<'_> {
             for lane in 0..WIDTH {
                 let (mask, t) = lanes.enter(node, lane, &bound);
                 if mask != 0 {
-                    let e = Entry {
-                        child: node.child[lane],
-                        count: node.count[lane],
-                        t,
-                    };
-                    stack.push_sorted(e, base);
+                    stack.push_sorted(node.entry(lane, t), base);
                 }
             }
         }

@@ -55,39 +55,29 @@ impl Collapsed {
     /// tree's entry, itself a leaf in a scene of a few shapes. The collapse walks the
     /// tree on one thread; the copies, most of the bytes, are made on all of them.
     pub(super) fn copy_triangle_leaves(&mut self, shapes: &Shapes, root: &mut Entry) {
-        let indexed = |e: &Entry| e.count > 0 && e.count & STORED == 0;
-        // Every indexed leaf's place, (node, lane), with the root as `None`.
-        let mut places: Vec<Option<(usize, usize)>> = Vec::new();
-        if indexed(root) {
-            places.push(None);
-        }
-        for (n, node) in self.nodes.iter().enumerate() {
-            for lane in 0..WIDTH {
-                if indexed(&node.entry(lane)) {
-                    places.push(Some((n, lane)));
-                }
-            }
-        }
         // Each block of up to four: its leaf's first index and how many it takes.
         let mut blocks: Vec<(u32, u32)> = Vec::new();
-        let mut first_block = self.stored.len() as u32;
-        for &place in &places {
-            let e = match place {
-                None => *root,
-                Some((n, lane)) => self.nodes[n].entry(lane),
-            };
-            let copied = Entry {
-                child: first_block,
-                count: STORED | e.count.div_ceil(4),
-                t: 0.0,
-            };
+        let mut next_block = self.stored.len() as u32;
+        // An indexed leaf's entry becomes that of its blocks; any other stays.
+        let mut copy = |e: Entry| {
+            if e.count == 0 || e.count & STORED != 0 {
+                return e;
+            }
             for start in (0..e.count).step_by(4) {
                 blocks.push((e.child + start, (e.count - start).min(4)));
             }
-            first_block += e.count.div_ceil(4);
-            match place {
-                None => *root = copied,
-                Some((n, lane)) => self.nodes[n].set_entry(lane, copied),
+            let copied = Entry {
+                child: next_block,
+                count: STORED | e.count.div_ceil(4),
+                t: 0.0,
+            };
+            next_block += e.count.div_ceil(4);
+            copied
+        };
+        *root = copy(*root);
+        for node in &mut self.nodes {
+            for lane in 0..WIDTH {
+                node.set_entry(lane, copy(node.entry(lane, 0.0)));
             }
         }
         let prims = std::mem::take(&mut self.prims);
