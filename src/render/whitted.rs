@@ -17,6 +17,7 @@ use crate::scene::{
 };
 
 mod casters;
+mod sample_lanes;
 mod shadow_batch;
 mod visibility;
 

@@ -4,6 +4,7 @@
 //! surface is clear to shadows, and an area light's samples from one point traced as
 //! one packet.
 
+use super::sample_lanes::{LANES, SampleLanes};
 use super::shadow_batch::ShadowBatch;
 use super::{
     FLAT_CROSSINGS, LightSample, MAX_CLEAR_CROSSINGS, MAX_CROSSINGS, WALK_SPHERES, Whitted,
@@ -120,24 +121,30 @@ impl Whitted<'_> {
         // its own. So the first ray goes alone, and where it meets anything (the point
         // lies inside or behind glass, or in shadow) so do the rest.
         let (mut probe, mut alone) = (self.see_through, false);
-        self.for_each_sample(light, at.p, sampler, |ls| {
-            let Some(shade) = shading(&ls) else {
-                return;
-            };
-            count.rays += 1;
-            if probe || alone {
-                let vis = self.visibility_of(at.shadow_from, at.ng, &ls);
-                *l += vis * ls.e * shade;
-                alone |= probe && vis != Vec3::ONE;
-                probe = false;
-                return;
+        let n = light.samples.max(1);
+        let mut lanes = SampleLanes::new();
+        for first in (0..n).step_by(LANES) {
+            let len = (n - first).min(LANES as u32) as usize;
+            self.area_sample_lanes(light, at.p, sampler, first, len, &mut lanes);
+            for ls in lanes.lit() {
+                let Some(shade) = shading(&ls) else {
+                    continue;
+                };
+                count.rays += 1;
+                if probe || alone {
+                    let vis = self.visibility_of(at.shadow_from, at.ng, &ls);
+                    *l += vis * ls.e * shade;
+                    alone |= probe && vis != Vec3::ONE;
+                    probe = false;
+                    continue;
+                }
+                batch.push(shadow_ray(at.shadow_from, at.ng, &ls), ls, shade);
+                if batch.is_full() {
+                    self.count_packet(&batch);
+                    batch.resolve(self.shadow_accel, meets, settle, |light| *l += light);
+                }
             }
-            batch.push(shadow_ray(at.shadow_from, at.ng, &ls), ls, shade);
-            if batch.is_full() {
-                self.count_packet(&batch);
-                batch.resolve(self.shadow_accel, meets, settle, |light| *l += light);
-            }
-        });
+        }
         self.count_packet(&batch);
         batch.resolve(self.shadow_accel, meets, settle, |light| *l += light);
     }

@@ -2,6 +2,7 @@
 
 use super::visibility::see_through_scene;
 use super::*;
+use crate::scene::Triangle;
 
 /// An area light's shadow rays from one point go as a packet, and give the radiance of
 /// the rays one at a time bit for bit: over opaque shapes, past clear glass, and through
@@ -23,6 +24,13 @@ fn area_light_shadow_packets_give_the_single_ray_radiance() {
             37,
         ),
         light(LightKind::Sphere { radius: 0.4 }, 16),
+        light(
+            LightKind::Disk {
+                normal: Vec3::new(0.2, -1.0, 0.1),
+                radius: 0.5,
+            },
+            23,
+        ),
         Light::point(Vec3::new(-2.0, 4.0, 1.0), Vec3::splat(0.5)),
     ];
     let glass = |t: Vec3| Surface {
@@ -39,7 +47,30 @@ fn area_light_shadow_packets_give_the_single_ray_radiance() {
             matte(Vec3::new(0.2, 0.5, 0.9)),
         ),
         (sphere_at(0.9, 0.4, 0.5, 0.3), matte(Vec3::ONE)),
+        (
+            sphere_at(-1.0, 0.5, 0.8, 0.4),
+            Surface {
+                specular: Vec3::splat(0.4),
+                shininess: 30.0,
+                ..matte(Vec3::new(0.6, 0.6, 0.3))
+            },
+        ),
     ];
+    // A square of two emissive triangles facing down, lighting the scene as a mesh
+    // light of many samples (more than one packet's worth).
+    let emitter = Surface {
+        emission: Vec3::new(2.0, 1.8, 1.5),
+        ..matte(Vec3::ZERO)
+    };
+    let corner = |x: f32, z: f32| Vec3::new(x, 3.2, z);
+    let mut opaque = opaque;
+    let first_emitter = opaque.len() as u32;
+    for v in [
+        [corner(-0.5, -0.5), corner(0.5, -0.5), corner(0.5, 0.5)],
+        [corner(-0.5, -0.5), corner(0.5, 0.5), corner(-0.5, 0.5)],
+    ] {
+        opaque.push((Shape::Triangle(Triangle { v }), emitter.clone()));
+    }
     let mut clear = opaque.clone();
     clear.push((sphere_at(-0.8, 1.3, -0.4, 0.5), glass(Vec3::ONE)));
     let mut tinted = clear.clone();
@@ -51,6 +82,11 @@ fn area_light_shadow_packets_give_the_single_ray_radiance() {
         .into_iter()
         .map(|(name, shapes)| (name, scene(shapes, lights.clone(), Background::Black)))
         .collect();
+    for (_, s) in &mut cases {
+        let mut mesh = Light::mesh(&s.shapes, &[first_emitter, first_emitter + 1]).unwrap();
+        mesh.samples = 19;
+        s.lights.push(mesh);
+    }
     cases.push(("see-through", see_through_scene(true)));
     cases[3].1.lights = lights;
     let mut count = RayCount::default();

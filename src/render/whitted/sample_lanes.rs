@@ -1,0 +1,260 @@
+//! An area light's samples seen from one shading point, worked out sixteen at a time in
+//! lanes: each field an array with a lane a sample, and every step a plain loop over the
+//! lanes, which the compiler turns into SIMD. One sample at a time, a sample's square
+//! roots and divisions wait on each other; in lanes they go side by side.
+//!
+//! Every lane does the arithmetic [`Whitted::for_each_sample`] does for its sample, in
+//! the same order, so the samples are the same bit for bit; the random numbers are
+//! drawn first, in the order that function draws them.
+
+// Loops over lane indices read like the formulas they vectorise.
+#![allow(clippy::needless_range_loop)]
+
+use super::{LightSample, Whitted};
+use crate::accel::PACKET_RAYS;
+use crate::math::Vec3;
+use crate::render::PixelSampler;
+use crate::scene::{Light, LightKind, Shape};
+
+/// Samples worked out together.
+pub(super) const LANES: usize = PACKET_RAYS;
+
+/// Up to [`LANES`] samples of one area light from one point.
+pub(super) struct SampleLanes {
+    dir: [[f32; LANES]; 3],
+    dist: [f32; LANES],
+    e: [[f32; LANES]; 3],
+    /// Whether the sample lights the point (`for_each_sample` skips it otherwise).
+    lit: [bool; LANES],
+    len: usize,
+}
+
+impl SampleLanes {
+    pub(super) fn new() -> SampleLanes {
+        SampleLanes {
+            dir: [[0.0; LANES]; 3],
+            dist: [0.0; LANES],
+            e: [[0.0; LANES]; 3],
+            lit: [false; LANES],
+            len: 0,
+        }
+    }
+
+    /// The samples that light the point, in order.
+    pub(super) fn lit(&self) -> impl Iterator<Item = LightSample> + '_ {
+        (0..self.len).filter(|&k| self.lit[k]).map(|k| LightSample {
+            dir: Vec3::new(self.dir[0][k], self.dir[1][k], self.dir[2][k]),
+            dist: self.dist[k],
+            e: Vec3::new(self.e[0][k], self.e[1][k], self.e[2][k]),
+        })
+    }
+}
+
+/// The point of an emitter each lane drew, and what [`area_lanes`] needs of the emitter
+/// there.
+struct EmitterLanes {
+    y: [[f32; LANES]; 3],
+    /// The emitter's unit normal at each lane's point.
+    normal: [[f32; LANES]; 3],
+    /// Emitted radiance at each lane's point.
+    le: [[f32; LANES]; 3],
+    /// Whether the lane drew a point (a mesh light's lane may not).
+    drawn: [bool; LANES],
+}
+
+impl EmitterLanes {
+    fn new() -> EmitterLanes {
+        EmitterLanes {
+            y: [[0.0; LANES]; 3],
+            normal: [[0.0; LANES]; 3],
+            le: [[0.0; LANES]; 3],
+            drawn: [false; LANES],
+        }
+    }
+
+    fn set(&mut self, k: usize, y: Vec3, normal: Vec3, le: Vec3) {
+        for c in 0..3 {
+            self.y[c][k] = y[c];
+            self.normal[c][k] = normal[c];
+            self.le[c][k] = le[c];
+        }
+        self.drawn[k] = true;
+    }
+}
+
+/// `(a.x * b.x + a.y * b.y) + a.z * b.z` in each lane: the order of `Vec3::dot`.
+#[inline(always)]
+fn dot_lanes(a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3], out: &mut [f32; LANES]) {
+    for k in 0..LANES {
+        out[k] = a[0][k] * b[0][k] + a[1][k] * b[1][k] + a[2][k] * b[2][k];
+    }
+}
+
+/// `area_sample` in lanes: each lane's sample of an emitter standing for `area` of its
+/// surface.
+fn area_lanes(p: Vec3, em: &EmitterLanes, area: f32, len: usize, out: &mut SampleLanes) {
+    let mut to = [[0.0; LANES]; 3];
+    for (c, to) in to.iter_mut().enumerate() {
+        for k in 0..LANES {
+            to[k] = em.y[c][k] - p[c];
+        }
+    }
+    let mut d2 = [0.0; LANES];
+    dot_lanes(&to, &to, &mut d2);
+    for k in 0..LANES {
+        out.dist[k] = d2[k].sqrt();
+    }
+    for (c, dir) in out.dir.iter_mut().enumerate() {
+        for k in 0..LANES {
+            dir[k] = to[c][k] / out.dist[k];
+        }
+    }
+    let mut cos_l = [0.0; LANES];
+    dot_lanes(&em.normal, &out.dir, &mut cos_l);
+    let mut scale = [0.0; LANES];
+    for k in 0..LANES {
+        cos_l[k] = -cos_l[k];
+        scale[k] = cos_l[k] * area / d2[k];
+    }
+    for (c, e) in out.e.iter_mut().enumerate() {
+        for k in 0..LANES {
+            e[k] = em.le[c][k] * scale[k];
+        }
+    }
+    for k in 0..len {
+        // `area_sample`'s two refusals; a NaN cosine (an emitter without area) is not
+        // one of them.
+        let faces = cos_l[k] > 0.0 || cos_l[k].is_nan();
+        out.lit[k] = em.drawn[k] && d2[k] > 0.0 && d2[k].is_finite() && faces;
+    }
+    out.len = len;
+}
+
+impl Whitted<'_> {
+    /// Samples `first..first + len` of the `light.samples` (at least one) of area
+    /// light `light` seen from `p` into `out`: those [`Whitted::for_each_sample`] would
+    /// hand its callback, with the same values. `len` is at most [`LANES`].
+    pub(super) fn area_sample_lanes(
+        &self,
+        light: &Light,
+        p: Vec3,
+        sampler: &mut PixelSampler,
+        first: u32,
+        len: usize,
+        out: &mut SampleLanes,
+    ) {
+        debug_assert!(len <= LANES);
+        let power = light.color * light.intensity;
+        let n = light.samples.max(1);
+        let mut em = EmitterLanes::new();
+        match &light.kind {
+            LightKind::Quad { u, v } => {
+                let normal = crate::math::cross(*u, *v);
+                let area = normal.length();
+                let normal = normal / area;
+                for k in 0..len {
+                    let (a, b) = sampler.square_sample(first + k as u32, n);
+                    let y = light.position + *u * (a - 0.5) + *v * (b - 0.5);
+                    em.set(k, y, normal, power);
+                }
+                area_lanes(p, &em, area / n as f32, len, out);
+            }
+            LightKind::Disk { normal, radius } => {
+                let normal = normal.normalize_or(Vec3::Y);
+                let (t1, t2) = normal.any_orthonormal_pair();
+                let area = std::f32::consts::PI * radius * radius;
+                for k in 0..len {
+                    let (a, b) = sampler.disk_sample(first + k as u32, n);
+                    let y = light.position + (t1 * a + t2 * b) * *radius;
+                    em.set(k, y, normal, power);
+                }
+                area_lanes(p, &em, area / n as f32, len, out);
+            }
+            LightKind::Mesh { shapes, cdf, area } => {
+                if !shapes.is_empty() {
+                    // Stratified samples pick the triangles in order, so neighbouring
+                    // lanes mostly share one: its corners, normal and radiance are
+                    // looked up once.
+                    let mut last: Option<(usize, [Vec3; 3], Vec3, Vec3)> = None;
+                    for k in 0..len {
+                        let (a, b) = sampler.square_sample(first + k as u32, n);
+                        let j = cdf.partition_point(|&c| c <= a).min(shapes.len() - 1);
+                        let (v, normal, le) = match last {
+                            Some((i, v, normal, le)) if i == j => (v, normal, le),
+                            _ => {
+                                let shape = shapes[j];
+                                let Shape::Triangle(tri) = self.scene.shapes.get(shape as usize)
+                                else {
+                                    continue;
+                                };
+                                let (normal, le) =
+                                    (tri.normal(), self.surface(shape).emission * light.intensity);
+                                last = Some((j, tri.v, normal, le));
+                                (tri.v, normal, le)
+                            }
+                        };
+                        let lo = if j == 0 { 0.0 } else { cdf[j - 1] };
+                        let within =
+                            ((a - lo) / (cdf[j] - lo).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+                        let su = within.sqrt();
+                        let [v0, v1, v2] = v;
+                        let y = v0 * (1.0 - su) + v1 * (su * (1.0 - b)) + v2 * (su * b);
+                        em.set(k, y, normal, le);
+                    }
+                }
+                area_lanes(p, &em, area / n as f32, len, out);
+            }
+            LightKind::Sphere { radius } => {
+                let to = light.position - p;
+                let d2 = to.length_squared();
+                let r2 = radius * radius;
+                if d2 <= r2 {
+                    out.len = 0;
+                    return;
+                }
+                let dist_c = d2.sqrt();
+                let axis = to / dist_c;
+                let cos_max = (1.0 - r2 / d2).max(0.0).sqrt();
+                let solid_angle = std::f32::consts::TAU * (1.0 - cos_max);
+                let (t1, t2) = axis.any_orthonormal_pair();
+                let e = power * (solid_angle / n as f32);
+                // Drawn and turned in order (`sin_cos` is the C library's), then the
+                // rest in lanes.
+                let (mut cos, mut cp, mut sp) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+                for k in 0..len {
+                    let (a, b) = sampler.square_sample(first + k as u32, n);
+                    cos[k] = 1.0 - a * (1.0 - cos_max);
+                    (sp[k], cp[k]) = (b * std::f32::consts::TAU).sin_cos();
+                }
+                let mut d = [[0.0; LANES]; 3];
+                for k in 0..LANES {
+                    let sin = (1.0 - cos[k] * cos[k]).max(0.0).sqrt();
+                    let (s_cp, s_sp) = (sin * cp[k], sin * sp[k]);
+                    for (c, d) in d.iter_mut().enumerate() {
+                        d[k] = axis[c] * cos[k] + t1[c] * s_cp + t2[c] * s_sp;
+                    }
+                }
+                let mut length = [0.0; LANES];
+                dot_lanes(&d, &d, &mut length);
+                for k in 0..LANES {
+                    length[k] = length[k].sqrt();
+                    let along = dist_c * cos[k];
+                    out.dist[k] = along - (r2 - (d2 - along * along)).max(0.0).sqrt();
+                }
+                for (c, dir) in out.dir.iter_mut().enumerate() {
+                    for k in 0..LANES {
+                        dir[k] = d[c][k] / length[k];
+                    }
+                }
+                for (c, lanes) in out.e.iter_mut().enumerate() {
+                    lanes.fill(e[c]);
+                }
+                out.lit[..len].fill(true);
+                out.len = len;
+            }
+            LightKind::Point | LightKind::Spot { .. } | LightKind::Directional { .. } => {
+                unreachable!("a point, spot or directional light is not sampled in lanes")
+            }
+        }
+    }
+}
