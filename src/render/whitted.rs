@@ -85,15 +85,6 @@ struct LightSample {
     e: Vec3,
 }
 
-impl LightSample {
-    /// No light: fills unused slots.
-    const NONE: LightSample = LightSample {
-        dir: Vec3::ZERO,
-        dist: 0.0,
-        e: Vec3::ZERO,
-    };
-}
-
 impl<'a> Whitted<'a> {
     pub fn new(
         scene: &'a Scene,
