@@ -92,6 +92,7 @@ fn dot_lanes(a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3], out: &mut [f32; LANES
 
 /// `area_sample` in lanes: each lane's sample of an emitter standing for `area` of its
 /// surface.
+#[inline(always)]
 fn area_lanes(p: Vec3, em: &EmitterLanes, area: f32, len: usize, out: &mut SampleLanes) {
     let mut to = [[0.0; LANES]; 3];
     for (c, to) in to.iter_mut().enumerate() {
