@@ -35,7 +35,7 @@ impl PixelSampler {
         let u = (i as f32 + self.next_f32()) / n as f32;
         let v = (i as f32 * GOLDEN + self.next_f32() / n as f32).fract();
         let r = u.sqrt();
-        let (s, c) = (v * std::f32::consts::TAU).sin_cos();
+        let (s, c) = crate::math::sin_cos(v * std::f32::consts::TAU);
         (r * c, r * s)
     }
 }

@@ -10,7 +10,7 @@
 use super::optics::{fresnel_dielectric, refract};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::{Ray, Vec3, cross, highlight_pow, normalize, offset_origin, reflect};
+use crate::math::{Ray, Vec3, cross, highlight_pow, normalize, offset_origin, reflect, sin_cos};
 use crate::scene::{
     Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
     material::srgb_to_linear,
@@ -477,7 +477,7 @@ impl<'a> Whitted<'a> {
                     let (a, b) = sampler.square_sample(i, n);
                     let cos = 1.0 - a * (1.0 - cos_max);
                     let sin = (1.0 - cos * cos).max(0.0).sqrt();
-                    let (sp, cp) = (b * std::f32::consts::TAU).sin_cos();
+                    let (sp, cp) = sin_cos(b * std::f32::consts::TAU);
                     let dir = normalize(axis * cos + t1 * (sin * cp) + t2 * (sin * sp));
                     // Distance to the near side of the sphere along `dir`.
                     let along = dist_c * cos;

@@ -12,7 +12,7 @@
 
 use super::{LightSample, Whitted};
 use crate::accel::PACKET_RAYS;
-use crate::math::Vec3;
+use crate::math::{Vec3, sin_cos};
 use crate::render::PixelSampler;
 use crate::scene::{Light, LightKind, Shape};
 
@@ -219,18 +219,18 @@ impl Whitted<'_> {
                 let solid_angle = std::f32::consts::TAU * (1.0 - cos_max);
                 let (t1, t2) = axis.any_orthonormal_pair();
                 let e = power * (solid_angle / n as f32);
-                // Drawn and turned in order (`sin_cos` is the C library's), then the
-                // rest in lanes.
-                let (mut cos, mut cp, mut sp) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+                // Drawn in order, then worked out in lanes.
+                let (mut a, mut b) = ([0.0; LANES], [0.0; LANES]);
                 for k in 0..len {
-                    let (a, b) = sampler.square_sample(first + k as u32, n);
-                    cos[k] = 1.0 - a * (1.0 - cos_max);
-                    (sp[k], cp[k]) = (b * std::f32::consts::TAU).sin_cos();
+                    (a[k], b[k]) = sampler.square_sample(first + k as u32, n);
                 }
                 let mut d = [[0.0; LANES]; 3];
+                let mut cos = [0.0; LANES];
                 for k in 0..LANES {
+                    cos[k] = 1.0 - a[k] * (1.0 - cos_max);
                     let sin = (1.0 - cos[k] * cos[k]).max(0.0).sqrt();
-                    let (s_cp, s_sp) = (sin * cp[k], sin * sp[k]);
+                    let (sp, cp) = sin_cos(b[k] * std::f32::consts::TAU);
+                    let (s_cp, s_sp) = (sin * cp, sin * sp);
                     for (c, d) in d.iter_mut().enumerate() {
                         d[k] = axis[c] * cos[k] + t1[c] * s_cp + t2[c] * s_sp;
                     }
