@@ -72,13 +72,16 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     d - 2.0 * d.dot(n) * n
 }
 
-/// Sine and cosine of `x` for `|x|` below 2^20 (an angle of a few turns, as samplers
-/// draw), worked out in f64 and rounded once. So they are the f32s nearest the true
-/// values (but within about 1e-16 of halfway between two), on every machine: the C
-/// library's `sincosf` differs from them in one input of forty and from one library to
-/// another. Without branches or calls, a loop of them over lanes vectorises.
+/// Sine and cosine of `x` for `|x|` below 2^20, worked out in f64 and rounded once. So
+/// they are the f32s nearest the true values (every one over a turn, [0, 2 pi), the
+/// samplers' range), the same on every machine; only a value within about 1e-16,
+/// relative, of halfway between two f32s can round the other way (of all inputs below
+/// 2^20, just ±9830.3984375). The C library's `sincosf` differs from them in one input
+/// of forty, and from one library to another. Without branches or calls, a loop of them
+/// over lanes vectorises. At and beyond 2^20 the reduction loses the angle: callers
+/// keep below it (a debug build checks).
 #[inline]
-pub fn sin_cos(x: f32) -> (f32, f32) {
+pub(crate) fn sin_cos(x: f32) -> (f32, f32) {
     // fdlibm's split of pi/2 (its first 33 bits, exact times any quadrant below 2^20,
     // and the rest) and its kernels' coefficients for |r| <= pi/4.
     const PIO2_HI: f64 = 1.570_796_326_734_125_6;
@@ -291,7 +294,7 @@ mod tests {
     }
 
     #[test]
-    fn sin_cos_rounds_the_true_values_once() {
+    fn sin_cos_matches_f64_sine_and_cosine_rounded() {
         let nearest = |x: f32| {
             let x = f64::from(x);
             (x.sin() as f32, x.cos() as f32)
@@ -308,6 +311,12 @@ mod tests {
         for k in 0..4000 {
             inputs.push(k as f32 * 0.0137 + 7.0);
         }
+        // Many quadrants: every 4099th f32 from 62 to 2^20.
+        let mut b = 62f32.to_bits();
+        while b < 1_048_576f32.to_bits() {
+            inputs.push(f32::from_bits(b));
+            b += 4099;
+        }
         for x in inputs {
             assert_eq!(bits(sin_cos(x)), bits(nearest(x)), "sin_cos({x:e})");
         }
@@ -318,6 +327,19 @@ mod tests {
         assert_eq!((s, c), (1.0, -4.371_139e-8));
         let (s, c) = sin_cos(f32::NAN);
         assert!(s.is_nan() && c.is_nan());
+    }
+
+    /// Every f32 of a turn, in a release build: `cargo test --release --lib
+    /// sin_cos_over_a_whole_turn -- --ignored` (15 s).
+    #[test]
+    #[ignore]
+    fn sin_cos_over_a_whole_turn() {
+        for b in 0..=std::f32::consts::TAU.to_bits() {
+            let x = f32::from_bits(b);
+            let (s, c) = sin_cos(x);
+            let x = f64::from(x);
+            assert_eq!((s, c), (x.sin() as f32, x.cos() as f32), "sin_cos({x:e})");
+        }
     }
 
     #[test]

@@ -4,8 +4,9 @@
 //! roots and divisions wait on each other; in lanes they go side by side.
 //!
 //! Every lane does the arithmetic [`Whitted::for_each_sample`] does for its sample, in
-//! the same order, so the samples are the same bit for bit; the random numbers are
-//! drawn first, in the order that function draws them.
+//! the same order, so the samples are the same bit for bit (but the sign of a NaN made
+//! from NaN inputs, which is not specified); the random numbers are drawn first, in
+//! the order that function draws them.
 
 // Loops over lane indices read like the formulas they vectorise.
 #![allow(clippy::needless_range_loop)]
@@ -144,7 +145,7 @@ impl Whitted<'_> {
         len: usize,
         out: &mut SampleLanes,
     ) {
-        debug_assert!(len <= LANES);
+        debug_assert!(len <= LANES && light.is_area());
         let power = light.color * light.intensity;
         let n = light.samples.max(1);
         let mut em = EmitterLanes::new();

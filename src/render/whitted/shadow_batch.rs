@@ -75,16 +75,13 @@ impl ShadowBatch {
         mut add: impl FnMut(Vec3),
     ) {
         let met = if self.traced > 0 {
-            accel.occluded_packet(
-                initialised(&self.rays, self.traced),
-                initialised(&self.t_max, self.traced),
-                meets,
-            )
+            let (rays, t_max) = self.traced();
+            accel.occluded_packet(rays, t_max, meets)
         } else {
             0
         };
         let mut k = 0;
-        for (ls, shade, traced) in initialised(&self.samples, self.len) {
+        for (ls, shade, traced) in self.waiting() {
             let vis = if *traced && met >> k & 1 == 1 {
                 settle(ls)
             } else {
@@ -98,11 +95,23 @@ impl ShadowBatch {
     }
 }
 
-/// The first `len` entries of `items`, which `push` wrote.
-#[inline]
-fn initialised<T>(items: &[MaybeUninit<T>; PACKET_RAYS], len: usize) -> &[T] {
-    let written = &items[..len];
-    // SAFETY: callers pass the count of entries `push` wrote, which fills each array
-    // from the start; a `MaybeUninit<T>` has the layout of `T`.
-    unsafe { std::slice::from_raw_parts(written.as_ptr().cast::<T>(), written.len()) }
+impl ShadowBatch {
+    /// The shadow rays `push` packed, and the distance each must cover.
+    fn traced(&self) -> (&[Ray], &[f32]) {
+        // SAFETY: `push` writes each array from the start and counts an entry only
+        // once written, and nothing else changes the counts but `resolve`'s reset;
+        // a `MaybeUninit<T>` has the layout of `T`.
+        unsafe {
+            (
+                std::slice::from_raw_parts(self.rays.as_ptr().cast::<Ray>(), self.traced),
+                std::slice::from_raw_parts(self.t_max.as_ptr().cast::<f32>(), self.traced),
+            )
+        }
+    }
+
+    /// The samples waiting, in the order `push` added them.
+    fn waiting(&self) -> &[(LightSample, Vec3, bool)] {
+        // SAFETY: as in `traced`, for the first `len` samples.
+        unsafe { std::slice::from_raw_parts(self.samples.as_ptr().cast(), self.len) }
+    }
 }

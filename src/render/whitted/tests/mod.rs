@@ -494,5 +494,6 @@ fn sphere_at(x: f32, y: f32, z: f32, r: f32) -> Shape {
 }
 
 mod casters;
+mod lanes;
 mod packets;
 mod visibility;
