@@ -461,31 +461,20 @@ impl<'a> Whitted<'a> {
                 }
             }
             LightKind::Sphere { radius } => {
-                // Directions inside the cone the sphere fills, uniform in solid angle.
-                let to = light.position - p;
-                let d2 = to.length_squared();
-                let r2 = radius * radius;
-                if d2 <= r2 {
+                let Some(cone) = SphereCone::new(light.position, *radius, p) else {
                     return;
-                }
-                let dist_c = d2.sqrt();
-                let axis = to / dist_c;
-                let cos_max = (1.0 - r2 / d2).max(0.0).sqrt();
-                let solid_angle = std::f32::consts::TAU * (1.0 - cos_max);
-                let (t1, t2) = axis.any_orthonormal_pair();
+                };
                 for i in 0..n {
                     let (a, b) = sampler.square_sample(i, n);
-                    let cos = 1.0 - a * (1.0 - cos_max);
+                    let cos = cone.cos_of(a);
                     let sin = (1.0 - cos * cos).max(0.0).sqrt();
                     let (sp, cp) = sin_cos(b * std::f32::consts::TAU);
+                    let (axis, t1, t2) = (cone.axis, cone.t1, cone.t2);
                     let dir = normalize(axis * cos + t1 * (sin * cp) + t2 * (sin * sp));
-                    // Distance to the near side of the sphere along `dir`.
-                    let along = dist_c * cos;
-                    let dist = along - (r2 - (d2 - along * along)).max(0.0).sqrt();
                     f(LightSample {
                         dir,
-                        dist,
-                        e: power * (solid_angle / n as f32),
+                        dist: cone.near_side(cos),
+                        e: power * (cone.solid_angle / n as f32),
                     });
                 }
             }
@@ -513,6 +502,62 @@ impl<'a> Whitted<'a> {
                 }
             }
         }
+    }
+}
+
+/// The cone a sphere light fills seen from a point outside it: its samples' directions
+/// are drawn inside it, uniform in solid angle.
+struct SphereCone {
+    /// Squared distance from the point to the centre, and the squared radius.
+    d2: f32,
+    r2: f32,
+    dist_c: f32,
+    /// Unit direction to the centre, and two more making a frame with it.
+    axis: Vec3,
+    t1: Vec3,
+    t2: Vec3,
+    cos_max: f32,
+    solid_angle: f32,
+}
+
+impl SphereCone {
+    /// The cone of the sphere at `center` of `radius` seen from `p`; `None` from inside.
+    #[inline]
+    fn new(center: Vec3, radius: f32, p: Vec3) -> Option<SphereCone> {
+        let to = center - p;
+        let d2 = to.length_squared();
+        let r2 = radius * radius;
+        if d2 <= r2 {
+            return None;
+        }
+        let dist_c = d2.sqrt();
+        let axis = to / dist_c;
+        let cos_max = (1.0 - r2 / d2).max(0.0).sqrt();
+        let (t1, t2) = axis.any_orthonormal_pair();
+        Some(SphereCone {
+            d2,
+            r2,
+            dist_c,
+            axis,
+            t1,
+            t2,
+            cos_max,
+            solid_angle: std::f32::consts::TAU * (1.0 - cos_max),
+        })
+    }
+
+    /// The cosine to the axis of a direction drawn with uniform `a` in [0, 1).
+    #[inline(always)]
+    fn cos_of(&self, a: f32) -> f32 {
+        1.0 - a * (1.0 - self.cos_max)
+    }
+
+    /// Distance to the near side of the sphere along a direction at cosine `cos` to the
+    /// axis.
+    #[inline(always)]
+    fn near_side(&self, cos: f32) -> f32 {
+        let along = self.dist_c * cos;
+        along - (self.r2 - (self.d2 - along * along)).max(0.0).sqrt()
     }
 }
 

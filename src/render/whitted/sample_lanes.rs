@@ -11,7 +11,7 @@
 // Loops over lane indices read like the formulas they vectorise.
 #![allow(clippy::needless_range_loop)]
 
-use super::{LightSample, Whitted};
+use super::{LightSample, SphereCone, Whitted};
 use crate::accel::PACKET_RAYS;
 use crate::math::{Vec3, sin_cos};
 use crate::render::PixelSampler;
@@ -207,19 +207,12 @@ impl Whitted<'_> {
                 area_lanes(p, &em, area / n as f32, len, out);
             }
             LightKind::Sphere { radius } => {
-                let to = light.position - p;
-                let d2 = to.length_squared();
-                let r2 = radius * radius;
-                if d2 <= r2 {
+                let Some(cone) = SphereCone::new(light.position, *radius, p) else {
                     out.len = 0;
                     return;
-                }
-                let dist_c = d2.sqrt();
-                let axis = to / dist_c;
-                let cos_max = (1.0 - r2 / d2).max(0.0).sqrt();
-                let solid_angle = std::f32::consts::TAU * (1.0 - cos_max);
-                let (t1, t2) = axis.any_orthonormal_pair();
-                let e = power * (solid_angle / n as f32);
+                };
+                let (axis, t1, t2) = (cone.axis, cone.t1, cone.t2);
+                let e = power * (cone.solid_angle / n as f32);
                 // Drawn in order, then worked out in lanes.
                 let (mut a, mut b) = ([0.0; LANES], [0.0; LANES]);
                 for k in 0..len {
@@ -228,7 +221,7 @@ impl Whitted<'_> {
                 let mut d = [[0.0; LANES]; 3];
                 let mut cos = [0.0; LANES];
                 for k in 0..LANES {
-                    cos[k] = 1.0 - a[k] * (1.0 - cos_max);
+                    cos[k] = cone.cos_of(a[k]);
                     let sin = (1.0 - cos[k] * cos[k]).max(0.0).sqrt();
                     let (sp, cp) = sin_cos(b[k] * std::f32::consts::TAU);
                     let (s_cp, s_sp) = (sin * cp, sin * sp);
@@ -240,8 +233,7 @@ impl Whitted<'_> {
                 dot_lanes(&d, &d, &mut length);
                 for k in 0..LANES {
                     length[k] = length[k].sqrt();
-                    let along = dist_c * cos[k];
-                    out.dist[k] = along - (r2 - (d2 - along * along)).max(0.0).sqrt();
+                    out.dist[k] = cone.near_side(cos[k]);
                 }
                 for (c, dir) in out.dir.iter_mut().enumerate() {
                     for k in 0..LANES {
