@@ -484,17 +484,12 @@ impl<'a> Whitted<'a> {
                 }
                 for i in 0..n {
                     let (a, b) = sampler.square_sample(i, n);
-                    let k = cdf.partition_point(|&c| c <= a).min(shapes.len() - 1);
+                    let (k, su) = pick_triangle(cdf, shapes.len(), a);
                     let shape = shapes[k];
                     let Shape::Triangle(tri) = self.scene.shapes.get(shape as usize) else {
                         continue;
                     };
-                    // Reuse the stratified coordinate within the chosen triangle.
-                    let lo = if k == 0 { 0.0 } else { cdf[k - 1] };
-                    let within = ((a - lo) / (cdf[k] - lo).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-                    let su = within.sqrt();
-                    let [v0, v1, v2] = tri.v;
-                    let y = v0 * (1.0 - su) + v1 * (su * (1.0 - b)) + v2 * (su * b);
+                    let y = triangle_point(tri.v, su, b);
                     let le = self.surface(shape).emission * light.intensity;
                     if let Some(ls) = area_sample(p, y, tri.normal(), area / n as f32, le) {
                         f(ls);
@@ -503,6 +498,24 @@ impl<'a> Whitted<'a> {
             }
         }
     }
+}
+
+/// The triangle (of `count`) of a mesh light that uniform `a` picks by `cdf`, their
+/// cumulative areas, and the square root of `a`'s place within its share: the
+/// stratified coordinate reused within the triangle.
+#[inline(always)]
+fn pick_triangle(cdf: &[f32], count: usize, a: f32) -> (usize, f32) {
+    let k = cdf.partition_point(|&c| c <= a).min(count - 1);
+    let lo = if k == 0 { 0.0 } else { cdf[k - 1] };
+    let within = ((a - lo) / (cdf[k] - lo).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+    (k, within.sqrt())
+}
+
+/// The point of triangle `[v0, v1, v2]` at `su` (from [`pick_triangle`]) and `b`: uniform
+/// in its area for uniform coordinates.
+#[inline(always)]
+fn triangle_point([v0, v1, v2]: [Vec3; 3], su: f32, b: f32) -> Vec3 {
+    v0 * (1.0 - su) + v1 * (su * (1.0 - b)) + v2 * (su * b)
 }
 
 /// The cone a sphere light fills seen from a point outside it: its samples' directions

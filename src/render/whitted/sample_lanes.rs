@@ -11,7 +11,7 @@
 // Loops over lane indices read like the formulas they vectorise.
 #![allow(clippy::needless_range_loop)]
 
-use super::{LightSample, SphereCone, Whitted};
+use super::{LightSample, SphereCone, Whitted, pick_triangle, triangle_point};
 use crate::accel::PACKET_RAYS;
 use crate::math::{Vec3, sin_cos};
 use crate::render::PixelSampler;
@@ -180,7 +180,7 @@ impl Whitted<'_> {
                     let mut last: Option<(usize, [Vec3; 3], Vec3, Vec3)> = None;
                     for k in 0..len {
                         let (a, b) = sampler.square_sample(first + k as u32, n);
-                        let j = cdf.partition_point(|&c| c <= a).min(shapes.len() - 1);
+                        let (j, su) = pick_triangle(cdf, shapes.len(), a);
                         let (v, normal, le) = match last {
                             Some((i, v, normal, le)) if i == j => (v, normal, le),
                             _ => {
@@ -195,13 +195,7 @@ impl Whitted<'_> {
                                 (tri.v, normal, le)
                             }
                         };
-                        let lo = if j == 0 { 0.0 } else { cdf[j - 1] };
-                        let within =
-                            ((a - lo) / (cdf[j] - lo).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-                        let su = within.sqrt();
-                        let [v0, v1, v2] = v;
-                        let y = v0 * (1.0 - su) + v1 * (su * (1.0 - b)) + v2 * (su * b);
-                        em.set(k, y, normal, le);
+                        em.set(k, triangle_point(v, su, b), normal, le);
                     }
                 }
                 area_lanes(p, &em, area / n as f32, len, out);

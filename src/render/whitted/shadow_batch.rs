@@ -93,9 +93,7 @@ impl ShadowBatch {
         self.traced = 0;
         self.len = 0;
     }
-}
 
-impl ShadowBatch {
     /// The shadow rays `push` packed, and the distance each must cover.
     fn traced(&self) -> (&[Ray], &[f32]) {
         // SAFETY: `push` writes each array from the start and counts an entry only
