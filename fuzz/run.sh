@@ -19,7 +19,7 @@ seconds=$1
 shift
 targets=("$@")
 if [[ ${#targets[@]} -eq 0 ]]; then
-    targets=(objx mtlx cmr obj obj_full mtl ply scene_toml anim_toml render_objx render_toml texture)
+    targets=(objx mtlx cmr obj obj_full mtl ply gltf scene_toml anim_toml render_objx render_toml texture)
 fi
 
 if ! rustup toolchain list 2>/dev/null | grep -q '^nightly'; then

@@ -452,6 +452,7 @@ mod tests {
             rays_per_pixel: 1,
             aa: 1,
             up: None,
+            projection: crate::scene::Projection::Perspective,
         };
         (scene, camera)
     }

@@ -31,7 +31,19 @@ pub struct SceneInfo {
     pub light_kinds: Vec<&'static str>,
     /// `[[min x, y, z], [max x, y, z]]` of every shape (zeros for an empty scene).
     pub bounds: [[f32; 3]; 2],
+    /// The file's cameras (glTF camera nodes), which `--camera-name` and
+    /// `--camera-index` choose from.
+    pub cameras: Vec<CameraInfo>,
     pub warnings: Vec<String>,
+}
+
+/// One camera of a scene file.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct CameraInfo {
+    pub name: Option<String>,
+    /// `perspective` or `orthographic`.
+    pub projection: &'static str,
+    pub position: [f32; 3],
 }
 
 impl SceneInfo {
@@ -90,6 +102,18 @@ impl SceneInfo {
             lights: scene.lights.len(),
             light_kinds: scene.lights.iter().map(|l| l.kind_name()).collect(),
             bounds,
+            cameras: file
+                .cameras
+                .iter()
+                .map(|c| CameraInfo {
+                    name: c.name.clone(),
+                    projection: match c.camera.projection {
+                        crate::scene::Projection::Perspective => "perspective",
+                        crate::scene::Projection::Orthographic => "orthographic",
+                    },
+                    position: c.camera.eye.to_array(),
+                })
+                .collect(),
             warnings: file.warnings.clone(),
         }
     }
@@ -134,6 +158,23 @@ impl SceneInfo {
             let _ = write!(out, ": {}", summarize(&self.light_kinds));
         }
         out.push('\n');
+        if !self.cameras.is_empty() {
+            let names: Vec<String> = self
+                .cameras
+                .iter()
+                .enumerate()
+                .map(|(i, c)| match &c.name {
+                    Some(n) => format!("{i}: {n} ({})", c.projection),
+                    None => format!("{i}: unnamed ({})", c.projection),
+                })
+                .collect();
+            let _ = writeln!(
+                out,
+                "cameras    {}: {}",
+                self.cameras.len(),
+                names.join(", ")
+            );
+        }
         let [lo, hi] = self.bounds;
         let _ = writeln!(
             out,
@@ -215,6 +256,7 @@ mod tests {
             "textures",
             "lights",
             "bounds",
+            "cameras",
             "warnings",
         ] {
             assert!(json.get(key).is_some(), "{key} missing in {json}");

@@ -36,6 +36,10 @@ pub struct StillOptions {
     pub dialect: Option<SceneDialect>,
     /// A 2014 `.cmr` camera, over the scene file's own.
     pub camera_file: Option<PathBuf>,
+    /// The file's camera of this name (glTF camera nodes), instead of its first.
+    pub camera_name: Option<String>,
+    /// The file's camera at this place among its cameras, from 0.
+    pub camera_index: Option<usize>,
     pub look: LookAt,
     pub integrator: Option<IntegratorKind>,
     pub width: Option<u32>,
@@ -82,6 +86,7 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
         dialect,
         mut scene,
         camera: file_camera,
+        cameras,
         settings: fs,
         warnings,
         ..
@@ -94,9 +99,20 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
         SceneDialect::Objx2014 => Vec3::Z,
         _ => Vec3::Y,
     };
+    let file_camera = match chosen_camera(&cameras, options)? {
+        Some(c) => Some(c),
+        None => file_camera,
+    };
     let mut camera = match (&options.camera_file, file_camera) {
         (Some(path), _) => format::load_camera(path)?,
-        (None, Some(c)) => c,
+        (None, Some(c)) => {
+            // A model with a camera of its own but no lights (glTF) is lit as one
+            // without: the key and fill, from that camera.
+            if dialect == SceneDialect::Gltf && scene.lights.is_empty() && !has_emission(&scene) {
+                framing::add_default_lighting(&mut scene, &c);
+            }
+            c
+        }
         (None, None) => {
             let (w, h) = default_size(width, height);
             let up = options.look.up.unwrap_or(default_up);
@@ -143,6 +159,50 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
         tonemap: fs.tonemap,
         warnings,
     })
+}
+
+/// The camera `--camera-name` or `--camera-index` picks among the file's, if either
+/// is given.
+fn chosen_camera(
+    cameras: &[format::NamedCamera],
+    options: &StillOptions,
+) -> Result<Option<Camera>> {
+    let listed = || {
+        if cameras.is_empty() {
+            "the scene has no cameras".to_string()
+        } else {
+            let names: Vec<String> = cameras
+                .iter()
+                .enumerate()
+                .map(|(i, c)| match &c.name {
+                    Some(n) => format!("{i}: {}", format::text::shown(n)),
+                    None => format!("{i}: (unnamed)"),
+                })
+                .collect();
+            format!("the scene's cameras are {}", names.join(", "))
+        }
+    };
+    match (&options.camera_name, options.camera_index) {
+        (Some(_), Some(_)) => Err(Error::Settings(
+            "give --camera-name or --camera-index, not both".into(),
+        )),
+        (Some(name), None) => cameras
+            .iter()
+            .find(|c| c.name.as_deref() == Some(name.as_str()))
+            .map(|c| Some(c.camera.clone()))
+            .ok_or_else(|| {
+                Error::Settings(format!(
+                    "no camera is named {}: {}",
+                    format::text::shown(name),
+                    listed()
+                ))
+            }),
+        (None, Some(i)) => cameras
+            .get(i)
+            .map(|c| Some(c.camera.clone()))
+            .ok_or_else(|| Error::Settings(format!("no camera has index {i}: {}", listed()))),
+        (None, None) => Ok(None),
+    }
 }
 
 fn default_size(width: Option<u32>, height: Option<u32>) -> (u32, u32) {
@@ -215,6 +275,7 @@ mod tests {
             dialect,
             scene,
             camera: None,
+            cameras: Vec::new(),
             settings: FileSettings::default(),
             warnings: vec![],
             counts: Default::default(),

@@ -18,17 +18,10 @@ pub struct Scene {
 
 /// The dialect `--dialect NAME` means.
 fn dialect_named(name: &str) -> PyResult<SceneDialect> {
-    [
-        SceneDialect::Objx2014,
-        SceneDialect::WavefrontObj,
-        SceneDialect::PrismScene,
-        SceneDialect::Ply,
-    ]
-    .into_iter()
-    .find(|d| d.name() == name)
-    .ok_or_else(|| {
+    SceneDialect::named(name).ok_or_else(|| {
         PyValueError::new_err(format!(
-            "unknown dialect `{name}`: expected objx, obj, ply or toml"
+            "unknown dialect `{name}`: expected {}",
+            SceneDialect::names().join(", ")
         ))
     })
 }

@@ -136,6 +136,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
         rays_per_pixel: count(12)?,
         aa: count(13)?,
         up: None,
+        projection: crate::scene::Projection::Perspective,
     })
 }
 
@@ -186,6 +187,7 @@ mod tests {
                 rays_per_pixel: 128,
                 aa: 4,
                 up: None,
+                projection: crate::scene::Projection::Perspective,
             }
         );
     }

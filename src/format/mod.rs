@@ -14,10 +14,13 @@
 //!
 //! Dialects, by extension: `.obj` is standard Wavefront OBJ with its MTL libraries
 //! ([`wavefront`]), `.ply` a PLY mesh ([`ply`]), `.toml` a Prism scene file
-//! ([`scene_file`]), anything else the 2014 dialect. [`SceneDialect`] is where more slot in.
+//! ([`scene_file`]), `.gltf` and `.glb` glTF 2.0 ([`gltf`]), `.objx` the 2014 dialect;
+//! any other extension is an error naming these and `--dialect`. [`SceneDialect`] is
+//! where more slot in.
 
 pub mod cmr;
 pub mod file;
+pub mod gltf;
 pub mod image_file;
 pub mod mtl;
 pub mod mtlx;
@@ -44,12 +47,22 @@ pub struct SceneFile {
     pub dialect: SceneDialect,
     pub scene: Scene,
     pub camera: Option<Camera>,
+    /// Every camera the file holds, in its order (`camera` is the first): glTF's
+    /// camera nodes, which `--camera-name` and `--camera-index` choose from.
+    pub cameras: Vec<NamedCamera>,
     pub settings: FileSettings,
     /// What was read but not understood or not found (`file:line: message`): the peers
     /// are lenient with these, and so is Prism, but it says so.
     pub warnings: Vec<String>,
     /// What the file itself held, where the reader knows (`prism info`).
     pub counts: SourceCounts,
+}
+
+/// A camera of a scene file, with the name the file gave it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedCamera {
+    pub name: Option<String>,
+    pub camera: Camera,
 }
 
 /// Counts of the file's own records, before Prism builds its scene from them: `v`,
@@ -82,6 +95,15 @@ pub struct FileSettings {
 }
 
 impl SceneDialect {
+    /// Every dialect, in the order messages list them.
+    pub const ALL: [SceneDialect; 5] = [
+        SceneDialect::WavefrontObj,
+        SceneDialect::Gltf,
+        SceneDialect::Ply,
+        SceneDialect::PrismScene,
+        SceneDialect::Objx2014,
+    ];
+
     /// The shading model a file of this dialect is rendered with unless told otherwise.
     pub fn default_integrator(self) -> IntegratorKind {
         match self {
@@ -97,13 +119,65 @@ impl SceneDialect {
             SceneDialect::WavefrontObj => "obj",
             SceneDialect::PrismScene => "toml",
             SceneDialect::Ply => "ply",
+            SceneDialect::Gltf => "gltf",
         }
+    }
+
+    /// The extensions (lower case, without the dot) that name the dialect.
+    pub fn extensions(self) -> &'static [&'static str] {
+        match self {
+            SceneDialect::Objx2014 => &["objx"],
+            SceneDialect::WavefrontObj => &["obj"],
+            SceneDialect::PrismScene => &["toml"],
+            SceneDialect::Ply => &["ply"],
+            SceneDialect::Gltf => &["gltf", "glb"],
+        }
+    }
+
+    /// The dialect `--dialect NAME` names.
+    pub fn named(name: &str) -> Option<SceneDialect> {
+        Self::ALL.into_iter().find(|d| d.name() == name)
+    }
+
+    /// Every dialect's name, for `--dialect`'s list.
+    pub fn names() -> [&'static str; 5] {
+        Self::ALL.map(SceneDialect::name)
+    }
+
+    /// The dialect a scene file's extension names (case-insensitive), or an error
+    /// listing the extensions Prism reads and `--dialect`.
+    pub fn for_path(path: &Path) -> Result<SceneDialect> {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        Self::ALL
+            .into_iter()
+            .find(|d| d.extensions().iter().any(|x| ext.eq_ignore_ascii_case(x)))
+            .ok_or_else(|| {
+                let known: Vec<String> = Self::ALL
+                    .iter()
+                    .flat_map(|d| d.extensions())
+                    .map(|x| format!(".{x}"))
+                    .collect();
+                crate::Error::file(
+                    path,
+                    format!(
+                        "cannot tell the scene format from the extension {}: Prism reads {}; \
+                         name another with --dialect {}",
+                        if ext.is_empty() {
+                            "(none)".to_string()
+                        } else {
+                            text::shown(&format!(".{ext}"))
+                        },
+                        known.join(", "),
+                        Self::names().join("|")
+                    ),
+                )
+            })
     }
 }
 
 /// Reads any scene file, with the dialect its extension names.
 pub fn load(path: &Path) -> Result<SceneFile> {
-    load_as(path, SceneDialect::for_path(path))
+    load_as(path, SceneDialect::for_path(path)?)
 }
 
 /// Reads any scene file in the given dialect.
@@ -112,6 +186,7 @@ pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
         SceneDialect::WavefrontObj => wavefront::load(path)?,
         SceneDialect::PrismScene => scene_file::load(path)?,
         SceneDialect::Ply => ply_scene::load(path)?,
+        SceneDialect::Gltf => gltf::load(path)?,
         SceneDialect::Objx2014 => load_objx_file(path)?,
     };
     // Warnings quote the files too: the same bound as errors.
@@ -127,6 +202,7 @@ fn load_objx_file(path: &Path) -> Result<SceneFile> {
         dialect: SceneDialect::Objx2014,
         scene,
         camera: None,
+        cameras: Vec::new(),
         settings: FileSettings::default(),
         warnings: Vec::new(),
         counts: SourceCounts::default(),
@@ -135,9 +211,8 @@ fn load_objx_file(path: &Path) -> Result<SceneFile> {
 
 /// The dialects a scene file can be written in.
 ///
-/// [`SceneDialect::for_path`] picks one by extension: `.obj` is standard Wavefront
-/// (geometry only for now), anything else the 2014 dialect. [`load_scene_as`] lets a
-/// caller override the choice.
+/// [`SceneDialect::for_path`] picks one by extension; [`load_as`] lets a caller
+/// override the choice.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum SceneDialect {
@@ -149,28 +224,14 @@ pub enum SceneDialect {
     PrismScene,
     /// A PLY mesh (see [`ply`]).
     Ply,
-}
-
-impl SceneDialect {
-    /// The dialect of a scene file, told by its extension (case-insensitive).
-    pub fn for_path(path: &Path) -> SceneDialect {
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if ext.eq_ignore_ascii_case("obj") {
-            SceneDialect::WavefrontObj
-        } else if ext.eq_ignore_ascii_case("toml") {
-            SceneDialect::PrismScene
-        } else if ext.eq_ignore_ascii_case("ply") {
-            SceneDialect::Ply
-        } else {
-            SceneDialect::Objx2014
-        }
-    }
+    /// glTF 2.0, `.gltf` or `.glb` (see [`gltf`]).
+    Gltf,
 }
 
 /// Reads a scene file with the dialect [`SceneDialect::for_path`] picks, with its
 /// material files and textures.
 pub fn load_scene(path: &Path) -> Result<Scene> {
-    load_scene_as(path, SceneDialect::for_path(path))
+    load_scene_as(path, SceneDialect::for_path(path)?)
 }
 
 /// Reads a scene file in the given dialect, whatever its name.
@@ -180,6 +241,7 @@ pub fn load_scene_as(path: &Path, dialect: SceneDialect) -> Result<Scene> {
         SceneDialect::WavefrontObj => Ok(wavefront::load(path)?.scene),
         SceneDialect::PrismScene => scene_file::load(path).map(|f| f.scene),
         SceneDialect::Ply => ply_scene::load(path).map(|f| f.scene),
+        SceneDialect::Gltf => gltf::load(path).map(|f| f.scene),
     }
 }
 

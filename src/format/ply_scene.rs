@@ -59,6 +59,7 @@ pub fn from_ply(mesh: PlyMesh, path: &Path) -> SceneFile {
         dialect: SceneDialect::Ply,
         scene,
         camera: None,
+        cameras: Vec::new(),
         settings: Default::default(),
         warnings,
         counts,

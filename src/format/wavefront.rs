@@ -170,6 +170,7 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
         dialect: SceneDialect::WavefrontObj,
         scene,
         camera: None,
+        cameras: Vec::new(),
         settings: Default::default(),
         warnings,
         counts,
@@ -234,6 +235,7 @@ impl ImageCache {
             scale: [map.scale[0], map.scale[1]],
             offset: [map.offset[0], map.offset[1]],
             clamp: map.clamp,
+            matrix: None,
         }))
     }
 }

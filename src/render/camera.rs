@@ -2,7 +2,7 @@
 
 use super::sampler::PixelSampler;
 use crate::math::{Ray, Vec3};
-use crate::scene::{Camera, Frame};
+use crate::scene::{Camera, Frame, Projection};
 
 /// Generates the rays of every pixel of a `k*width x k*height` frame.
 #[derive(Clone, Debug)]
@@ -19,6 +19,8 @@ pub struct CameraRays {
     focus_ratio: f32,
     aperture: f32,
     rays_per_pixel: u32,
+    /// Parallel rays from the screen (shifted back to the eye's plane) along forward.
+    orthographic: bool,
 }
 
 impl CameraRays {
@@ -37,7 +39,12 @@ impl CameraRays {
             origin_y: -(camera.height as f32) * camera.retina_scale + 0.5 * step,
             focus_ratio: (camera.screen_distance + camera.focal_length) / camera.screen_distance,
             aperture: camera.aperture,
-            rays_per_pixel: rays_per_pixel.max(1),
+            rays_per_pixel: if camera.projection == Projection::Orthographic {
+                1
+            } else {
+                rays_per_pixel.max(1)
+            },
+            orthographic: camera.projection == Projection::Orthographic,
         }
     }
 
@@ -49,7 +56,20 @@ impl CameraRays {
     /// The pinhole ray through the centre of supersampled pixel `(x, y)`.
     #[inline]
     pub fn pinhole(&self, x: u32, y: u32) -> Ray {
+        if self.orthographic {
+            return self.parallel(x, y);
+        }
         Ray::new(self.eye, self.screen_point(x, y) - self.eye)
+    }
+
+    /// An orthographic camera's ray of pixel `(x, y)`: from the screen point moved back
+    /// into the eye's plane, along the view direction.
+    #[inline]
+    fn parallel(&self, x: u32, y: u32) -> Ray {
+        let sx = self.origin_x + x as f32 * self.step;
+        let sy = self.origin_y + y as f32 * self.step;
+        let origin = self.eye + self.frame.right * sx + self.frame.down * sy;
+        Ray::new(origin, self.frame.forward)
     }
 
     #[inline]
@@ -71,6 +91,11 @@ impl CameraRays {
         sampler: &mut PixelSampler,
         mut emit: impl FnMut(Ray, &mut PixelSampler),
     ) {
+        if self.orthographic {
+            // Parallel rays have no common focus: no lens rays, one ray a pixel.
+            emit(self.parallel(x, y), sampler);
+            return;
+        }
         let to_screen = self.screen_point(x, y) - self.eye;
         emit(Ray::new(self.eye, to_screen), sampler);
         let lens_rays = self.rays_per_pixel - 1;
@@ -108,6 +133,7 @@ mod tests {
             rays_per_pixel: 1,
             aa: 1,
             up: None,
+            projection: crate::scene::Projection::Perspective,
         }
     }
 
@@ -132,6 +158,23 @@ mod tests {
         // Between the four central pixels lies the view axis.
         let a = rays.pinhole(1, 0).dir + rays.pinhole(2, 1).dir;
         assert!(close(normalize(a), Vec3::X));
+    }
+
+    #[test]
+    fn orthographic_rays_are_parallel_and_span_the_screen() {
+        let mut c = camera();
+        c.projection = Projection::Orthographic;
+        let rays = CameraRays::new(&c, 1, 9);
+        // The screen spans [-2, 2] x [-1, 1]: pixel (0, 0) is at right -1.5, up 0.5.
+        let tl = rays.pinhole(0, 0);
+        assert!(close(tl.dir, Vec3::X) && close(tl.origin, Vec3::new(0.0, -1.5, 0.5)));
+        let br = rays.pinhole(3, 1);
+        assert!(close(br.dir, Vec3::X) && close(br.origin, Vec3::new(0.0, 1.5, -0.5)));
+        let mut all = Vec::new();
+        let mut sampler = PixelSampler::new(0, 2, 1);
+        rays.for_each_ray(2, 1, &mut sampler, |r, _| all.push(r));
+        assert_eq!(all.len(), 1);
+        assert!(close(all[0].origin, Vec3::new(0.0, 0.5, -0.5)));
     }
 
     #[test]

@@ -285,6 +285,7 @@ mod tests {
             rays_per_pixel: 128,
             aa: 4,
             up: None,
+            projection: crate::scene::Projection::Perspective,
         }
     }
 

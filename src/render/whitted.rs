@@ -12,8 +12,8 @@ use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, cross, highlight_pow, normalize, offset_origin, reflect, sin_cos};
 use crate::scene::{
-    Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
-    material::srgb_to_linear,
+    Albedo, Background, ConeEdge, Falloff, Highlight, Light, LightKind, MetallicRoughness, Scene,
+    Shape, Surface, SurfacePoint, material::srgb_to_linear,
 };
 
 mod casters;
@@ -198,10 +198,26 @@ impl<'a> Whitted<'a> {
             return absorbed * (l + albedo);
         }
         l += s.ambient * self.map(&s.ambient_map, &sp) * self.scene.ambient;
-        let ks = s.specular * self.map(&s.specular_map, &sp);
         let v = -d;
         let shadow_from = sp.shadow_origin(ng);
-        let kd = albedo * s.diffuse;
+        let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
+        let (kd, ks, shininess, pbr_mirror) = match &s.metallic_roughness {
+            None => (
+                albedo * s.diffuse,
+                s.specular * self.map(&s.specular_map, &sp),
+                s.shininess,
+                None,
+            ),
+            Some(mr) => {
+                let t = self.metallic_roughness_at(mr, &sp);
+                (
+                    albedo * (s.diffuse * (1.0 - t.metallic)),
+                    t.f0(albedo) * std::f32::consts::FRAC_1_PI,
+                    t.exponent,
+                    Some(t.mirror(albedo, cos_i)),
+                )
+            }
+        };
         // What a sample lights at the point before its shadow ray, or `None` where it
         // lights nothing (and no shadow ray is traced).
         let shading = |ls: &LightSample| {
@@ -211,7 +227,7 @@ impl<'a> Whitted<'a> {
             }
             let mut shade = kd * cos;
             if ks != Vec3::ZERO {
-                shade += ks * highlight(s, n, ls.dir, v);
+                shade += ks * highlight(s, shininess, n, ls.dir, v);
             }
             (shade.max_element() > 0.0).then_some(shade)
         };
@@ -238,14 +254,15 @@ impl<'a> Whitted<'a> {
             return absorbed * l;
         }
         // Reflection and refraction shares.
-        let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
         let (eta_i, eta_t) = if entering { (1.0, s.ior) } else { (s.ior, 1.0) };
         let transmitted = if s.is_transmissive() {
             refract(d, n, eta_i, eta_t)
         } else {
             None
         };
-        let (mut kr, mut kt) = if s.fresnel {
+        let (mut kr, mut kt) = if let Some(kr) = pbr_mirror {
+            (kr, s.transmission)
+        } else if s.fresnel {
             let f = fresnel_dielectric(cos_i, eta_i, eta_t);
             (s.reflection * f, s.transmission * (1.0 - f))
         } else {
@@ -332,7 +349,12 @@ impl<'a> Whitted<'a> {
         }
         let b = cross(n, t);
         let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
-        let m = Vec3::new(c.x, c.y, c.z) * 2.0 - Vec3::ONE;
+        let mut m = Vec3::new(c.x, c.y, c.z) * 2.0 - Vec3::ONE;
+        let scale = self.surface(shape).normal_scale;
+        if scale != 1.0 {
+            m.x *= scale;
+            m.y *= scale;
+        }
         let bent = (t * m.x + b * m.y + n * m.z).normalize_or_zero();
         if bent.dot(sp.ng) > 0.0 {
             sp.n = bent;
@@ -342,13 +364,33 @@ impl<'a> Whitted<'a> {
 
     #[inline]
     fn cut_out(&self, shape: u32, sp: &SurfacePoint) -> bool {
-        let Some(slot) = &self.surface(shape).alpha_map else {
+        let s = self.surface(shape);
+        let Some(slot) = &s.alpha_map else {
             return false;
         };
         self.scene.images[slot.image as usize]
             .sample_slot(slot, sp.uv)
             .w
-            < 0.5
+            < s.alpha_cutoff
+    }
+
+    /// A metallic-roughness surface's terms at a hit: its factors times its map.
+    fn metallic_roughness_at(&self, mr: &MetallicRoughness, sp: &SurfacePoint) -> PbrAt {
+        let (metallic, roughness) = match &mr.map {
+            Some(slot) => {
+                let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
+                (mr.metallic * c.z, mr.roughness * c.y)
+            }
+            None => (mr.metallic, mr.roughness),
+        };
+        let metallic = metallic.clamp(0.0, 1.0);
+        let roughness = roughness.clamp(0.0, 1.0);
+        PbrAt {
+            metallic,
+            base_f0: mr.f0,
+            exponent: MetallicRoughness::exponent(roughness),
+            gloss: (1.0 - roughness) * (1.0 - roughness),
+        }
     }
 
     /// The albedo C at a hit.
@@ -412,17 +454,23 @@ impl<'a> Whitted<'a> {
                 }
                 let dir = to / dist;
                 let mut e = power;
-                if light.falloff == Falloff::InverseSquare {
-                    e /= dist * dist;
+                match light.falloff {
+                    Falloff::None => {}
+                    Falloff::InverseSquare => e /= dist * dist,
+                    range @ Falloff::Range { .. } => e *= range.at(dist),
                 }
                 if let LightKind::Spot {
                     direction,
                     cos_inner,
                     cos_outer,
+                    edge,
                 } = light.kind
                 {
                     let cos = (-dir).dot(direction.normalize_or_zero());
-                    e *= smoothstep(cos_outer, cos_inner, cos);
+                    e *= match edge {
+                        ConeEdge::Smooth => smoothstep(cos_outer, cos_inner, cos),
+                        ConeEdge::Squared => squared_ramp(cos_outer, cos_inner, cos),
+                    };
                 }
                 f(LightSample { dir, dist, e });
             }
@@ -599,18 +647,18 @@ fn area_sample(p: Vec3, y: Vec3, normal: Vec3, area: f32, le: Vec3) -> Option<Li
 
 /// The highlight term s(N, L, V), normalised if the material asks.
 #[inline]
-fn highlight(s: &Surface, n: Vec3, l: Vec3, v: Vec3) -> f32 {
+fn highlight(s: &Surface, shininess: f32, n: Vec3, l: Vec3, v: Vec3) -> f32 {
     let (cos, norm) = match s.highlight {
-        Highlight::Phong => (reflect(-l, n).dot(v), (s.shininess + 2.0) / 2.0),
+        Highlight::Phong => (reflect(-l, n).dot(v), (shininess + 2.0) / 2.0),
         Highlight::BlinnPhong => {
             let h = (l + v).normalize_or_zero();
-            (n.dot(h), (s.shininess + 8.0) / 8.0)
+            (n.dot(h), (shininess + 8.0) / 8.0)
         }
     };
     if cos <= 0.0 {
         return 0.0;
     }
-    let value = highlight_pow(cos, s.shininess);
+    let value = highlight_pow(cos, shininess);
     if s.normalized { value * norm } else { value }
 }
 
@@ -621,6 +669,39 @@ fn smoothstep(lo: f32, hi: f32, x: f32) -> f32 {
     }
     let t = ((x - lo) / (hi - lo)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
+}
+
+/// A metallic-roughness surface at one hit.
+struct PbrAt {
+    metallic: f32,
+    base_f0: Vec3,
+    exponent: f32,
+    /// How much of the mirror reflection a rough surface keeps.
+    gloss: f32,
+}
+
+impl PbrAt {
+    /// Reflectance at normal incidence: the dielectric's, or the metal's colour.
+    fn f0(&self, albedo: Vec3) -> Vec3 {
+        self.base_f0.lerp(albedo, self.metallic)
+    }
+
+    /// The mirror reflection's weight at incidence cosine `cos`: Schlick's Fresnel.
+    fn mirror(&self, albedo: Vec3, cos: f32) -> Vec3 {
+        let f0 = self.f0(albedo);
+        let m = 1.0 - cos;
+        let m5 = (m * m) * (m * m) * m;
+        (f0 + (Vec3::ONE - f0) * m5) * self.gloss
+    }
+}
+
+/// glTF's spot edge: the linear ramp from `lo` to `hi`, squared (KHR_lights_punctual's
+/// `saturate(cd * scale + offset)^2`, its scale bounded where the cones meet).
+#[inline]
+fn squared_ramp(lo: f32, hi: f32, x: f32) -> f32 {
+    let scale = 1.0 / (hi - lo).max(1e-3);
+    let t = ((x - lo) * scale).clamp(0.0, 1.0);
+    t * t
 }
 
 impl Integrator for Whitted<'_> {

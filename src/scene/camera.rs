@@ -29,6 +29,20 @@ pub struct Camera {
     /// right-handed look-at frame with `up` as the image's vertical, as standard OBJ,
     /// PLY and Prism scene files mean it: seen from +z with +y up, +x is on the right.
     pub up: Option<Vec3>,
+    /// How the screen maps to rays.
+    pub projection: Projection,
+}
+
+/// How a camera's screen maps to rays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Projection {
+    /// Rays leave the eye through each screen point (lens rays around it).
+    #[default]
+    Perspective,
+    /// Rays leave each screen point, shifted back to the eye's plane, along the view
+    /// direction: parallel rays, the screen's extent the same at every distance
+    /// (`width * retina_scale` is the half width, glTF's `xmag`).
+    Orthographic,
 }
 
 /// Orthonormal camera frame: `forward` (w), image right (r), image down (u).
@@ -85,6 +99,7 @@ impl Camera {
             rays_per_pixel: 1,
             aa: 1,
             up: Some(up),
+            projection: Projection::Perspective,
         }
     }
 
@@ -146,6 +161,7 @@ mod tests {
             rays_per_pixel: 1,
             aa: 1,
             up: None,
+            projection: Projection::Perspective,
         }
     }
 

@@ -87,8 +87,16 @@ impl ImageTexture {
     /// The value seen through a slot's transform.
     #[inline]
     pub fn sample_slot(&self, slot: &TextureSlot, uv: [f32; 2]) -> Vec4 {
-        let u = uv[0] * slot.scale[0] + slot.offset[0];
-        let v = uv[1] * slot.scale[1] + slot.offset[1];
+        let (u, v) = match slot.matrix {
+            None => (
+                uv[0] * slot.scale[0] + slot.offset[0],
+                uv[1] * slot.scale[1] + slot.offset[1],
+            ),
+            Some([[a, b], [c, d]]) => (
+                a * uv[0] + b * uv[1] + slot.offset[0],
+                c * uv[0] + d * uv[1] + slot.offset[1],
+            ),
+        };
         self.sample(u, v, slot.clamp)
     }
 

@@ -28,12 +28,13 @@ pub enum LightKind {
     Directional {
         direction: Vec3,
     },
-    /// A point light shining along `direction`, full inside `cos_inner`, fading smoothly
-    /// to nothing at `cos_outer`.
+    /// A point light shining along `direction`, full inside `cos_inner`, fading to
+    /// nothing at `cos_outer` along the curve `edge` names.
     Spot {
         direction: Vec3,
         cos_inner: f32,
         cos_outer: f32,
+        edge: ConeEdge,
     },
     /// A parallelogram `position + s u + t v`, `s, t` in `[-1/2, 1/2]`, emitting on the
     /// side `u x v` points to.
@@ -61,13 +62,43 @@ pub enum LightKind {
 }
 
 /// How a point or spot light dims with distance.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Falloff {
     /// No dimming, as in POV-Ray: easy to light a scene of any scale.
     #[default]
     None,
     /// `1 / d^2`: physically right.
     InverseSquare,
+    /// `1 / d^2` brought smoothly to zero at `range`: `clamp(1 - (d / range)^4, 0, 1) /
+    /// d^2` (glTF's KHR_lights_punctual, after Unreal).
+    Range { range: f32 },
+}
+
+impl Falloff {
+    /// What the light's strength is multiplied by at distance `d`.
+    #[inline]
+    pub fn at(self, d: f32) -> f32 {
+        match self {
+            Falloff::None => 1.0,
+            Falloff::InverseSquare => 1.0 / (d * d),
+            Falloff::Range { range } => {
+                let q = d / range;
+                let q2 = q * q;
+                (1.0 - q2 * q2).clamp(0.0, 1.0) / (d * d)
+            }
+        }
+    }
+}
+
+/// How a spot light fades between its inner and outer cone, in `t`, the cosine's place
+/// from the outer (0) to the inner cone (1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ConeEdge {
+    /// `smoothstep`: `3 t^2 - 2 t^3` (the scene file's spots).
+    #[default]
+    Smooth,
+    /// `t^2` (glTF's KHR_lights_punctual).
+    Squared,
 }
 
 impl Light {

@@ -84,6 +84,50 @@ pub struct Surface {
     pub specular_map: Option<TextureSlot>,
     pub ambient_map: Option<TextureSlot>,
     pub emission_map: Option<TextureSlot>,
+    /// Where the alpha map cuts: rays pass where its value is below this.
+    pub alpha_cutoff: f32,
+    /// Scales the normal map's tangential components (glTF `normalTexture.scale`).
+    pub normal_scale: f32,
+    /// glTF's metallic-roughness terms, worked out at each hit: they replace `diffuse`'s
+    /// share of the albedo, `specular`, `shininess` and `reflection` (see
+    /// [`MetallicRoughness`]).
+    pub metallic_roughness: Option<MetallicRoughness>,
+}
+
+/// glTF's metallic-roughness material on the whitted model (docs/formats.md):
+///
+/// - diffuse: `C (1 - metallic) kd`, `kd` the surface's `diffuse` (`(1 - transmission) /
+///   pi` for glTF: a Lambert BRDF);
+/// - F0 = mix(`f0`, C, metallic): the dielectric's reflectance at normal incidence
+///   (0.04 for ior 1.5) or the metal's colour;
+/// - highlight: normalised Blinn-Phong of exponent `2 / a^2 - 2`, `a = roughness^2`,
+///   strength `F0 / pi`;
+/// - mirror reflection: Schlick's Fresnel of F0 times `(1 - roughness)^2`, so rough
+///   surfaces reflect their lights' highlights only.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MetallicRoughness {
+    pub metallic: f32,
+    pub roughness: f32,
+    /// Multiplies roughness by its green channel and metallic by its blue (linear).
+    pub map: Option<TextureSlot>,
+    /// The dielectric base's reflectance at normal incidence.
+    pub f0: Vec3,
+}
+
+impl MetallicRoughness {
+    /// Highest highlight exponent (a mirror-smooth surface's highlight is a point).
+    pub const MAX_EXPONENT: f32 = 1e4;
+
+    /// The highlight exponent of roughness `r`.
+    pub fn exponent(r: f32) -> f32 {
+        let a = r * r;
+        let a2 = a * a;
+        if a2 <= 2.0 / (Self::MAX_EXPONENT + 2.0) {
+            Self::MAX_EXPONENT
+        } else {
+            (2.0 / a2 - 2.0).max(0.0)
+        }
+    }
 }
 
 /// The albedo of a surface.
@@ -114,6 +158,10 @@ pub struct TextureSlot {
     pub offset: [f32; 2],
     /// Clamp to the edge instead of repeating (MTL `-clamp on`).
     pub clamp: bool,
+    /// A full 2 x 2 matrix, rows `[[a, b], [c, d]]`, in place of `scale` where the
+    /// transform rotates (glTF's KHR_texture_transform): `(a u + b v, c u + d v) +
+    /// offset` is looked up.
+    pub matrix: Option<[[f32; 2]; 2]>,
 }
 
 impl TextureSlot {
@@ -123,6 +171,7 @@ impl TextureSlot {
             scale: [1.0, 1.0],
             offset: [0.0, 0.0],
             clamp: false,
+            matrix: None,
         }
     }
 }
@@ -159,6 +208,9 @@ impl Default for Surface {
             specular_map: None,
             ambient_map: None,
             emission_map: None,
+            alpha_cutoff: 0.5,
+            normal_scale: 1.0,
+            metallic_roughness: None,
         }
     }
 }

@@ -11,10 +11,10 @@ pub mod shapes;
 mod surface_point;
 pub mod texture;
 
-pub use camera::{Camera, Frame};
+pub use camera::{Camera, Frame, Projection};
 pub use image::{ImageTexture, Texels};
-pub use light::{Falloff, Light, LightKind};
-pub use material::{Albedo, Highlight, Material, Surface, TextureSlot};
+pub use light::{ConeEdge, Falloff, Light, LightKind};
+pub use material::{Albedo, Highlight, Material, MetallicRoughness, Surface, TextureSlot};
 pub use mesh::MeshAttributes;
 pub use shape::{Rectangle, Shape, Sphere, SurfaceCoords, Triangle};
 pub use shapes::{Shapes, Stored};

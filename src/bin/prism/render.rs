@@ -42,8 +42,14 @@ pub struct RenderArgs {
     #[arg(long, value_parser = integrator_parser())]
     pub integrator: Option<IntegratorKind>,
     /// Read the scene file as this dialect, whatever its extension.
-    #[arg(long, value_parser = ["objx", "obj", "ply", "toml"])]
+    #[arg(long, value_parser = SceneDialect::names())]
     pub dialect: Option<String>,
+    /// The scene's camera of this name (glTF camera nodes), instead of its first.
+    #[arg(long, value_name = "NAME")]
+    pub camera_name: Option<String>,
+    /// The scene's camera at this place among its cameras, from 0.
+    #[arg(long, value_name = "N")]
+    pub camera_index: Option<usize>,
     /// Image width in pixels; the field of view is kept (alone, the height follows the
     /// camera's aspect ratio).
     #[arg(long)]
@@ -125,6 +131,8 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     check_output_path(output)?;
     let options = StillOptions {
         dialect: args.dialect.as_deref().map(dialect_of),
+        camera_name: args.camera_name.clone(),
+        camera_index: args.camera_index,
         camera_file,
         look: LookAt {
             from: args.look_from,
@@ -231,12 +239,7 @@ fn output_options(args: &RenderArgs, still: &prism::still::Still) -> prism::Resu
 }
 
 fn dialect_of(name: &str) -> SceneDialect {
-    match name {
-        "objx" => SceneDialect::Objx2014,
-        "toml" => SceneDialect::PrismScene,
-        "ply" => SceneDialect::Ply,
-        _ => SceneDialect::WavefrontObj,
-    }
+    SceneDialect::named(name).expect("clap accepts only listed names")
 }
 
 fn integrator_parser() -> impl clap::builder::TypedValueParser<Value = IntegratorKind> {

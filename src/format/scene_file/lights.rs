@@ -133,6 +133,7 @@ pub fn build(source: &Source, raw: &RawLight) -> Result<Light> {
                     direction: f(direction),
                     cos_inner: inner.to_radians().cos() as f32,
                     cos_outer: angle.to_radians().cos() as f32,
+                    edge: crate::scene::ConeEdge::Smooth,
                 },
             )
         }

@@ -121,6 +121,7 @@ pub fn build(
         specular_map: None,
         ambient_map: None,
         emission_map: None,
+        ..Surface::default()
     };
     let material = classic(
         name,

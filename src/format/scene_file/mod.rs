@@ -12,7 +12,7 @@ mod build;
 mod camera;
 mod images;
 mod include;
-mod lights;
+pub(crate) mod lights;
 mod materials;
 mod objects;
 mod primitives;
@@ -52,6 +52,7 @@ pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
         dialect: SceneDialect::PrismScene,
         scene,
         camera,
+        cameras: Vec::new(),
         settings,
         warnings,
         counts: Default::default(),

@@ -44,6 +44,7 @@ fn lights_of_every_type() {
         direction,
         cos_inner,
         cos_outer,
+        ..
     } = l[2].kind
     else {
         panic!()

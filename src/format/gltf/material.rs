@@ -1,0 +1,349 @@
+//! glTF materials on the whitted model, and the images and samplers their textures
+//! read. What each property becomes is tabled in docs/formats.md.
+
+use super::document::{Loaded, read_uri};
+use crate::format::image_file::{self, Encoding, MAX_IMAGE_FILE_BYTES, MAX_TEXTURE_PIXELS};
+use crate::math::Vec3;
+use crate::scene::{
+    Albedo, Highlight, ImageTexture, Material, MetallicRoughness, Surface, TextureSlot,
+};
+use gltf::material::AlphaMode;
+use gltf::texture::WrappingMode;
+use std::collections::HashMap;
+use std::f32::consts::FRAC_1_PI;
+use std::path::Path;
+
+/// The scene's materials from a glTF file: `surfaces[i]` and `materials[i]` for glTF
+/// material `i` (the scene adds Prism's default after them where a primitive names
+/// none).
+pub struct Materials {
+    pub materials: Vec<Material>,
+    pub surfaces: Vec<Surface>,
+    pub images: Vec<ImageTexture>,
+    /// The texture-coordinate set (0 or 1) each material's textures read.
+    pub texcoord_set: Vec<usize>,
+}
+
+/// The reflectance at normal incidence of a dielectric of index `ior` in air.
+pub fn dielectric_f0(ior: f32) -> f32 {
+    let r = (ior - 1.0) / (ior + 1.0);
+    r * r
+}
+
+struct Images<'a> {
+    loaded: &'a Loaded,
+    path: &'a Path,
+    images: Vec<ImageTexture>,
+    index: HashMap<(usize, EncodingKey), u32>,
+    warnings: &'a mut Vec<String>,
+}
+
+#[derive(Clone, Copy, Hash, PartialEq, Eq)]
+enum EncodingKey {
+    Srgb,
+    Linear,
+}
+
+impl Images<'_> {
+    /// The image of texture `texture` decoded as `encoding`, once per pair.
+    fn image(&mut self, texture: &gltf::Texture, srgb: bool) -> Result<u32, String> {
+        let image = texture.source();
+        let key = (
+            image.index(),
+            if srgb {
+                EncodingKey::Srgb
+            } else {
+                EncodingKey::Linear
+            },
+        );
+        if let Some(&i) = self.index.get(&key) {
+            return Ok(i);
+        }
+        let at = format!("images[{}]", image.index());
+        let (bytes, name) = match image.source() {
+            gltf::image::Source::Uri { uri, .. } => {
+                let bytes = read_uri(uri, &self.loaded.folder, MAX_IMAGE_FILE_BYTES)
+                    .map_err(|e| format!("{at}: {e}"))?;
+                let name = if uri.starts_with("data:") {
+                    format!("{}#{at}", self.path.display())
+                } else {
+                    self.loaded.folder.join(uri).display().to_string()
+                };
+                (bytes, name)
+            }
+            gltf::image::Source::View { view, mime_type } => {
+                let buffer = &self.loaded.buffers[view.buffer().index()];
+                let bytes = view
+                    .offset()
+                    .checked_add(view.length())
+                    .and_then(|end| buffer.get(view.offset()..end))
+                    .ok_or_else(|| {
+                        format!(
+                            "{at}: buffer view {} lies past its buffer's end",
+                            view.index()
+                        )
+                    })?
+                    .to_vec();
+                let ext = mime_type.rsplit('/').next().unwrap_or("");
+                (bytes, format!("{}#{at}.{ext}", self.path.display()))
+            }
+        };
+        let encoding = if srgb {
+            Encoding::Srgb
+        } else {
+            Encoding::Linear
+        };
+        let mut texture = image_file::decode_texture(&bytes, &name, encoding, MAX_TEXTURE_PIXELS)
+            .map_err(|e| format!("{at}: cannot decode the image: {e}"))?;
+        texture.name = name;
+        let i = self.images.len() as u32;
+        self.images.push(texture);
+        self.index.insert(key, i);
+        Ok(i)
+    }
+
+    /// A 1 x 1 image of alpha 0: the cut-out of a surface that is wholly transparent.
+    fn clear(&mut self) -> u32 {
+        let i = self.images.len() as u32;
+        self.images.push(ImageTexture {
+            name: "(transparent)".into(),
+            width: 1,
+            height: 1,
+            texels: crate::scene::Texels::Rgba8 {
+                texels: vec![[0; 4]],
+                srgb: false,
+            },
+        });
+        i
+    }
+
+    /// A texture reference as a slot: its image, its sampler's wrapping and its
+    /// KHR_texture_transform.
+    fn slot(&mut self, info: &gltf::texture::Info, srgb: bool) -> Result<TextureSlot, String> {
+        let texture = info.texture();
+        let image = self.image(&texture, srgb)?;
+        let mut slot = TextureSlot::new(image);
+        let sampler = texture.sampler();
+        let (s, t) = (sampler.wrap_s(), sampler.wrap_t());
+        slot.clamp = s == WrappingMode::ClampToEdge && t == WrappingMode::ClampToEdge;
+        if (s == WrappingMode::ClampToEdge) != (t == WrappingMode::ClampToEdge)
+            || s == WrappingMode::MirroredRepeat
+            || t == WrappingMode::MirroredRepeat
+        {
+            self.warnings.push(format!(
+                "{}: textures[{}]: its sampler's wrap modes ({s:?}, {t:?}) are read as {}",
+                self.path.display(),
+                texture.index(),
+                if slot.clamp { "clamped" } else { "repeating" }
+            ));
+        }
+        if let Some(tt) = info.texture_transform() {
+            transform(&mut slot, tt.offset(), tt.rotation(), tt.scale());
+        }
+        Ok(slot)
+    }
+}
+
+/// Sets `slot` to look up KHR_texture_transform's `offset + R(rotation) scale uv`,
+/// worked in glTF's texture space (v down) for coordinates Prism keeps with v up.
+pub fn transform(slot: &mut TextureSlot, offset: [f32; 2], rotation: f32, scale: [f32; 2]) {
+    // glTF space: (u', v') = A (u, v) + o, A = R S with R = [[c, s], [-s, c]] (the
+    // extension's example: rotation by pi/2 turns the image clockwise).
+    // Prism's v is 1 - v on both sides, so the lookup is A' (u, v) + o' with A' =
+    // [[a, -b], [-c, d]] and o' = (b + o.x, 1 - d - o.y).
+    let (s, c) = rotation.sin_cos();
+    let a = [[c * scale[0], s * scale[1]], [-s * scale[0], c * scale[1]]];
+    slot.offset = [a[0][1] + offset[0], 1.0 - a[1][1] - offset[1]];
+    if rotation == 0.0 {
+        slot.scale = [a[0][0], a[1][1]];
+        slot.matrix = None;
+    } else {
+        slot.matrix = Some([[a[0][0], -a[0][1]], [-a[1][0], a[1][1]]]);
+    }
+}
+
+/// Every material of the file.
+pub fn read(loaded: &Loaded, path: &Path, warnings: &mut Vec<String>) -> Result<Materials, String> {
+    let mut images = Images {
+        loaded,
+        path,
+        images: Vec::new(),
+        index: HashMap::new(),
+        warnings,
+    };
+    let mut materials = Vec::new();
+    let mut surfaces = Vec::new();
+    let mut texcoord_set = Vec::new();
+    for m in loaded.document.materials() {
+        let i = m.index().expect("a material of the list has an index");
+        let at = format!("materials[{i}]");
+        let name = m
+            .name()
+            .map_or_else(|| format!("material {i}"), str::to_owned);
+        let (surface, set) = surface(&m, &mut images).map_err(|e| format!("{at}: {e}"))?;
+        materials.push(Material {
+            name,
+            ..Material::default_white()
+        });
+        surfaces.push(surface);
+        texcoord_set.push(set);
+    }
+    Ok(Materials {
+        materials,
+        surfaces,
+        images: images.images,
+        texcoord_set,
+    })
+}
+
+fn linear(c: [f32; 3]) -> Vec3 {
+    Vec3::from_array(c).max(Vec3::ZERO)
+}
+
+/// One material's whitted terms and the texture-coordinate set its textures read.
+fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), String> {
+    let pbr = m.pbr_metallic_roughness();
+    let mut s = Surface {
+        highlight: Highlight::BlinnPhong,
+        normalized: true,
+        ..Surface::default()
+    };
+    let mut sets = Vec::new();
+    let note = |sets: &mut Vec<u32>, info: &gltf::texture::Info| {
+        sets.push(
+            info.texture_transform()
+                .and_then(|t| t.tex_coord())
+                .unwrap_or(info.tex_coord()),
+        )
+    };
+    let (base, base_texture, mut metallic, mut roughness, mr_texture, mut f0) =
+        match m.pbr_specular_glossiness() {
+            // Specular-glossiness: its diffuse colour as the albedo, glossiness as
+            // smoothness, its specular colour as F0 of a dielectric.
+            Some(sg) => (
+                sg.diffuse_factor(),
+                sg.diffuse_texture(),
+                0.0,
+                1.0 - sg.glossiness_factor(),
+                None,
+                linear(sg.specular_factor()),
+            ),
+            None => (
+                pbr.base_color_factor(),
+                pbr.base_color_texture(),
+                pbr.metallic_factor(),
+                pbr.roughness_factor(),
+                pbr.metallic_roughness_texture(),
+                Vec3::splat(dielectric_f0(m.ior().unwrap_or(1.5))),
+            ),
+        };
+    metallic = metallic.clamp(0.0, 1.0);
+    roughness = roughness.clamp(0.0, 1.0);
+    let tint = linear([base[0], base[1], base[2]]);
+    s.albedo = match &base_texture {
+        Some(info) => {
+            note(&mut sets, info);
+            Albedo::Image {
+                slot: images.slot(info, true)?,
+                tint,
+            }
+        }
+        None => Albedo::Color(tint),
+    };
+    if let Some(spec) = m.specular() {
+        f0 = (f0 * spec.specular_factor() * linear(spec.specular_color_factor())).min(Vec3::ONE);
+    }
+    match m.alpha_mode() {
+        AlphaMode::Opaque => {}
+        AlphaMode::Mask | AlphaMode::Blend => {
+            // BLEND has no order-free meaning for rays: it is cut at half, as MASK.
+            let cutoff = if m.alpha_mode() == AlphaMode::Mask {
+                m.alpha_cutoff().unwrap_or(0.5)
+            } else {
+                0.5
+            };
+            let alpha = base[3].clamp(0.0, 1.0);
+            match &base_texture {
+                // Alpha is never sRGB-encoded: the colour map's slot serves.
+                Some(info) if alpha > 0.0 => {
+                    s.alpha_map = Some(images.slot(info, true)?);
+                    s.alpha_cutoff = cutoff / alpha;
+                }
+                // A constant alpha: the whole surface is there or is not.
+                _ if alpha < cutoff => s.alpha_map = Some(TextureSlot::new(images.clear())),
+                _ => {}
+            }
+        }
+    }
+    if m.unlit() {
+        s.lit = false;
+        return Ok((s, first_set(&sets)));
+    }
+    let transmission = m
+        .transmission()
+        .map_or(0.0, |t| t.transmission_factor())
+        .clamp(0.0, 1.0);
+    s.diffuse = (1.0 - transmission) * FRAC_1_PI;
+    if transmission > 0.0 {
+        // Prism's Fresnel glass: F reflected, (1 - F) T transmitted.
+        s.transmission = tint * transmission;
+        s.reflection = Vec3::ONE;
+        s.fresnel = true;
+        s.ior = m.ior().unwrap_or(1.5);
+        s.specular = f0 * FRAC_1_PI;
+        s.shininess = MetallicRoughness::exponent(roughness);
+        s.diffuse *= 1.0 - metallic;
+        if let Some(v) = m.volume()
+            && v.thickness_factor() > 0.0
+        {
+            let d = v.attenuation_distance();
+            if d.is_finite() && d > 0.0 {
+                // Beer: attenuationColor is what remains after `d`.
+                let c = linear(v.attenuation_color()).max(Vec3::splat(1e-6));
+                s.absorption = -Vec3::new(c.x.ln(), c.y.ln(), c.z.ln()) / d;
+            }
+        }
+    } else {
+        let map = match &mr_texture {
+            Some(info) => {
+                note(&mut sets, info);
+                Some(images.slot(info, false)?)
+            }
+            None => None,
+        };
+        s.metallic_roughness = Some(MetallicRoughness {
+            metallic,
+            roughness,
+            map,
+            f0,
+        });
+    }
+    if let Some(normal) = m.normal_texture() {
+        sets.push(normal.tex_coord());
+        let texture = normal.texture();
+        let image = images.image(&texture, false)?;
+        s.normal_map = Some(TextureSlot {
+            clamp: texture.sampler().wrap_s() == WrappingMode::ClampToEdge
+                && texture.sampler().wrap_t() == WrappingMode::ClampToEdge,
+            ..TextureSlot::new(image)
+        });
+        s.normal_scale = normal.scale();
+    }
+    let strength = m.emissive_strength().unwrap_or(1.0).max(0.0);
+    let emission = linear(m.emissive_factor()) * strength;
+    if emission.max_element() > 0.0 && emission.is_finite() {
+        s.emission = emission;
+        if let Some(info) = m.emissive_texture() {
+            note(&mut sets, &info);
+            s.emission_map = Some(images.slot(&info, true)?);
+        }
+    }
+    Ok((s, first_set(&sets)))
+}
+
+fn first_set(sets: &[u32]) -> usize {
+    match sets.first() {
+        Some(&1) => 1,
+        _ => 0,
+    }
+}

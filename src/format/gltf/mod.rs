@@ -1,0 +1,352 @@
+//! glTF 2.0 scenes (`.gltf` with its buffers and images, or `.glb`): the default scene's
+//! node tree with its meshes, cameras, KHR_lights_punctual lights and
+//! metallic-roughness materials. docs/formats.md tables what each property becomes.
+//!
+//! - [`document`]: the JSON or GLB container, extensions, buffers;
+//! - [`accessor`]: typed reads out of buffers, checked before they allocate;
+//! - [`mesh`]: primitives as triangles with their attributes;
+//! - [`material`]: materials, textures and images;
+//! - [`lights`]: cameras and lights.
+//!
+//! Every error names the file and the JSON path of what is wrong
+//! (`scene.gltf: meshes[2].primitives[0].attributes.POSITION: ...`).
+
+pub mod accessor;
+pub mod document;
+pub mod lights;
+pub mod material;
+pub mod mesh;
+
+use super::{FileSettings, NamedCamera, SceneDialect, SceneFile, SourceCounts};
+use crate::math::Vec3;
+use crate::scene::{Group, Light, MAX_SHAPES, MeshAttributes, Scene};
+use crate::{Error, Result};
+use glam::{DMat3, DMat4, DQuat, DVec3};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Stops of exposure that show a scene lit in Blender's exported photometric units as
+/// Blender showed it: its exporter multiplies watts by 683 lm/W (and 1/4 pi for point
+/// and spot lights, which Blender's own radiometric units also carry).
+pub const BLENDER_EXPOSURE: f32 = -9.415_741;
+
+/// Reads a `.gltf` or `.glb` scene.
+pub fn load(path: &Path) -> Result<SceneFile> {
+    let loaded = document::load(path)?;
+    build(&loaded, path)
+}
+
+/// Builds the scene of a parsed file (its buffers loaded); `path` names it in messages
+/// and resolves its images.
+pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
+    let err = |m: String| Error::file(path, m);
+    let doc = &loaded.document;
+    let mut warnings: Vec<String> = loaded
+        .ignored_extensions
+        .iter()
+        .map(|e| {
+            format!(
+                "{}: uses the glTF extension {e}, which Prism ignores",
+                path.display()
+            )
+        })
+        .collect();
+    let materials = material::read(loaded, path, &mut warnings).map_err(err)?;
+    // Primitives without a material wear this one, added after the file's when used.
+    let default_material = materials.materials.len() as u32;
+    let mut scene = Scene {
+        materials: materials.materials,
+        surfaces: materials.surfaces,
+        images: materials.images,
+        ..Scene::default()
+    };
+    let texcoord_set = materials.texcoord_set;
+
+    let roots = scene_roots(doc).map_err(err)?;
+    let mut meshes: HashMap<usize, Vec<mesh::Primitive>> = HashMap::new();
+    let mut skipped = mesh::Skipped::default();
+    let mut cameras = Vec::new();
+    let mut counts = SourceCounts::default();
+    let mut stack: Vec<(gltf::Node, DMat4)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, DMat4::IDENTITY))
+        .collect();
+    while let Some((node, parent)) = stack.pop() {
+        let at = format!("nodes[{}]", node.index());
+        let world = parent * local_matrix(&node.transform());
+        if !world.is_finite() {
+            return Err(err(format!("{at}: its transform is not finite")));
+        }
+        let first_shape = scene.shapes.len() as u32;
+        let first_light = scene.lights.len() as u32;
+        if let Some(m) = node.mesh() {
+            if let std::collections::hash_map::Entry::Vacant(slot) = meshes.entry(m.index()) {
+                let read = mesh::read(doc, &loaded.buffers, &m, &mut skipped).map_err(err)?;
+                for p in &read {
+                    counts.vertices += p.positions.len();
+                    counts.normals += p.normals.len();
+                    counts.texcoords += p.texcoords[0].len();
+                }
+                slot.insert(read);
+            }
+            for p in &meshes[&m.index()] {
+                let material = p
+                    .material
+                    .map_or(default_material, |i| i as u32)
+                    .min(default_material);
+                let set = texcoord_set.get(material as usize).copied().unwrap_or(0);
+                place(&mut scene, p, &world, material, set)
+                    .map_err(|e| err(format!("{at}: {e}")))?;
+            }
+        }
+        if let Some(c) = node.camera() {
+            let camera = lights::camera(&c, &world)
+                .map_err(|e| err(format!("{at}: cameras[{}]: {e}", c.index())))?;
+            cameras.push(NamedCamera {
+                name: node.name().or(c.name()).map(str::to_owned),
+                camera,
+            });
+        }
+        if let Some(l) = node.light() {
+            let light = lights::light(&l, &world).map_err(|e| {
+                err(format!(
+                    "{at}: extensions.KHR_lights_punctual.lights[{}]: {e}",
+                    l.index()
+                ))
+            })?;
+            scene.lights.push(light);
+        }
+        if let Some(name) = node.name() {
+            let shapes: Vec<u32> = (first_shape..scene.shapes.len() as u32).collect();
+            let lights: Vec<u32> = (first_light..scene.lights.len() as u32).collect();
+            if !shapes.is_empty() || !lights.is_empty() {
+                scene.groups.push(Group {
+                    name: name.to_owned(),
+                    shapes,
+                    lights,
+                });
+            }
+        }
+        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((child, world));
+        }
+    }
+    if skipped.points_and_lines > 0 {
+        warnings.push(format!(
+            "{}: {} primitives of points or lines are not rendered",
+            path.display(),
+            skipped.points_and_lines
+        ));
+    }
+    if scene.material_of.contains(&default_material) {
+        // glTF's default material is a rough white metal, which the whitted model
+        // shows nearly black; Prism's matte default (as for OBJ and PLY) is what users
+        // of a model without materials expect.
+        scene
+            .materials
+            .push(crate::scene::Material::default_white());
+        scene.surfaces.push(crate::scene::Surface::default());
+    }
+    add_emitters(&mut scene, path, &mut warnings);
+    let settings = FileSettings {
+        exposure: blender_lit(doc).then_some(BLENDER_EXPOSURE),
+        ..FileSettings::default()
+    };
+    Ok(SceneFile {
+        dialect: SceneDialect::Gltf,
+        camera: cameras.first().map(|c| c.camera.clone()),
+        cameras,
+        scene,
+        settings,
+        warnings,
+        counts,
+    })
+}
+
+/// Whether Blender's exporter wrote the file and it has lights (in its photometric
+/// units: see [`BLENDER_EXPOSURE`]).
+fn blender_lit(doc: &gltf::Document) -> bool {
+    let by_blender = doc
+        .as_json()
+        .asset
+        .generator
+        .as_deref()
+        .is_some_and(|g| g.contains("Blender"));
+    by_blender && doc.lights().is_some_and(|mut l| l.next().is_some())
+}
+
+/// The root nodes of the default scene (else scene 0; none without scenes), after
+/// checking that the node graph is a forest: no node has two parents or is its own
+/// ancestor, so the walk from the roots ends.
+fn scene_roots(doc: &gltf::Document) -> std::result::Result<Vec<gltf::Node<'_>>, String> {
+    let count = doc.nodes().len();
+    let mut parent: Vec<Option<usize>> = vec![None; count];
+    for node in doc.nodes() {
+        for child in node.children() {
+            let c = child.index();
+            if let Some(p) = parent[c] {
+                return Err(format!(
+                    "nodes[{c}] has two parents, nodes[{p}] and nodes[{}]",
+                    node.index()
+                ));
+            }
+            parent[c] = Some(node.index());
+        }
+    }
+    let Some(scene) = doc.default_scene().or_else(|| doc.scenes().next()) else {
+        return Ok(Vec::new());
+    };
+    let mut seen = vec![false; count];
+    let mut roots = Vec::new();
+    for node in scene.nodes() {
+        let i = node.index();
+        if let Some(p) = parent[i] {
+            return Err(format!(
+                "scenes[{}] lists nodes[{i}] as a root, but it is a child of nodes[{p}]",
+                scene.index()
+            ));
+        }
+        if !std::mem::replace(&mut seen[i], true) {
+            roots.push(node);
+        }
+    }
+    // A cycle has no root, so it is never reached from one; a cycle with a root path
+    // into it would give one of its nodes two parents.
+    Ok(roots)
+}
+
+/// A node's local transform: its `matrix`, or translation x rotation x scale.
+fn local_matrix(t: &gltf::scene::Transform) -> DMat4 {
+    match t {
+        gltf::scene::Transform::Matrix { matrix } => {
+            DMat4::from_cols_array_2d(&matrix.map(|c| c.map(f64::from)))
+        }
+        gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            let [x, y, z, w] = rotation.map(f64::from);
+            let q = DQuat::from_xyzw(x, y, z, w);
+            let q = if q.length_squared() > 0.0 {
+                q.normalize()
+            } else {
+                DQuat::IDENTITY
+            };
+            DMat4::from_scale_rotation_translation(
+                DVec3::from_array(scale.map(f64::from)),
+                q,
+                DVec3::from_array(translation.map(f64::from)),
+            )
+        }
+    }
+}
+
+/// Adds primitive `p` placed at `world` wearing `material`, its texture coordinates
+/// from set `set`.
+fn place(
+    scene: &mut Scene,
+    p: &mesh::Primitive,
+    world: &DMat4,
+    material: u32,
+    set: usize,
+) -> std::result::Result<(), String> {
+    if p.triangles.is_empty() {
+        return Ok(());
+    }
+    if scene.shapes.len() + p.triangles.len() > MAX_SHAPES {
+        return Err(format!(
+            "placing its mesh would give the scene more than {MAX_SHAPES} triangles"
+        ));
+    }
+    let positions: Vec<Vec3> = p
+        .positions
+        .iter()
+        .map(|v| {
+            let w =
+                world.transform_point3(DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z)));
+            Vec3::new(w.x as f32, w.y as f32, w.z as f32)
+        })
+        .collect();
+    if positions.iter().any(|v| !v.is_finite()) {
+        return Err("its transform takes a vertex past the range of floats".into());
+    }
+    // A mirroring transform turns faces inside out: the spec keeps them facing out by
+    // reversing their winding.
+    let linear = DMat3::from_mat4(*world);
+    let triangles: Vec<[u32; 3]> = if linear.determinant() < 0.0 {
+        p.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect()
+    } else {
+        p.triangles.clone()
+    };
+    let normal_matrix = linear.inverse().transpose();
+    let normals: Vec<Vec3> = p
+        .normals
+        .iter()
+        .map(|n| {
+            let w = (normal_matrix * DVec3::new(f64::from(n.x), f64::from(n.y), f64::from(n.z)))
+                .normalize_or_zero();
+            Vec3::new(w.x as f32, w.y as f32, w.z as f32)
+        })
+        .collect();
+    let first_shape = scene.shapes.len() as u32;
+    scene.shapes.push_mesh(&positions, &triangles);
+    scene
+        .material_of
+        .extend(std::iter::repeat_n(material, triangles.len()));
+    let texcoords = p.texcoords[set].clone();
+    let per_vertex = |present: bool| {
+        if present {
+            triangles.clone()
+        } else {
+            Vec::new()
+        }
+    };
+    let attributes = MeshAttributes {
+        first_shape,
+        len: triangles.len() as u32,
+        normal_indices: per_vertex(!normals.is_empty()),
+        texcoord_indices: per_vertex(!texcoords.is_empty()),
+        color_indices: per_vertex(!p.colors.is_empty()),
+        normals,
+        texcoords,
+        colors: p.colors.clone(),
+    };
+    if !attributes.normal_indices.is_empty()
+        || !attributes.texcoord_indices.is_empty()
+        || !attributes.color_indices.is_empty()
+    {
+        scene.meshes.push(attributes);
+    }
+    Ok(())
+}
+
+/// Every emissive material's triangles as one area light, as OBJ's `Ke`.
+fn add_emitters(scene: &mut Scene, path: &Path, warnings: &mut Vec<String>) {
+    let mut emissive: Vec<Vec<u32>> = vec![Vec::new(); scene.materials.len()];
+    for (i, &m) in scene.material_of.iter().enumerate() {
+        if scene.surfaces[m as usize].emission.max_element() > 0.0 {
+            emissive[m as usize].push(i as u32);
+        }
+    }
+    for (m, shapes) in emissive.iter().enumerate() {
+        if shapes.is_empty() {
+            continue;
+        }
+        match Light::mesh(&scene.shapes, shapes) {
+            Some(mut light) => {
+                light.samples = super::scene_file::lights::DEFAULT_AREA_SAMPLES;
+                scene.lights.push(light);
+            }
+            None => warnings.push(format!(
+                "{}: material {} emits light but its faces have no area",
+                path.display(),
+                super::text::shown(&scene.materials[m].name)
+            )),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
