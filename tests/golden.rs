@@ -129,5 +129,9 @@ fn glass_dragon() {
 /// camera, point light and sun, glass and gold, at Blender's derived exposure.
 #[test]
 fn blender_export() {
-    check_scene_golden("blender-export", "scenes/blender/blender-export.glb", (160, 100));
+    check_scene_golden(
+        "blender-export",
+        "scenes/blender/blender-export.glb",
+        (160, 100),
+    );
 }

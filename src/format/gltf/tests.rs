@@ -628,3 +628,99 @@ fn an_unknown_extension_is_an_error_listing_the_formats_and_dialect() {
         "{e}"
     );
 }
+
+/// A floor and a tilted triangle over it, under a point light and a sun, seen by an
+/// orthographic camera: as glTF, and as the Prism scene file that says the same.
+#[test]
+fn the_same_scene_as_gltf_and_as_a_scene_file_renders_bit_for_bit_the_same() {
+    let mut b = Builder::default();
+    b.mesh(&floor(3.0), None, 4, Some(0));
+    let tri = [-1.0, 0.5, 0.0, 1.0, 0.5, 0.2, 0.0, 1.5, -0.5];
+    b.mesh(&tri, None, 4, Some(1));
+    let lambert = |c: [f32; 3]| {
+        json!({"pbrMetallicRoughness": {"baseColorFactor": [c[0], c[1], c[2], 1.0],
+            "metallicFactor": 0.0, "roughnessFactor": 1.0},
+            "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}})
+    };
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "point", "intensity": 20.0, "color": [1.0, 0.9, 0.8]},
+            {"type": "directional", "intensity": 1.5}]}},
+        "materials": [lambert([0.5, 0.5, 0.5]), lambert([0.8, 0.2, 0.1])],
+        "cameras": [{"type": "orthographic",
+            "orthographic": {"xmag": 2.5, "ymag": 2.5, "znear": 0.1, "zfar": 50.0}}],
+        "nodes": [
+            {"mesh": 0}, {"mesh": 1},
+            {"translation": [1.0, 3.0, 1.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"rotation": LOOK_DOWN, "extensions": {"KHR_lights_punctual": {"light": 1}}},
+            // Straight down, the image's up along -z: exact columns, as the file's
+            // look-at below gives them.
+            {"matrix": [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 5.0, 0.0, 1.0],
+             "camera": 0}],
+        "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+    }));
+    let (dir, gltf) = write(&doc);
+    let f = |v: f32| format!("{v:?}");
+    let tri_toml: Vec<String> = tri
+        .chunks(3)
+        .map(|p| format!("[{}, {}, {}]", f(p[0]), f(p[1]), f(p[2])))
+        .collect();
+    let toml = format!(
+        "[camera]\nprojection = \"orthographic\"\nview_width = 5.0\nfrom = [0, 5, 0]\nat = [0, 0, 0]\nup = [0, 0, -1]\n\
+         [[material]]\nname = \"grey\"\ncolor = [0.5, 0.5, 0.5]\ndiffuse = {pi}\n\
+         [[material]]\nname = \"red\"\ncolor = [0.8, 0.2, 0.1]\ndiffuse = {pi}\n\
+         [[object]]\ntype = \"triangle\"\nmaterial = \"grey\"\nvertices = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3]]\n\
+         [[object]]\ntype = \"triangle\"\nmaterial = \"grey\"\nvertices = [[-3, 0, -3], [3, 0, 3], [3, 0, -3]]\n\
+         [[object]]\ntype = \"triangle\"\nmaterial = \"red\"\nvertices = [{t}]\n\
+         [[light]]\ntype = \"point\"\nposition = [1, 3, 1]\ncolor = [1.0, 0.9, 0.8]\nintensity = 20\n\
+         falloff = \"inverse_square\"\n\
+         [[light]]\ntype = \"directional\"\ndirection = [0, -1, 0]\nintensity = 1.5\n",
+        pi = 1.0 / std::f64::consts::PI,
+        t = tri_toml.join(", ")
+    );
+    let toml_path = dir.path().join("scene.toml");
+    std::fs::write(&toml_path, toml).unwrap();
+    let options = sized(48, 48);
+    let a = render(&gltf, &options);
+    let b = render(&toml_path, &options);
+    let lit = a.pixels.iter().filter(|p| p[0] > 0.0).count();
+    assert!(lit > 48 * 40, "the floor fills the view: {lit}");
+    let bits = |i: &Image| -> Vec<u32> { i.pixels.iter().flatten().map(|c| c.to_bits()).collect() };
+    assert_eq!(bits(&a), bits(&b));
+}
+
+#[test]
+fn a_scene_file_places_a_gltf_mesh_with_its_materials_and_lights() {
+    let mut b = Builder::default();
+    b.mesh(&wall(1.0, 0.0), None, 4, Some(0));
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 3.0}]}},
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.2, 0.3, 1.0]},
+            "emissiveFactor": [1.0, 1.0, 1.0]}],
+        "nodes": [{"mesh": 0, "name": "panel"},
+            {"translation": [0.0, 0.0, 2.0], "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        "scenes": [{"nodes": [0, 1]}],
+    }));
+    let (dir, _) = write(&doc);
+    let toml = dir.path().join("scene.toml");
+    std::fs::write(
+        &toml,
+        "[[object]]\ntype = \"mesh\"\nfile = \"scene.gltf\"\ntranslate = [10, 0, 0]\nscale = 2\n",
+    )
+    .unwrap();
+    let file = crate::format::load(&toml).unwrap();
+    let s = &file.scene;
+    assert_eq!(s.shapes.len(), 2);
+    assert!(
+        (s.bounds().min - Vec3::new(8.0, -2.0, 0.0))
+            .abs()
+            .max_element()
+            < 1e-6
+    );
+    let kinds: Vec<_> = s.lights.iter().map(|l| l.kind_name()).collect();
+    assert_eq!(kinds, ["point", "mesh"]);
+    assert_eq!(s.lights[0].position, Vec3::new(10.0, 0.0, 4.0));
+    assert!(s.surfaces[0].metallic_roughness.is_some());
+}

@@ -345,11 +345,11 @@ impl Builder {
             .and_then(|e| e.to_str())
             .unwrap_or("")
             .to_ascii_lowercase();
-        if !["obj", "objx", "ply"].contains(&ext.as_str()) {
+        if !["obj", "objx", "ply", "gltf", "glb"].contains(&ext.as_str()) {
             return Err(source.error(
                 file,
                 format!(
-                    "expected a mesh file .obj, .ply or .objx, found {}",
+                    "expected a mesh file .obj, .ply, .gltf, .glb or .objx, found {}",
                     path.display()
                 ),
             ));
@@ -485,7 +485,18 @@ fn merge(
             if let Albedo::Image { slot, .. } = &mut s.albedo {
                 slot.image += image_base;
             }
-            for slot in [&mut s.alpha_map, &mut s.normal_map].into_iter().flatten() {
+            let mr_map = s.metallic_roughness.as_mut().and_then(|mr| mr.map.as_mut());
+            for slot in [
+                s.alpha_map.as_mut(),
+                s.normal_map.as_mut(),
+                s.specular_map.as_mut(),
+                s.ambient_map.as_mut(),
+                s.emission_map.as_mut(),
+                mr_map,
+            ]
+            .into_iter()
+            .flatten()
+            {
                 slot.image += image_base;
             }
             scene.materials.push(m);

@@ -43,6 +43,8 @@ pub fn build(
             raw.focus_distance.as_ref().map(Spanned::span),
             raw.focus_on.as_ref().map(Spanned::span),
             raw.lens_samples.as_ref().map(Spanned::span),
+            raw.projection.as_ref().map(Spanned::span),
+            raw.view_width.as_ref().map(Spanned::span),
         ];
         if let Some(span) = other.into_iter().flatten().next() {
             return Err(source.error_at(
@@ -102,6 +104,52 @@ pub fn build(
         }
     };
     let mut camera = Camera::look_at(eye, target, up, horizontal_fov, width, height);
+    match raw.projection.as_ref().map(|p| (p, p.get_ref().as_str())) {
+        None | Some((_, "perspective")) => {
+            if let Some(w) = &raw.view_width {
+                return Err(source.error(w, "`view_width` is for projection = \"orthographic\""));
+            }
+        }
+        Some((p, "orthographic")) => {
+            let w = raw
+                .view_width
+                .as_ref()
+                .ok_or_else(|| source.error(p, "an orthographic camera needs `view_width`"))?;
+            if !(w.get_ref().0 > 0.0 && w.get_ref().0.is_finite()) {
+                return Err(source.error(
+                    w,
+                    format!("expected view_width > 0, found {}", w.get_ref().0),
+                ));
+            }
+            let lens = [
+                raw.fov.as_ref().map(Spanned::span),
+                raw.fov_axis.as_ref().map(Spanned::span),
+                raw.aperture.as_ref().map(Spanned::span),
+                raw.focus_distance.as_ref().map(Spanned::span),
+                raw.focus_on.as_ref().map(Spanned::span),
+                raw.lens_samples.as_ref().map(Spanned::span),
+            ];
+            if let Some(span) = lens.into_iter().flatten().next() {
+                return Err(source.error_at(
+                    span,
+                    "an orthographic camera has no field of view or lens: `view_width` sets \
+                     what it sees",
+                ));
+            }
+            camera.retina_scale = (0.5 * w.get_ref().0 / f64::from(width)) as f32;
+            camera.projection = crate::scene::Projection::Orthographic;
+            camera.aa = settings.aa.unwrap_or(1);
+            return Ok(camera);
+        }
+        Some((p, other)) => {
+            return Err(source.error(
+                p,
+                format!(
+                    "expected projection \"perspective\" or \"orthographic\", found \"{other}\""
+                ),
+            ));
+        }
+    }
     let aperture = match &raw.aperture {
         None => 0.0,
         Some(a) if a.get_ref().0 >= 0.0 => a.get_ref().f32(),

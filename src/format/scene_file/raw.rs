@@ -45,6 +45,8 @@ pub struct RawAnimation {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawCamera {
+    pub projection: S<String>,
+    pub view_width: S<Num>,
     pub from: S<Vector>,
     pub at: S<Vector>,
     pub up: S<Vector>,

@@ -69,3 +69,43 @@ fn ambient_and_background() {
         }
     );
 }
+
+#[test]
+fn an_orthographic_camera_sees_view_width_across() {
+    let c = scene(
+        "[camera]\nprojection = \"orthographic\"\nview_width = 4\nfrom = [0, 0, 5]\nat = [0, 0, 0]\n\
+         [render]\nwidth = 200\nheight = 100\n",
+    )
+    .camera
+    .unwrap();
+    assert_eq!(c.projection, crate::scene::Projection::Orthographic);
+    assert_eq!(c.retina_scale * 200.0, 2.0);
+    let dir = Folder::new();
+    for (text, expected) in [
+        (
+            "projection = \"orthographic\"\n",
+            "an orthographic camera needs `view_width`",
+        ),
+        (
+            "projection = \"orthographic\"\nview_width = 2\nfov = 30\n",
+            "an orthographic camera has no field of view or lens",
+        ),
+        (
+            "view_width = 2\n",
+            "`view_width` is for projection = \"orthographic\"",
+        ),
+        (
+            "projection = \"fisheye\"\n",
+            "expected projection \"perspective\" or \"orthographic\"",
+        ),
+        (
+            "projection = \"orthographic\"\nview_width = -1\n",
+            "expected view_width > 0",
+        ),
+    ] {
+        let e = dir.error(&format!(
+            "[camera]\nfrom = [0, 0, 5]\nat = [0, 0, 0]\n{text}"
+        ));
+        assert!(e.contains(expected), "{e}");
+    }
+}
