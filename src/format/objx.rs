@@ -26,7 +26,9 @@ use super::mtlx::{self, MaterialLibrary};
 use super::obj::Mesh;
 use super::text::{At, data_lines, read_text, shown};
 use crate::math::Vec3;
-use crate::scene::{Group, Light, Material, Rectangle, Scene, Shape, Sphere, Triangle};
+use crate::scene::{
+    Group, Light, Material, Rectangle, Scene, SceneBuilder, Shape, Sphere, Triangle,
+};
 use crate::{Error, Result};
 
 /// Reads a scene file and the material files and textures it names.
@@ -53,7 +55,8 @@ pub fn parse(
         groups: Vec::new(),
         group_ids: HashMap::new(),
         object: None,
-        scene: Scene::default(),
+        scene: SceneBuilder::new(),
+        named: Vec::new(),
     };
     for line in data_lines(text) {
         let at = At {
@@ -62,9 +65,18 @@ pub fn parse(
         };
         builder.line(at, &line.tokens)?;
     }
+    let (materials, textures) = builder.library.into_parts();
     let mut scene = builder.scene;
-    (scene.materials, scene.textures) = builder.library.into_parts();
-    Ok(scene)
+    for m in materials {
+        scene.add_classic_material(m);
+    }
+    for t in textures {
+        scene.add_texture(t);
+    }
+    for g in builder.named {
+        scene.add_group(g);
+    }
+    Ok(scene.finish())
 }
 
 /// The scene as it is read, line by line.
@@ -84,7 +96,9 @@ struct Builder<'p, R> {
     group_ids: HashMap<String, u32>,
     /// Object in force (`o`), as an index into `scene.groups`.
     object: Option<u32>,
-    scene: Scene,
+    scene: SceneBuilder,
+    /// Every group named so far (`g`, `o`), in order of first use.
+    named: Vec<Group>,
 }
 
 impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
@@ -152,10 +166,9 @@ impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
                 Some(m) => self.library.materials()[m as usize].color,
                 None => Vec3::ONE,
             };
-            let light = self.scene.lights.len() as u32;
-            self.scene.lights.push(Light::point(position, color));
+            let light = self.scene.add_light(Light::point(position, color));
             for g in self.named_groups() {
-                self.scene.groups[g].lights.push(light);
+                self.named[g].lights.push(light);
             }
             return Ok(());
         }
@@ -186,10 +199,9 @@ impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
             }
         };
         let material = self.material_in_force(at)?;
-        let index = self.scene.shapes.len() as u32;
-        self.scene.push_shape(shape, material);
+        let index = self.scene.add_shape(shape, material);
         for g in self.named_groups() {
-            self.scene.groups[g].shapes.push(index);
+            self.named[g].shapes.push(index);
         }
         Ok(())
     }
@@ -199,7 +211,7 @@ impl<R: FnMut(&Path) -> Result<String>> Builder<'_, R> {
         if let Some(&i) = self.group_ids.get(name) {
             return i;
         }
-        let groups = &mut self.scene.groups;
+        let groups = &mut self.named;
         groups.push(Group {
             name: name.to_string(),
             ..Group::default()

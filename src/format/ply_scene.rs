@@ -4,7 +4,7 @@
 use super::ply::{self, PlyMesh};
 use super::{SceneDialect, SceneFile, SourceCounts};
 use crate::Result;
-use crate::scene::{Material, MeshAttributes, Scene, Surface};
+use crate::scene::{Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface};
 use std::path::Path;
 
 pub fn load(path: &Path) -> Result<SceneFile> {
@@ -18,14 +18,8 @@ pub fn from_ply(mesh: PlyMesh, path: &Path) -> SceneFile {
         normals: mesh.normals.len(),
         texcoords: mesh.texcoords.len(),
     };
-    let mut scene = Scene {
-        materials: vec![Material::default_white()],
-        surfaces: vec![Surface::default()],
-        ..Scene::default()
-    };
-    let n = mesh.triangles.len();
-    scene.shapes.push_mesh(&mesh.positions, &mesh.triangles);
-    scene.material_of = vec![0; n];
+    let mut scene = SceneBuilder::new();
+    let white = scene.add_material(Material::default_white(), Surface::default());
     // PLY attributes are per vertex: every attribute shares the position indices.
     let per_vertex = |present: bool| {
         if present {
@@ -35,21 +29,21 @@ pub fn from_ply(mesh: PlyMesh, path: &Path) -> SceneFile {
         }
     };
     let attributes = MeshAttributes {
-        first_shape: 0,
-        len: n as u32,
         normal_indices: per_vertex(!mesh.normals.is_empty()),
         texcoord_indices: per_vertex(!mesh.texcoords.is_empty()),
         color_indices: per_vertex(!mesh.colors.is_empty()),
         normals: mesh.normals,
         texcoords: mesh.texcoords,
         colors: mesh.colors,
+        ..MeshAttributes::default()
     };
-    if !attributes.normal_indices.is_empty()
-        || !attributes.texcoord_indices.is_empty()
-        || !attributes.color_indices.is_empty()
-    {
-        scene.meshes.push(attributes);
-    }
+    scene.add_mesh(
+        &mesh.positions,
+        &mesh.triangles,
+        MeshMaterials::All(white),
+        Some(attributes),
+    );
+    let scene = scene.finish();
     let warnings = mesh
         .warnings
         .into_iter()

@@ -9,7 +9,8 @@ use super::{SceneDialect, SceneFile, SourceCounts};
 use crate::format::text::{shown, shown_path};
 use crate::math::Vec3;
 use crate::scene::{
-    Albedo, Group, ImageTexture, Light, Material, MeshAttributes, Scene, Surface, TextureSlot,
+    Albedo, Group, ImageTexture, Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface,
+    TextureSlot,
 };
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -30,7 +31,7 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
         normals: obj.normals.len(),
         texcoords: obj.texcoords.len(),
     };
-    let mut scene = Scene::default();
+    let mut scene = SceneBuilder::new();
     if obj.triangles.len() > u32::MAX as usize / 2 {
         return Err(Error::file(path, "more triangles than Prism can index"));
     }
@@ -39,8 +40,7 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
     let mut images = ImageCache::default();
     for m in &obj.materials {
         let (material, surface) = convert_material(m, &mut images, &mut warnings)?;
-        scene.materials.push(material);
-        scene.surfaces.push(surface);
+        scene.add_material(material, surface);
     }
     // One pass over the triangles finds what they use.
     let (any_default, any_vn, any_vt) = obj
@@ -51,10 +51,9 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
             || (false, false, false),
             |a, b| (a.0 || b.0, a.1 || b.1, a.2 || b.2),
         );
-    let default_material = scene.materials.len() as u32;
+    let default_material = scene.material_count();
     if any_default {
-        scene.materials.push(Material::default_white());
-        scene.surfaces.push(Surface::default());
+        scene.add_material(Material::default_white(), Surface::default());
     }
 
     // Triangles, and the attributes they carry. Shapes are independent of each other;
@@ -62,12 +61,13 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
     let n = obj.triangles.len();
     let positions = &obj.positions;
     let corners: Vec<[u32; 3]> = obj.triangles.par_iter().map(|t| t.v).collect();
-    scene.shapes.push_mesh(positions, &corners);
-    drop(corners);
+    let mut material_of = Vec::new();
     obj.triangles
         .par_iter()
         .map(|t| t.material.unwrap_or(default_material))
-        .collect_into_vec(&mut scene.material_of);
+        .collect_into_vec(&mut material_of);
+    scene.add_mesh(positions, &corners, MeshMaterials::Each(&material_of), None);
+    drop((corners, material_of));
     let mut mesh = MeshAttributes {
         first_shape: 0,
         len: n as u32,
@@ -77,7 +77,7 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
     };
     if any_vn {
         mesh.normal_indices.reserve_exact(n);
-        for (t, shape) in obj.triangles.iter().zip(scene.shapes.iter()) {
+        for (t, shape) in obj.triangles.iter().zip(scene.scene().shapes.iter()) {
             // Faces without normals keep their flat one: a normal of their own.
             let vn = t.vn.unwrap_or_else(|| {
                 let i = mesh.normals.len() as u32;
@@ -117,55 +117,45 @@ pub fn from_obj(obj: ObjFile, path: &Path) -> Result<SceneFile> {
     mesh.check()
         .map_err(|e| Error::file(path, format!("inconsistent mesh: {e}")))?;
     if !(mesh.normals.is_empty() && mesh.texcoords.is_empty() && mesh.colors.is_empty()) {
-        scene.meshes.push(mesh);
+        scene.add_attributes(mesh);
     }
 
     // Named objects and groups; one group per name, in order of first appearance.
     let mut group_of: HashMap<String, usize> = HashMap::new();
+    let mut groups: Vec<Group> = Vec::new();
     for g in &obj.groups {
         if g.triangles.is_empty() || g.name.is_empty() {
             continue;
         }
         let index = *group_of.entry(g.name.clone()).or_insert_with(|| {
-            scene.groups.push(Group {
+            groups.push(Group {
                 name: g.name.clone(),
                 ..Group::default()
             });
-            scene.groups.len() - 1
+            groups.len() - 1
         });
-        scene.groups[index]
+        groups[index]
             .shapes
             .extend(g.triangles.clone().map(|i| i as u32));
     }
-    for g in &mut scene.groups {
+    for mut g in groups {
         g.shapes.sort_unstable();
         g.shapes.dedup();
+        scene.add_group(g);
     }
 
     // Every emissive material's triangles form one area light.
-    let mut emissive: Vec<Vec<u32>> = vec![Vec::new(); scene.materials.len()];
-    for (i, &m) in scene.material_of.iter().enumerate() {
-        if scene.surfaces[m as usize].emission.max_element() > 0.0 {
-            emissive[m as usize].push(i as u32);
-        }
+    for name in scene.add_emissive_lights(DEFAULT_AREA_SAMPLES) {
+        warnings.push(format!(
+            "{}: material {} emits light but its faces have no area",
+            path.display(),
+            shown(&name)
+        ));
     }
-    for (m, shapes) in emissive.iter().enumerate() {
-        if shapes.is_empty() {
-            continue;
-        }
-        match Light::mesh(&scene.shapes, shapes) {
-            Some(mut light) => {
-                light.samples = DEFAULT_AREA_SAMPLES;
-                scene.lights.push(light);
-            }
-            None => warnings.push(format!(
-                "{}: material {} emits light but its faces have no area",
-                path.display(),
-                shown(&scene.materials[m].name)
-            )),
-        }
+    for image in images.images {
+        scene.add_image(image);
     }
-    scene.images = images.images;
+    let scene = scene.finish();
     Ok(SceneFile {
         dialect: SceneDialect::WavefrontObj,
         scene,

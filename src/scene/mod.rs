@@ -1,5 +1,6 @@
 //! The scene model: plain data, no I/O and no rendering.
 
+pub mod builder;
 pub mod camera;
 pub mod framing;
 pub mod image;
@@ -11,6 +12,7 @@ pub mod shapes;
 mod surface_point;
 pub mod texture;
 
+pub use builder::{MeshMaterials, SceneBuilder};
 pub use camera::{Camera, Frame, Projection};
 pub use image::{ImageTexture, Texels};
 pub use light::{ConeEdge, Falloff, Light, LightKind};

@@ -17,9 +17,12 @@ pub mod lights;
 pub mod material;
 pub mod mesh;
 
+use super::scene_file::lights::DEFAULT_AREA_SAMPLES;
 use super::{FileSettings, NamedCamera, SceneDialect, SceneFile, SourceCounts};
 use crate::math::Vec3;
-use crate::scene::{Group, Light, MAX_SHAPES, MeshAttributes, Scene};
+use crate::scene::{
+    Group, MAX_SHAPES, Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface,
+};
 use crate::{Error, Result};
 use glam::{DMat3, DMat4, DQuat, DVec3};
 use std::collections::HashMap;
@@ -54,12 +57,13 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
     let materials = material::read(loaded, path, &mut warnings).map_err(err)?;
     // Primitives without a material wear this one, added after the file's when used.
     let default_material = materials.materials.len() as u32;
-    let mut scene = Scene {
-        materials: materials.materials,
-        surfaces: materials.surfaces,
-        images: materials.images,
-        ..Scene::default()
-    };
+    let mut scene = SceneBuilder::new();
+    for image in materials.images {
+        scene.add_image(image);
+    }
+    for (m, s) in materials.materials.into_iter().zip(materials.surfaces) {
+        scene.add_material(m, s);
+    }
     let texcoord_set = materials.texcoord_set;
 
     let roots = scene_roots(doc).map_err(err)?;
@@ -78,8 +82,8 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
         if !world.is_finite() {
             return Err(err(format!("{at}: its transform is not finite")));
         }
-        let first_shape = scene.shapes.len() as u32;
-        let first_light = scene.lights.len() as u32;
+        let first_shape = scene.scene().shapes.len() as u32;
+        let first_light = scene.scene().lights.len() as u32;
         if let Some(m) = node.mesh() {
             if let std::collections::hash_map::Entry::Vacant(slot) = meshes.entry(m.index()) {
                 let read = mesh::read(doc, &loaded.buffers, &m, &mut skipped).map_err(err)?;
@@ -115,13 +119,13 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
                     l.index()
                 ))
             })?;
-            scene.lights.push(light);
+            scene.add_light(light);
         }
         if let Some(name) = node.name() {
-            let shapes: Vec<u32> = (first_shape..scene.shapes.len() as u32).collect();
-            let lights: Vec<u32> = (first_light..scene.lights.len() as u32).collect();
+            let shapes: Vec<u32> = (first_shape..scene.scene().shapes.len() as u32).collect();
+            let lights: Vec<u32> = (first_light..scene.scene().lights.len() as u32).collect();
             if !shapes.is_empty() || !lights.is_empty() {
-                scene.groups.push(Group {
+                scene.add_group(Group {
                     name: name.to_owned(),
                     shapes,
                     lights,
@@ -139,16 +143,20 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
             skipped.points_and_lines
         ));
     }
-    if scene.material_of.contains(&default_material) {
+    if scene.scene().material_of.contains(&default_material) {
         // glTF's default material is a rough white metal, which the whitted model
         // shows nearly black; Prism's matte default (as for OBJ and PLY) is what users
         // of a model without materials expect.
-        scene
-            .materials
-            .push(crate::scene::Material::default_white());
-        scene.surfaces.push(crate::scene::Surface::default());
+        scene.add_material(Material::default_white(), Surface::default());
     }
-    add_emitters(&mut scene, path, &mut warnings);
+    for name in scene.add_emissive_lights(DEFAULT_AREA_SAMPLES) {
+        warnings.push(format!(
+            "{}: material {} emits light but its faces have no area",
+            path.display(),
+            super::text::shown(&name)
+        ));
+    }
+    let scene = scene.finish();
     let settings = FileSettings {
         exposure: blender_lit(doc).then_some(BLENDER_EXPOSURE),
         ..FileSettings::default()
@@ -246,7 +254,7 @@ fn local_matrix(t: &gltf::scene::Transform) -> DMat4 {
 /// Adds primitive `p` placed at `world` wearing `material`, its texture coordinates
 /// from set `set`.
 fn place(
-    scene: &mut Scene,
+    scene: &mut SceneBuilder,
     p: &mesh::Primitive,
     world: &DMat4,
     material: u32,
@@ -255,7 +263,7 @@ fn place(
     if p.triangles.is_empty() {
         return Ok(());
     }
-    if scene.shapes.len() + p.triangles.len() > MAX_SHAPES {
+    if scene.scene().shapes.len() + p.triangles.len() > MAX_SHAPES {
         return Err(format!(
             "placing its mesh would give the scene more than {MAX_SHAPES} triangles"
         ));
@@ -290,11 +298,7 @@ fn place(
             Vec3::new(w.x as f32, w.y as f32, w.z as f32)
         })
         .collect();
-    let first_shape = scene.shapes.len() as u32;
-    scene.shapes.push_mesh(&positions, &triangles);
-    scene
-        .material_of
-        .extend(std::iter::repeat_n(material, triangles.len()));
+    // Attributes are per vertex: they share the positions' index triples.
     let texcoords = p.texcoords[set].clone();
     let per_vertex = |present: bool| {
         if present {
@@ -304,48 +308,21 @@ fn place(
         }
     };
     let attributes = MeshAttributes {
-        first_shape,
-        len: triangles.len() as u32,
         normal_indices: per_vertex(!normals.is_empty()),
         texcoord_indices: per_vertex(!texcoords.is_empty()),
         color_indices: per_vertex(!p.colors.is_empty()),
         normals,
         texcoords,
         colors: p.colors.clone(),
+        ..MeshAttributes::default()
     };
-    if !attributes.normal_indices.is_empty()
-        || !attributes.texcoord_indices.is_empty()
-        || !attributes.color_indices.is_empty()
-    {
-        scene.meshes.push(attributes);
-    }
+    scene.add_mesh(
+        &positions,
+        &triangles,
+        MeshMaterials::All(material),
+        Some(attributes),
+    );
     Ok(())
-}
-
-/// Every emissive material's triangles as one area light, as OBJ's `Ke`.
-fn add_emitters(scene: &mut Scene, path: &Path, warnings: &mut Vec<String>) {
-    let mut emissive: Vec<Vec<u32>> = vec![Vec::new(); scene.materials.len()];
-    for (i, &m) in scene.material_of.iter().enumerate() {
-        if scene.surfaces[m as usize].emission.max_element() > 0.0 {
-            emissive[m as usize].push(i as u32);
-        }
-    }
-    for (m, shapes) in emissive.iter().enumerate() {
-        if shapes.is_empty() {
-            continue;
-        }
-        match Light::mesh(&scene.shapes, shapes) {
-            Some(mut light) => {
-                light.samples = super::scene_file::lights::DEFAULT_AREA_SAMPLES;
-                scene.lights.push(light);
-            }
-            None => warnings.push(format!(
-                "{}: material {} emits light but its faces have no area",
-                path.display(),
-                super::text::shown(&scene.materials[m].name)
-            )),
-        }
-    }
 }
 
 #[cfg(test)]

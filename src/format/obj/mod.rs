@@ -189,11 +189,13 @@ fn mesh_of(text: &[u8], path: &Path) -> Result<Mesh> {
 
 /// Every triangle of `mesh` as a shape wearing a matte white.
 fn scene_of(mesh: &Mesh) -> Scene {
-    let mut scene = Scene {
-        materials: vec![Material::default_white()],
-        material_of: vec![0; mesh.triangles.len()],
-        ..Scene::default()
-    };
-    scene.shapes.push_mesh(&mesh.vertices, &mesh.triangles);
-    scene
+    let mut scene = crate::scene::SceneBuilder::new();
+    let white = scene.add_classic_material(Material::default_white());
+    scene.add_mesh(
+        &mesh.vertices,
+        &mesh.triangles,
+        crate::scene::MeshMaterials::All(white),
+        None,
+    );
+    scene.finish()
 }

@@ -182,6 +182,6 @@ fn a_mesh_file_is_merged_and_placed() {
     let e = dir.error("[[object]]\ntype = \"mesh\"\nfile = \"scene.toml\"\n");
     assert_eq!(
         e,
-        "DIR/scene.toml:3:8: expected a mesh file .obj, .ply or .objx, found DIR/scene.toml"
+        "DIR/scene.toml:3:8: expected a mesh file .obj, .ply, .gltf, .glb or .objx, found DIR/scene.toml"
     );
 }

@@ -1,0 +1,272 @@
+//! [`SceneBuilder`]: how a reader (or code) fills a [`Scene`] — materials with their
+//! whitted surfaces, images, shapes and indexed meshes with their attributes, lights
+//! and named groups — keeping its parallel arrays aligned, and turning emissive
+//! materials into area lights the same way for every format.
+
+use super::{
+    Background, Group, ImageTexture, Light, Material, MeshAttributes, Scene, Shape, Surface,
+    Texture,
+};
+use crate::math::Vec3;
+use std::ops::Range;
+
+/// Fills a [`Scene`]. Indices it hands back (materials, images, shapes, lights) are the
+/// scene's own.
+///
+/// ```
+/// use prism::math::Vec3;
+/// use prism::scene::{Albedo, Light, Material, SceneBuilder, Shape, Sphere, Surface};
+///
+/// let mut b = SceneBuilder::new();
+/// let red = b.add_material(
+///     Material::default_white(),
+///     Surface { albedo: Albedo::Color(Vec3::new(0.8, 0.1, 0.1)), ..Surface::default() },
+/// );
+/// b.add_shape(Shape::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }), red);
+/// b.add_light(Light::point(Vec3::new(0.0, 4.0, 4.0), Vec3::ONE));
+/// let scene = b.finish();
+/// assert_eq!((scene.shapes.len(), scene.lights.len()), (1, 1));
+/// ```
+#[derive(Debug, Default)]
+pub struct SceneBuilder {
+    scene: Scene,
+    /// Whether a material without whitted terms (a 2014 one) has been added: the
+    /// surfaces of later materials would not line up with theirs.
+    classic_only: bool,
+}
+
+/// Which materials a mesh's triangles wear.
+pub enum MeshMaterials<'a> {
+    /// Every triangle the same.
+    All(u32),
+    /// One per triangle.
+    Each(&'a [u32]),
+}
+
+impl SceneBuilder {
+    pub fn new() -> SceneBuilder {
+        SceneBuilder::default()
+    }
+
+    /// The scene so far, to read (bounds, counts) while building.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// A material with its whitted terms; returns its index.
+    pub fn add_material(&mut self, material: Material, surface: Surface) -> u32 {
+        assert!(
+            !self.classic_only,
+            "a material with whitted terms after one without"
+        );
+        self.scene.materials.push(material);
+        self.scene.surfaces.push(surface);
+        self.scene.materials.len() as u32 - 1
+    }
+
+    /// A 2014 material, whose whitted terms are derived when it is rendered that way
+    /// ([`Surface::from_classic`]).
+    pub fn add_classic_material(&mut self, material: Material) -> u32 {
+        self.classic_only = true;
+        self.scene.materials.push(material);
+        self.scene.materials.len() as u32 - 1
+    }
+
+    pub fn material_count(&self) -> u32 {
+        self.scene.materials.len() as u32
+    }
+
+    /// An image read at texture coordinates; returns its index (for `TextureSlot`s).
+    pub fn add_image(&mut self, image: ImageTexture) -> u32 {
+        self.scene.images.push(image);
+        self.scene.images.len() as u32 - 1
+    }
+
+    /// A 2014 texture; returns its index.
+    pub fn add_texture(&mut self, texture: Texture) -> u32 {
+        self.scene.textures.push(texture);
+        self.scene.textures.len() as u32 - 1
+    }
+
+    /// One shape; returns its index.
+    pub fn add_shape(&mut self, shape: Shape, material: u32) -> u32 {
+        self.scene.push_shape(shape, material);
+        self.scene.shapes.len() as u32 - 1
+    }
+
+    /// An indexed triangle mesh: `positions`, `triangles` indexing them, the materials
+    /// they wear, and per-vertex attributes (`first_shape` and `len` are set here; a
+    /// mesh without any attribute keeps none). Returns the shapes it became.
+    pub fn add_mesh(
+        &mut self,
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+        materials: MeshMaterials,
+        attributes: Option<MeshAttributes>,
+    ) -> Range<u32> {
+        let first = self.scene.shapes.len() as u32;
+        self.scene.shapes.push_mesh(positions, triangles);
+        match materials {
+            MeshMaterials::All(m) => self
+                .scene
+                .material_of
+                .extend(std::iter::repeat_n(m, triangles.len())),
+            MeshMaterials::Each(m) => {
+                assert_eq!(m.len(), triangles.len(), "a material per triangle");
+                self.scene.material_of.extend_from_slice(m);
+            }
+        }
+        let end = self.scene.shapes.len() as u32;
+        if let Some(mut a) = attributes
+            && !(a.normal_indices.is_empty()
+                && a.texcoord_indices.is_empty()
+                && a.color_indices.is_empty())
+        {
+            a.first_shape = first;
+            a.len = end - first;
+            self.scene.meshes.push(a);
+        }
+        first..end
+    }
+
+    /// Attributes of shapes already added (`first_shape` and `len` say which).
+    pub fn add_attributes(&mut self, attributes: MeshAttributes) {
+        self.scene.meshes.push(attributes);
+    }
+
+    /// A light; returns its index.
+    pub fn add_light(&mut self, light: Light) -> u32 {
+        self.scene.lights.push(light);
+        self.scene.lights.len() as u32 - 1
+    }
+
+    /// A named group of shapes and lights (an animation track can move it).
+    pub fn add_group(&mut self, group: Group) {
+        self.scene.groups.push(group);
+    }
+
+    pub fn set_ambient(&mut self, ambient: Vec3) {
+        self.scene.ambient = ambient;
+    }
+
+    pub fn set_background(&mut self, background: Background) {
+        self.scene.background = background;
+    }
+
+    /// Every emissive material's triangles as one area light of `samples` shadow rays,
+    /// in material order; the names of the emissive materials whose faces have no area
+    /// (so no light) come back for the reader to warn of.
+    pub fn add_emissive_lights(&mut self, samples: u32) -> Vec<String> {
+        let scene = &mut self.scene;
+        let mut emissive: Vec<Vec<u32>> = vec![Vec::new(); scene.materials.len()];
+        for (i, &m) in scene.material_of.iter().enumerate() {
+            if let Some(s) = scene.surfaces.get(m as usize)
+                && s.emission.max_element() > 0.0
+            {
+                emissive[m as usize].push(i as u32);
+            }
+        }
+        let mut dark = Vec::new();
+        for (m, shapes) in emissive.iter().enumerate() {
+            if shapes.is_empty() {
+                continue;
+            }
+            match Light::mesh(&scene.shapes, shapes) {
+                Some(mut light) => {
+                    light.samples = samples;
+                    scene.lights.push(light);
+                }
+                None => dark.push(scene.materials[m].name.clone()),
+            }
+        }
+        dark
+    }
+
+    /// The scene. Its arrays line up: a material for every shape, mesh attributes in
+    /// order of their shapes and within them.
+    pub fn finish(self) -> Scene {
+        let s = self.scene;
+        assert_eq!(s.material_of.len(), s.shapes.len());
+        debug_assert!(
+            s.material_of
+                .iter()
+                .all(|&m| (m as usize) < s.materials.len())
+        );
+        debug_assert!(
+            s.meshes
+                .windows(2)
+                .all(|w| w[0].first_shape + w[0].len <= w[1].first_shape)
+        );
+        debug_assert!(
+            s.meshes
+                .iter()
+                .all(|m| (m.first_shape + m.len) as usize <= s.shapes.len())
+        );
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Rectangle, Triangle};
+
+    #[test]
+    fn meshes_keep_their_attributes_and_emitters_become_lights() {
+        let mut b = SceneBuilder::new();
+        let glow = b.add_material(
+            Material::default_white(),
+            Surface {
+                emission: Vec3::ONE,
+                ..Surface::default()
+            },
+        );
+        let matte = b.add_material(Material::default_white(), Surface::default());
+        b.add_shape(
+            Shape::Rectangle(Rectangle {
+                v: [Vec3::ZERO, Vec3::X, Vec3::ONE, Vec3::Y],
+            }),
+            matte,
+        );
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        let normals = MeshAttributes {
+            normals: vec![Vec3::Z; 4],
+            normal_indices: vec![[0, 1, 2], [0, 2, 3]],
+            ..MeshAttributes::default()
+        };
+        let shapes = b.add_mesh(
+            &positions,
+            &[[0, 1, 2], [0, 2, 3]],
+            MeshMaterials::Each(&[glow, matte]),
+            Some(normals),
+        );
+        assert_eq!(shapes, 1..3);
+        // Without attributes, no mesh entry.
+        b.add_mesh(&positions, &[[0, 1, 3]], MeshMaterials::All(glow), None);
+        // A zero-area emitter gives no light, only its name back.
+        let dark = b.add_material(
+            Material {
+                name: "dark".into(),
+                ..Material::default_white()
+            },
+            Surface {
+                emission: Vec3::ONE,
+                ..Surface::default()
+            },
+        );
+        b.add_shape(Shape::Triangle(Triangle { v: [Vec3::ZERO; 3] }), dark);
+        assert_eq!(b.add_emissive_lights(4), ["dark"]);
+        let s = b.finish();
+        assert_eq!(s.material_of, [matte, glow, matte, glow, dark]);
+        assert_eq!(
+            (s.meshes.len(), s.meshes[0].first_shape, s.meshes[0].len),
+            (1, 1, 2)
+        );
+        assert_eq!(s.lights.len(), 1);
+        let crate::scene::LightKind::Mesh { shapes, .. } = &s.lights[0].kind else {
+            panic!()
+        };
+        assert_eq!(shapes, &[1, 3]);
+        assert_eq!(s.lights[0].samples, 4);
+    }
+}
