@@ -22,6 +22,9 @@ pub enum Error {
     /// A file that cannot be opened, read or written.
     #[error("{}: {message}", shown_path(path))]
     File { path: PathBuf, message: String },
+    /// Malformed content of a scene given as data (Python's dicts), at `place` in it.
+    #[error("{place}: {message}")]
+    Data { place: String, message: String },
     /// Settings that cannot be rendered (resolution, sample counts, region...).
     #[error("{0}")]
     Settings(String),

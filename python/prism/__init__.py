@@ -35,6 +35,7 @@ __all__ = [
     "animate",
     "load_scene",
     "render",
+    "scene_from_dict",
     "restrict_paths",
     "show",
     "write_image",
@@ -47,13 +48,72 @@ Progress = Union[None, bool, Callable[[int, int], Any]]
 
 def load_scene(path: Path, dialect: Optional[str] = None) -> Scene:
     """Reads a scene file: ``.objx`` (the 2014 dialect, with its ``.mtlx`` and
-    textures), ``.obj`` (Wavefront) or ``.toml`` (Prism's scene file). ``dialect``
-    (``"objx"``, ``"obj"``, ``"toml"``) overrides the one the extension names.
+    textures), ``.obj`` (Wavefront), ``.ply``, ``.gltf`` / ``.glb`` (glTF 2.0, with
+    its cameras and lights) or ``.toml`` (Prism's scene file). ``dialect``
+    (``"objx"``, ``"obj"``, ``"ply"``, ``"gltf"``, ``"toml"``) overrides the one the
+    extension names.
 
     Raises :class:`SceneError` (a ``ValueError``) with ``file``, ``line`` and
     ``column`` for malformed content, :class:`FileError` for a missing file.
     """
     return _prism.load_scene(path, dialect)
+
+
+def scene_from_dict(scene: Dict[str, Any], folder: Optional[Path] = None) -> Scene:
+    """A scene from a dict in the scene file's own schema (docs/scene-format.md), as
+    ``tomllib.load`` would give for a ``.toml`` file: ``camera``, ``object``,
+    ``material``, ``light``, ``render`` and the rest. An object of ``"type": "mesh"``
+    may carry arrays instead of a ``file``: ``vertices`` (N x 3), ``faces`` (M x 3
+    vertex indices), and optionally ``normals`` (N x 3) and ``uvs`` (N x 2), so NumPy
+    and trimesh meshes render without files. Relative paths (``file``, ``texture``)
+    resolve against ``folder`` (default: the working directory).
+
+    Raises :class:`SceneError` naming the entry at fault, as for a file.
+    """
+    import copy
+    import json
+    import os
+
+    scene = copy.copy(scene)
+    meshes = []
+    objects = []
+    for i, obj in enumerate(scene.get("object", []) or []):
+        if isinstance(obj, dict) and "vertices" in obj:
+            obj = dict(obj)
+            name = f"<arrays of object {i}>"
+            vertices = np.ascontiguousarray(obj.pop("vertices"), dtype="<f4")
+            faces = np.ascontiguousarray(obj.pop("faces"), dtype="<u4")
+            normals = obj.pop("normals", None)
+            uvs = obj.pop("uvs", None)
+            if vertices.ndim != 2 or vertices.shape[1] != 3:
+                raise ValueError(f"object {i}: vertices must be N x 3, found {vertices.shape}")
+            if faces.ndim != 2 or faces.shape[1] != 3:
+                raise ValueError(f"object {i}: faces must be M x 3, found {faces.shape}")
+            if normals is not None:
+                normals = np.ascontiguousarray(normals, dtype="<f4")
+                if normals.shape != vertices.shape:
+                    raise ValueError(f"object {i}: normals must be N x 3 like vertices, found {normals.shape}")
+                normals = normals.tobytes()
+            if uvs is not None:
+                uvs = np.ascontiguousarray(uvs, dtype="<f4")
+                if uvs.shape != (vertices.shape[0], 2):
+                    raise ValueError(f"object {i}: uvs must be N x 2, found {uvs.shape}")
+                uvs = uvs.tobytes()
+            obj["file"] = name
+            meshes.append((name, vertices.tobytes(), faces.tobytes(), normals, uvs))
+        objects.append(obj)
+    if objects:
+        scene["object"] = objects
+
+    def plain(o: Any) -> Any:
+        if isinstance(o, np.ndarray):
+            return o.tolist()
+        if isinstance(o, np.generic):
+            return o.item()
+        raise TypeError(f"{type(o).__name__} is not a scene value")
+
+    text = json.dumps(scene, default=plain)
+    return _prism.scene_from_json(text, meshes, os.fspath(folder) if folder is not None else os.getcwd())
 
 
 def restrict_paths(folder: Path) -> None:

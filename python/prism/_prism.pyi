@@ -63,6 +63,11 @@ class Animation:
     def finish(self, output: _Path, keep_frames: bool = False) -> Dict[str, Any]: ...
 
 def load_scene(path: _Path, dialect: Optional[str] = None) -> Scene: ...
+def scene_from_json(
+    json: str,
+    meshes: List[Tuple[str, bytes, bytes, Optional[bytes], Optional[bytes]]],
+    folder: _Path,
+) -> Scene: ...
 def render(
     scene: Scene,
     camera: Optional[Camera] = None,

@@ -16,6 +16,7 @@ pub fn to_py(py: Python<'_>, error: Error) -> PyErr {
             path, line, column, ..
         } => ("SceneError", Some(path), Some(*line), Some(*column)),
         Error::File { path, .. } => ("FileError", Some(path), None, None),
+        Error::Data { .. } => ("SceneError", None, None, None),
         Error::Settings(_) => ("SettingsError", None, None, None),
         Error::Interrupted => return PyKeyboardInterrupt::new_err("render interrupted"),
     };

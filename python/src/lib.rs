@@ -35,6 +35,7 @@ fn _prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<camera::Camera>()?;
     m.add_class::<animation::Animation>()?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::scene_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(still::render, m)?)?;
     m.add_function(wrap_pyfunction!(still::plan, m)?)?;
     m.add_function(wrap_pyfunction!(image::write_image, m)?)?;

@@ -32,6 +32,8 @@ pub fn still_options(
             "aa" => o.aa = Some(value.extract()?),
             "dof_rays" => o.dof_rays = Some(value.extract()?),
             "seed" => o.seed = Some(value.extract()?),
+            "camera_name" => o.camera_name = Some(value.extract()?),
+            "camera_index" => o.camera_index = Some(value.extract()?),
             "threads" => o.threads = Some(value.extract()?),
             "max_depth" => o.max_depth = Some(value.extract()?),
             "min_weight" => o.min_weight = Some(value.extract()?),

@@ -26,6 +26,52 @@ fn dialect_named(name: &str) -> PyResult<SceneDialect> {
     })
 }
 
+/// A scene given as the scene file's schema in JSON text, its mesh objects' arrays
+/// beside it: `(name, vertices, faces, normals, uvs)` with little-endian f32 and u32
+/// bytes (`prism.scene_from_dict` makes both from a dict and NumPy arrays).
+#[pyfunction]
+#[pyo3(signature = (json, meshes, folder))]
+#[allow(clippy::type_complexity)]
+pub fn scene_from_json(
+    py: Python<'_>,
+    json: &str,
+    meshes: Vec<(String, Vec<u8>, Vec<u8>, Option<Vec<u8>>, Option<Vec<u8>>)>,
+    folder: PathBuf,
+) -> PyResult<Scene> {
+    let value: serde_json::Value =
+        serde_json::from_str(json).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let floats = |b: &[u8]| -> Vec<f32> {
+        b.chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    };
+    let triples = |v: Vec<f32>| v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let mut arrays = std::collections::HashMap::new();
+    for (name, vertices, faces, normals, uvs) in meshes {
+        let mesh = format::scene_file::ArrayMesh {
+            vertices: triples(floats(&vertices)),
+            faces: faces
+                .chunks_exact(12)
+                .map(|c| {
+                    let u = |k: usize| u32::from_le_bytes([c[k], c[k + 1], c[k + 2], c[k + 3]]);
+                    [u(0), u(4), u(8)]
+                })
+                .collect(),
+            normals: normals.map(|n| triples(floats(&n))),
+            uvs: uvs.map(|t| floats(&t).chunks_exact(2).map(|c| [c[0], c[1]]).collect()),
+        };
+        arrays.insert(name, mesh);
+    }
+    let path = folder.join("<scene dict>");
+    let file = py
+        .detach(|| format::scene_file::from_value(&value, &folder, &arrays))
+        .py_err(py)?;
+    Ok(Scene {
+        path,
+        file: Arc::new(file),
+    })
+}
+
 /// Reads a scene file; `dialect` overrides the one its extension names.
 #[pyfunction]
 #[pyo3(signature = (path, dialect = None))]

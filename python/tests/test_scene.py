@@ -109,3 +109,57 @@ except prism.SettingsError as e:
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["refused", "fixed"]
+
+
+BLENDER = SCENES / "blender" / "blender-export.glb"
+
+
+def test_a_gltf_scene_loads_with_its_cameras_and_renders_with_them():
+    scene = prism.load_scene(BLENDER)
+    assert scene.dialect == "gltf"
+    info = scene.info()
+    assert info["light_kinds"] == ["point", "directional"]
+    assert [c["name"] for c in info["cameras"]] == ["Camera"]
+    image = prism.render(scene, width=40, aa=1, camera_index=0)
+    assert image.shape == (25, 40, 3)
+    with pytest.raises(prism.SettingsError, match="no camera is named `Top`"):
+        prism.render(scene, width=40, camera_name="Top")
+
+
+def quad_dict(mesh):
+    return {
+        "camera": {"from": [0.5, 0.5, 3], "at": [0.5, 0.5, 0], "fov": 40},
+        "render": {"width": 32, "height": 24, "aa": 1},
+        "material": [{"name": "red", "color": [0.8, 0.1, 0.1]}],
+        "object": [dict(mesh, type="mesh", material="red"),
+                   {"type": "sphere", "center": [0, 0, -3], "radius": 1}],
+        "light": [{"type": "point", "position": [2, 2, 2]}],
+    }
+
+
+def test_a_scene_from_a_dict_with_arrays_equals_the_same_scene_from_files(tmp_path):
+    np = pytest.importorskip("numpy")
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=np.float64)
+    faces = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.int64)
+    normals = np.tile([0.0, 0.0, 1.0], (4, 1))
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float32)
+    from_arrays = prism.scene_from_dict(
+        quad_dict({"vertices": vertices, "faces": faces, "normals": normals, "uvs": uvs}))
+    (tmp_path / "quad.obj").write_text(
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+        "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
+    from_files = prism.scene_from_dict(quad_dict({"file": "quad.obj"}), folder=tmp_path)
+    a, b = prism.render(from_arrays), prism.render(from_files)
+    assert a.shape == (24, 32, 3) and a.max() > 0.1
+    assert a.tobytes() == b.tobytes()
+    assert (from_arrays.info()["triangles"], from_arrays.info()["spheres"]) == (2, 1)
+
+
+def test_scene_dict_errors_name_the_entry():
+    with pytest.raises(prism.SceneError, match=r"object\[0\]: `radius = -1`: expected radius > 0"):
+        prism.scene_from_dict({"object": [{"type": "sphere", "radius": -1}]})
+    with pytest.raises(ValueError, match="faces must be M x 3"):
+        prism.scene_from_dict({"object": [{"type": "mesh", "vertices": [[0, 0, 0]], "faces": [0, 0, 0]}]})
+    with pytest.raises(prism.SceneError, match="face 0 names vertex 5, past the 3 vertices"):
+        prism.scene_from_dict({"object": [{"type": "mesh", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+                                           "faces": [[0, 1, 5]]}]})

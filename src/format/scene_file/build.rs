@@ -43,12 +43,17 @@ struct Builder {
     planes: Vec<(usize, Vec3, Vec3)>,
     images: ImageCache,
     warnings: Vec<String>,
+    /// Meshes given in memory (Python's arrays), by the `file` name objects use.
+    arrays: HashMap<String, Scene>,
 }
 
 pub type Built = (Scene, Option<Camera>, FileSettings, Vec<String>);
 
-pub fn build(documents: &[Document]) -> Result<Built> {
-    let mut b = Builder::default();
+pub fn build(documents: &[Document], arrays: HashMap<String, Scene>) -> Result<Built> {
+    let mut b = Builder {
+        arrays,
+        ..Builder::default()
+    };
     for doc in documents {
         for m in &doc.raw.material {
             b.named_material(&doc.source, m)?;
@@ -339,6 +344,15 @@ impl Builder {
         t: &Transform,
         material: Option<u32>,
     ) -> Result<()> {
+        if let Some(mesh) = self.arrays.get(file.get_ref()) {
+            let mut loaded = mesh.clone();
+            if o.smooth.as_ref().is_some_and(|s| *s.get_ref()) {
+                let n = loaded.shapes.len() as u32;
+                crate::scene::mesh::smooth_normals(&mut loaded, 0..n);
+            }
+            return merge(&mut self.scene, loaded, t, material)
+                .map_err(|m| placement_error(source, o, m));
+        }
         let path = source.resolve(file.get_ref());
         let ext = path
             .extension()

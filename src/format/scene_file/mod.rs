@@ -10,6 +10,7 @@
 
 mod build;
 mod camera;
+mod from_value;
 mod images;
 mod include;
 pub(crate) mod lights;
@@ -28,6 +29,7 @@ mod tests;
 
 pub use build::PLANE_SCALE;
 pub use camera::{DEFAULT_FOV, DEFAULT_SIZE};
+pub use from_value::{ArrayMesh, from_value};
 pub use images::MAX_IMAGE_PIXELS;
 pub use include::{MAX_FILE_BYTES, MAX_FILES, MAX_INCLUDE_DEPTH};
 pub use lights::{DEFAULT_AREA_SAMPLES, MAX_AREA_SAMPLES};
@@ -46,8 +48,18 @@ pub fn load(path: &Path) -> Result<SceneFile> {
 /// Parses `text` as the scene file at `path`: the files it includes and names (meshes,
 /// images, a `.cmr`) are read from disk relative to `path`'s folder.
 pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
+    parse_with_meshes(text, path, Default::default())
+}
+
+/// [`parse`] where objects of type `mesh` may name, as their `file`, one of `meshes`
+/// (scenes built in memory: arrays from Python) instead of a file on disk.
+pub fn parse_with_meshes(
+    text: &str,
+    path: &Path,
+    meshes: std::collections::HashMap<String, crate::scene::Scene>,
+) -> Result<SceneFile> {
     let documents = include::read_all(text.to_owned(), path)?;
-    let (scene, camera, settings, warnings) = build::build(&documents)?;
+    let (scene, camera, settings, warnings) = build::build(&documents, meshes)?;
     Ok(SceneFile {
         dialect: SceneDialect::PrismScene,
         scene,
