@@ -526,3 +526,50 @@ fn a_rerun_of_a_finished_video_does_no_work() {
         .count();
     assert_eq!(frames, 4);
 }
+
+/// A glTF scene animates with its own camera, its node names as groups: frame 0 is
+/// the still render of the file, the gold sphere moves in frame 1.
+#[test]
+fn a_gltf_scene_animates_its_nodes_with_its_own_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let glb = repo().join("scenes/blender/blender-export.glb");
+    let anim = dir.path().join("anim.toml");
+    fs::write(
+        &anim,
+        format!(
+            "scene = {:?}\nframes = 2\nfps = 24\n[render]\nwidth = 48\nheight = 30\n\
+             [[track]]\ntarget = \"group:Gold\"\nmotion = \"translate\"\n\
+             keys = [[0, [0, 0, 0]], [0.0416666, [0, 0.5, 0]]]\n",
+            glb.to_string_lossy()
+        ),
+    )
+    .unwrap();
+    let frames = dir.path().join("f");
+    let o = animate(&anim, &frames, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let still = dir.path().join("still.png");
+    let o = run(prism()
+        .arg("render")
+        .arg(&glb)
+        .arg(&still)
+        .args(["--width", "48", "--height", "30", "--aa", "1", "--quiet"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let still = load_rgb(&still);
+    assert_eq!(load_rgb(&frames.join("frame_0000.png")), still);
+    assert_ne!(load_rgb(&frames.join("frame_0001.png")), still);
+    // A scene without a camera of its own still needs a 2014 one.
+    let obj = dir.path().join("tri.obj");
+    fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    fs::write(
+        &anim,
+        format!("scene = {:?}\nframes = 1\n", obj.to_string_lossy()),
+    )
+    .unwrap();
+    let o = animate(&anim, &dir.path().join("g"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("the scene has no camera of its own"),
+        "{}",
+        stderr(&o)
+    );
+}

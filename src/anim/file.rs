@@ -17,7 +17,8 @@ use toml::Spanned;
 #[serde(deny_unknown_fields)]
 struct RawFile {
     scene: Spanned<String>,
-    camera: Spanned<String>,
+    /// A 2014 camera; optional for scenes with cameras of their own (glTF).
+    camera: Option<Spanned<String>>,
     frames: Option<Spanned<i64>>,
     duration: Option<Spanned<f64>>,
     fps: Option<Spanned<f64>>,
@@ -184,14 +185,24 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         Error::parse(path, line, e.message().trim_end().replace('\n', "; "))
     })?;
     let folder = path.parent().unwrap_or(Path::new(""));
-    let (scene_path, camera_path) = (
-        folder.join(raw.scene.get_ref()),
-        folder.join(raw.camera.get_ref()),
-    );
-    let scene = crate::format::load_scene(&scene_path)?;
-    let mut camera = crate::format::load_camera(&camera_path)?;
+    let scene_path = folder.join(raw.scene.get_ref());
+    let camera_path = raw.camera.as_ref().map(|c| folder.join(c.get_ref()));
+    let file = crate::format::load(&scene_path)?;
+    let exposure = file.settings.exposure.unwrap_or(0.0);
+    let dialect = file.dialect;
+    let scene = file.scene;
+    let mut camera = match (&camera_path, file.camera) {
+        (Some(c), _) => crate::format::load_camera(c)?,
+        (None, Some(own)) => own,
+        (None, None) => {
+            return Err(lines.error(
+                &raw.scene,
+                "the scene has no camera of its own: name a 2014 camera file with `camera`",
+            ));
+        }
+    };
     let mut fingerprint = fnv1a(FNV_OFFSET, text.as_bytes());
-    for file in [&scene_path, &camera_path] {
+    for file in std::iter::once(&scene_path).chain(camera_path.as_ref()) {
         // The files were read once already; read again within the same bounds.
         let bytes = crate::format::file::read_regular(file, crate::format::text::MAX_TEXT_BYTES)
             .map_err(|e| Error::file(file, format!("cannot read: {e}")))?;
@@ -204,7 +215,11 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
     }
     let fps = fps_of(&lines, raw.fps.as_ref())?;
     let frames = frames_of(&lines, raw.frames.as_ref(), raw.duration.as_ref(), fps)?;
-    let settings = render_settings(&lines, raw.render.as_ref())?;
+    let settings = RenderSettings {
+        // The scene's own model: classic for the 2014 files, whitted for the rest.
+        integrator: dialect.default_integrator(),
+        ..render_settings(&lines, raw.render.as_ref())?
+    };
     // Check the settings against the camera now, not after the first frame.
     Renderer::new(&scene, &camera, settings.clone()).map_err(|e| match (&raw.render, e) {
         (Some(r), Error::Settings(m)) => lines.error(r, m),
@@ -223,7 +238,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         fps,
         settings,
         tracks,
-        exposure: 0.0,
+        exposure,
         cancel: None,
         fingerprint,
     })
