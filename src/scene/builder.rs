@@ -129,6 +129,30 @@ impl SceneBuilder {
         first..end
     }
 
+    /// Replaces shape `i` (a placeholder sized once the rest of the scene is known).
+    pub fn set_shape(&mut self, i: usize, shape: Shape) {
+        self.scene.shapes.set(i, shape);
+    }
+
+    /// The shapes of another scene placed by `point` (and `sphere` for its spheres),
+    /// their windings reversed where `mirrors`, wearing `materials` (one per shape).
+    pub fn add_placed<E>(
+        &mut self,
+        shapes: &super::Shapes,
+        point: impl Fn(Vec3) -> Vec3 + Sync,
+        mirrors: bool,
+        sphere: impl Fn(super::Sphere) -> Result<super::Sphere, E>,
+        materials: impl IntoIterator<Item = u32>,
+    ) -> Result<Range<u32>, E> {
+        let first = self.scene.shapes.len() as u32;
+        self.scene
+            .shapes
+            .append_placed(shapes, point, mirrors, sphere)?;
+        self.scene.material_of.extend(materials);
+        assert_eq!(self.scene.material_of.len(), self.scene.shapes.len());
+        Ok(first..self.scene.shapes.len() as u32)
+    }
+
     /// Attributes of shapes already added (`first_shape` and `len` say which).
     pub fn add_attributes(&mut self, attributes: MeshAttributes) {
         self.scene.meshes.push(attributes);

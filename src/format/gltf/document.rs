@@ -71,14 +71,22 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Loaded> {
     };
     let mut value: serde_json::Value = serde_json::from_slice(json).map_err(json_error)?;
     lenient(&mut value);
-    let mut root: gltf::json::Root = match serde_json::from_value(value) {
+    let mut root: gltf::json::Root = match serde_path_to_error::deserialize(value) {
         Ok(root) => root,
-        // Where the strict reading fails too, its error has the place in the text.
+        // The place in the text from the strict reading (which fails too), and the
+        // JSON path from this one.
         Err(e) => {
+            let at = e.path().to_string();
+            let message = strip_position(&e.inner().to_string()).to_string();
             return Err(
                 match gltf::json::deserialize::from_slice::<gltf::json::Root>(json) {
-                    Err(strict) => json_error(strict),
-                    Ok(_) => json_error(e),
+                    Err(strict) if strict.line() > 0 => Error::parse_at(
+                        path,
+                        strict.line(),
+                        strict.column(),
+                        format!("invalid glTF JSON: {at}: {message}"),
+                    ),
+                    _ => Error::file(path, format!("invalid glTF JSON: {at}: {message}")),
                 },
             );
         }
@@ -403,6 +411,13 @@ mod tests {
             .unwrap()
             .to_string();
         assert!(e.starts_with("s.gltf:2:"), "{e}");
+        let wrong = b"{\"asset\": {\"version\": \"2.0\"},\n \"nodes\": [{}, {\"mesh\": \"a\"}]}";
+        let e = parse(wrong, Path::new("s.gltf")).unwrap_err().to_string();
+        assert!(e.starts_with("s.gltf:2:"), "{e}");
+        assert!(
+            e.contains("invalid glTF JSON: nodes[1].mesh: invalid type: string"),
+            "{e}"
+        );
         let bad_index = br#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":7}}]}]}"#;
         let e = parse(bad_index, Path::new("s.gltf"))
             .err()

@@ -722,5 +722,53 @@ fn a_scene_file_places_a_gltf_mesh_with_its_materials_and_lights() {
     let kinds: Vec<_> = s.lights.iter().map(|l| l.kind_name()).collect();
     assert_eq!(kinds, ["point", "mesh"]);
     assert_eq!(s.lights[0].position, Vec3::new(10.0, 0.0, 4.0));
+    // The emitter's area is the placed one: a 2 x 2 square scaled by 2.
+    let crate::scene::LightKind::Mesh { area, .. } = s.lights[1].kind else {
+        panic!()
+    };
+    assert_eq!(area, 16.0);
     assert!(s.surfaces[0].metallic_roughness.is_some());
+}
+
+/// Faces of `wall(h, z)` wound the other way: facing -z.
+fn back_wall(h: f32, z: f32) -> Vec<f32> {
+    let mut w = wall(h, z);
+    for tri in w.chunks_mut(9) {
+        let (a, b) = tri.split_at_mut(6);
+        a[3..6].swap_with_slice(&mut b[0..3]);
+    }
+    w
+}
+
+#[test]
+fn light_through_a_volume_slab_is_absorbed_by_beer() {
+    // A slab 2 thick (faces at z = 0 and z = -2) of index 1, so nothing bends or
+    // reflects, before a white unlit wall: the camera sees the wall through it,
+    // times attenuationColor^(2 / attenuationDistance).
+    let mut b = Builder::default();
+    b.mesh(&wall(2.0, 0.0), None, 4, Some(0));
+    b.mesh(&back_wall(2.0, -2.0), None, 4, Some(0));
+    b.mesh(&wall(5.0, -5.0), None, 4, Some(1));
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
+            "KHR_materials_unlit"],
+        "materials": [
+            {"pbrMetallicRoughness": {"metallicFactor": 0.0},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                "KHR_materials_ior": {"ior": 1.0},
+                "KHR_materials_volume": {"thicknessFactor": 2.0, "attenuationDistance": 1.0,
+                    "attenuationColor": [0.5, 0.25, 1.0]}}},
+            {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0]},
+             "extensions": {"KHR_materials_unlit": {}}}],
+        "cameras": [{"type": "orthographic", "orthographic": {"xmag": 0.01, "ymag": 0.01, "znear": 0.1, "zfar": 50.0}}],
+        "nodes": [{"mesh": 0}, {"mesh": 1}, {"mesh": 2}, {"camera": 0, "translation": [0.0, 0.0, 3.0]}],
+        "scenes": [{"nodes": [0, 1, 2, 3]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let got = Vec3::from_array(render(&path, &sized(1, 1)).pixels[0]);
+    let expected = Vec3::new(0.25, 0.0625, 1.0);
+    assert!(
+        (got - expected).abs().max_element() < 1e-5,
+        "{got} vs {expected}"
+    );
 }

@@ -14,7 +14,8 @@ use crate::Result;
 use crate::format::FileSettings;
 use crate::math::{Aabb, Vec3, cross};
 use crate::scene::{
-    Albedo, Camera, Group, Light, LightKind, Material, Rectangle, Scene, Shape, Surface,
+    Albedo, Camera, Falloff, Group, Light, LightKind, Material, Rectangle, Scene, SceneBuilder,
+    Shape, Surface,
 };
 use std::collections::HashMap;
 use toml::Spanned;
@@ -34,7 +35,7 @@ enum Named {
 
 #[derive(Default)]
 struct Builder {
-    scene: Scene,
+    scene: SceneBuilder,
     /// Material name to index, with where it was defined.
     materials: HashMap<String, (u32, String)>,
     default_material: Option<u32>,
@@ -80,10 +81,11 @@ pub fn build(documents: &[Document], arrays: HashMap<String, Scene>) -> Result<B
         .map(|f| f.get_ref().vec3());
     b.size_planes(eye);
     if let Some(a) = &raw.ambient {
-        b.scene.ambient = settings::ambient(source, a.get_ref())?;
+        b.scene.set_ambient(settings::ambient(source, a.get_ref())?);
     }
     if let Some(bg) = &raw.background {
-        b.scene.background = settings::background(source, bg, &mut b.scene.images, &mut b.images)?;
+        let background = settings::background(source, bg, &mut b.scene, &mut b.images)?;
+        b.scene.set_background(background);
     }
     let camera = match &raw.camera {
         None => None,
@@ -92,14 +94,12 @@ pub fn build(documents: &[Document], arrays: HashMap<String, Scene>) -> Result<B
         })?),
     };
     b.check_tracks(source, &raw.track)?;
-    Ok((b.scene, camera, settings, b.warnings))
+    Ok((b.scene.finish(), camera, settings, b.warnings))
 }
 
 impl Builder {
     fn push_material(&mut self, built: BuiltMaterial) -> u32 {
-        self.scene.materials.push(built.material);
-        self.scene.surfaces.push(built.surface);
-        self.scene.materials.len() as u32 - 1
+        self.scene.add_material(built.material, built.surface)
     }
 
     fn named_material(
@@ -127,7 +127,7 @@ impl Builder {
             source,
             m.get_ref(),
             name.get_ref().clone(),
-            &mut self.scene.images,
+            &mut self.scene,
             &mut self.images,
         )?;
         let index = self.push_material(built);
@@ -186,7 +186,7 @@ impl Builder {
                     source,
                     raw,
                     label.to_string(),
-                    &mut self.scene.images,
+                    &mut self.scene,
                     &mut self.images,
                 )?;
                 Ok(Some(self.push_material(built)))
@@ -225,10 +225,11 @@ impl Builder {
         let transform = Transform::new(source, o)?;
         let geometry = objects::geometry(source, o)?;
         let material = self.object_material(source, o, &label)?;
-        let emissive = |b: &Builder, m: u32| b.scene.surfaces[m as usize].emission != Vec3::ZERO;
+        let emissive =
+            |b: &Builder, m: u32| b.scene.scene().surfaces[m as usize].emission != Vec3::ZERO;
         let glowing = material.is_some_and(|m| emissive(self, m));
-        let first = self.scene.shapes.len();
-        let first_light = self.scene.lights.len();
+        let first = self.scene.scene().shapes.len();
+        let first_light = self.scene.scene().lights.len();
         // A mesh file's own emissive materials come with their lights; planes are seen
         // glowing but light nothing (they are far too large to sample).
         let make_emitters = match geometry {
@@ -243,10 +244,10 @@ impl Builder {
                     .map_err(|m| placement_error(source, o, m))?;
                 if let Some(mut attributes) = placed.attributes {
                     attributes.first_shape = first as u32;
-                    self.scene.meshes.push(attributes);
+                    self.scene.add_attributes(attributes);
                 }
                 for shape in placed.shapes {
-                    self.scene.push_shape(shape, material);
+                    self.scene.add_shape(shape, material);
                 }
             }
             Geometry::Plane { point, normal } => {
@@ -256,7 +257,7 @@ impl Builder {
                 self.planes.push((first, p, n));
                 let placeholder = Shape::Rectangle(Rectangle { v: [p; 4] });
                 self.scene
-                    .push_shape(placeholder, material.expect("planes wear a material"));
+                    .add_shape(placeholder, material.expect("planes wear a material"));
             }
             Geometry::Mesh(file) => self.merge_mesh(source, o, &file, &transform, material)?,
         }
@@ -278,7 +279,7 @@ impl Builder {
             self.emitters(first, samples);
         }
         if let Some(n) = &o.samples
-            && self.scene.lights.len() == first_light
+            && self.scene.scene().lights.len() == first_light
         {
             return Err(source.error(
                 n,
@@ -286,10 +287,12 @@ impl Builder {
             ));
         }
         if let Some(name) = &o.name {
-            self.scene.groups.push(Group {
+            let scene = self.scene.scene();
+            let (shapes, lights) = (scene.shapes.len() as u32, scene.lights.len() as u32);
+            self.scene.add_group(Group {
                 name: name.get_ref().clone(),
-                shapes: (first as u32..self.scene.shapes.len() as u32).collect(),
-                lights: (first_light as u32..self.scene.lights.len() as u32).collect(),
+                shapes: (first as u32..shapes).collect(),
+                lights: (first_light as u32..lights).collect(),
             });
         }
         Ok(())
@@ -298,18 +301,18 @@ impl Builder {
     /// Area lights for the glowing shapes from `first` on: a sphere light per sphere,
     /// a mesh light per run of triangles with one emissive material.
     fn emitters(&mut self, first: usize, samples: u32) {
-        let end = self.scene.shapes.len();
+        let end = self.scene.scene().shapes.len();
         let mut i = first;
         while i < end {
-            let m = self.scene.material_of[i];
-            let emission = self.scene.surfaces[m as usize].emission;
+            let m = self.scene.scene().material_of[i];
+            let emission = self.scene.scene().surfaces[m as usize].emission;
             if emission == Vec3::ZERO {
                 i += 1;
                 continue;
             }
-            match self.scene.shapes.get(i) {
+            match self.scene.scene().shapes.get(i) {
                 Shape::Sphere(s) => {
-                    self.scene.lights.push(Light {
+                    self.scene.add_light(Light {
                         position: s.center,
                         color: emission,
                         intensity: 1.0,
@@ -323,12 +326,14 @@ impl Builder {
                 Shape::Triangle(_) => {
                     let run_end = (i..end)
                         .find(|&j| {
-                            self.scene.material_of[j] != m
-                                || !matches!(self.scene.shapes.get(j), Shape::Triangle(_))
+                            self.scene.scene().material_of[j] != m
+                                || !matches!(self.scene.scene().shapes.get(j), Shape::Triangle(_))
                         })
                         .unwrap_or(end);
-                    if let Some(light) = mesh_light(&self.scene, i, run_end, emission, samples) {
-                        self.scene.lights.push(light);
+                    if let Some(light) =
+                        mesh_light(self.scene.scene(), i, run_end, emission, samples)
+                    {
+                        self.scene.add_light(light);
                     }
                     i = run_end;
                 }
@@ -383,12 +388,12 @@ impl Builder {
             self.claim_name(source, name, Named::Light)?;
         }
         let light = lights::build(source, raw)?;
-        self.scene.lights.push(light);
+        let index = self.scene.add_light(light);
         if let Some(name) = &raw.name {
-            self.scene.groups.push(Group {
+            self.scene.add_group(Group {
                 name: name.get_ref().clone(),
                 shapes: Vec::new(),
-                lights: vec![self.scene.lights.len() as u32 - 1],
+                lights: vec![index],
             });
         }
         Ok(())
@@ -400,6 +405,7 @@ impl Builder {
         let is_plane: Vec<usize> = self.planes.iter().map(|p| p.0).collect();
         let mut bounds = self
             .scene
+            .scene()
             .shapes
             .iter()
             .enumerate()
@@ -418,7 +424,7 @@ impl Builder {
             let t1 = n.any_orthonormal_vector();
             let t2 = cross(n, t1);
             let (a, b) = (t1 * half, t2 * half);
-            self.scene.shapes.set(
+            self.scene.set_shape(
                 i,
                 Shape::Rectangle(Rectangle {
                     v: [p - a - b, p + a - b, p + a + b, p - a + b],
@@ -431,9 +437,9 @@ impl Builder {
         if self.names.get(name) != Some(&Named::Object) {
             return None;
         }
-        let group = self.scene.group(name)?;
+        let group = self.scene.scene().group(name)?;
         let bounds = group.shapes.iter().fold(Aabb::EMPTY, |b, &i| {
-            b.union(self.scene.shapes.get(i as usize).bounds())
+            b.union(self.scene.scene().shapes.get(i as usize).bounds())
         });
         (!bounds.is_empty()).then(|| bounds.center())
     }
@@ -481,15 +487,15 @@ fn mesh_light(
 /// Appends a scene read from a mesh file, placed by `t`: its shapes, meshes and lights,
 /// and (unless `material` overrides them) its materials with their textures and images.
 fn merge(
-    scene: &mut Scene,
+    scene: &mut SceneBuilder,
     loaded: Scene,
     t: &Transform,
     material: Option<u32>,
 ) -> Result<(), String> {
-    let shape_base = scene.shapes.len() as u32;
-    let image_base = scene.images.len() as u32;
-    let texture_base = scene.textures.len() as u32;
-    let material_base = scene.materials.len() as u32;
+    let shape_base = scene.scene().shapes.len() as u32;
+    let image_base = scene.scene().images.len() as u32;
+    let texture_base = scene.scene().textures.len() as u32;
+    let material_base = scene.material_count();
     let mirrors = t.mirrors();
     let scale = t.uniform_scale();
     let surfaces = loaded.resolved_surfaces();
@@ -513,14 +519,17 @@ fn merge(
             {
                 slot.image += image_base;
             }
-            scene.materials.push(m);
-            scene.surfaces.push(s);
+            scene.add_material(m, s);
         }
-        scene.textures.extend(loaded.textures);
-        scene.images.extend(loaded.images);
+        for texture in loaded.textures {
+            scene.add_texture(texture);
+        }
+        for image in loaded.images {
+            scene.add_image(image);
+        }
     }
     // Triangles keep their shared corners; a mirror reverses every winding.
-    scene.shapes.append_placed(
+    scene.add_placed(
         &loaded.shapes,
         |p| t.point_f32(p),
         mirrors,
@@ -532,13 +541,11 @@ fn merge(
             s.radius = (f64::from(s.radius) * k) as f32;
             Ok::<_, &str>(s)
         },
-    )?;
-    scene.material_of.extend(
         loaded
             .material_of
             .iter()
             .map(|&m| material.unwrap_or(m + material_base)),
-    );
+    )?;
     for mut mesh in loaded.meshes {
         mesh.first_shape += shape_base;
         for n in &mut mesh.normals {
@@ -555,11 +562,14 @@ fn merge(
                 }
             }
         }
-        scene.meshes.push(mesh);
+        scene.add_attributes(mesh);
     }
     let radius_scale = scale.unwrap_or_else(|| t.volume_scale()) as f32;
     for mut light in loaded.lights {
         light.position = t.point_f32(light.position);
+        if let Falloff::Range { range } = &mut light.falloff {
+            *range *= radius_scale;
+        }
         match &mut light.kind {
             LightKind::Point => {}
             LightKind::Directional { direction } | LightKind::Spot { direction, .. } => {
@@ -576,12 +586,16 @@ fn merge(
             // Its triangles now wear the overriding material instead.
             LightKind::Mesh { .. } if material.is_some() => continue,
             LightKind::Mesh { shapes, .. } => {
-                for s in shapes.iter_mut() {
-                    *s += shape_base;
-                }
+                // The placed triangles' areas: a scale changes them all, and an
+                // uneven one their shares.
+                let placed: Vec<u32> = shapes.iter().map(|s| s + shape_base).collect();
+                let Some(mesh) = Light::mesh(&scene.scene().shapes, &placed) else {
+                    continue;
+                };
+                light.kind = mesh.kind;
             }
         }
-        scene.lights.push(light);
+        scene.add_light(light);
     }
     Ok(())
 }

@@ -19,14 +19,14 @@ pub struct ImageCache {
 }
 
 impl ImageCache {
-    /// The index in `images` of the image `at` names, relative to `source`'s folder.
+    /// The index among `images`' images of the image `at` names, relative to `source`'s folder.
     /// `srgb`: colour maps are sRGB-encoded; normal maps hold linear values.
     pub fn get(
         &mut self,
         source: &Source,
         at: &Spanned<String>,
         srgb: bool,
-        images: &mut Vec<ImageTexture>,
+        images: &mut crate::scene::SceneBuilder,
     ) -> Result<u32> {
         let path = source.resolve(at.get_ref());
         let key = (path.canonicalize().unwrap_or(path.clone()), srgb);
@@ -34,8 +34,7 @@ impl ImageCache {
             return Ok(i);
         }
         let image = load(source, at, srgb)?;
-        let index = images.len() as u32;
-        images.push(image);
+        let index = images.add_image(image);
         self.loaded.insert(key, index);
         Ok(index)
     }

@@ -7,7 +7,7 @@ use super::source::Source;
 use super::values::Color;
 use crate::Result;
 use crate::math::Vec3;
-use crate::scene::{Albedo, Highlight, ImageTexture, Material, Surface, TextureSlot};
+use crate::scene::{Albedo, Highlight, Material, Surface, TextureSlot};
 use toml::Spanned;
 
 /// Albedo when a material gives no colour: a light grey, as [`Surface::default`].
@@ -25,7 +25,7 @@ pub fn build(
     source: &Source,
     raw: &RawMaterial,
     name: String,
-    images: &mut Vec<ImageTexture>,
+    images: &mut crate::scene::SceneBuilder,
     cache: &mut ImageCache,
 ) -> Result<BuiltMaterial> {
     let color = raw.color.as_ref().map(|c| c.get_ref().rgb);

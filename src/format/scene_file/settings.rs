@@ -8,7 +8,7 @@ use crate::Result;
 use crate::format::FileSettings;
 use crate::math::Vec3;
 use crate::render::MAX_DEPTH_LIMIT;
-use crate::scene::{Background, ImageTexture};
+use crate::scene::Background;
 use glam::DVec3;
 use toml::Spanned;
 
@@ -102,7 +102,7 @@ pub fn ambient(source: &Source, raw: &RawAmbient) -> Result<Vec3> {
 pub fn background(
     source: &Source,
     at: &Spanned<RawBackground>,
-    images: &mut Vec<ImageTexture>,
+    images: &mut crate::scene::SceneBuilder,
     cache: &mut ImageCache,
 ) -> Result<Background> {
     let raw = at.get_ref();
