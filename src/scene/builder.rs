@@ -25,7 +25,16 @@ use std::ops::Range;
 /// b.add_shape(Shape::Sphere(Sphere { center: Vec3::ZERO, radius: 1.0 }), red);
 /// b.add_light(Light::point(Vec3::new(0.0, 4.0, 4.0), Vec3::ONE));
 /// let scene = b.finish();
-/// assert_eq!((scene.shapes.len(), scene.lights.len()), (1, 1));
+///
+/// // Rendered with the whitted model: the ball fills the middle of the frame.
+/// use prism::render::{IntegratorKind, RenderSettings, Renderer};
+/// use prism::scene::Camera;
+/// let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 16, 16);
+/// let settings = RenderSettings { integrator: IntegratorKind::Whitted, ..Default::default() };
+/// let (image, _) = Renderer::new(&scene, &camera, settings)?.render(&|_| {})?;
+/// let [r, g, _] = image.pixels[8 * 16 + 8];
+/// assert!(r > 0.1 && g < r / 4.0);
+/// # Ok::<(), prism::Error>(())
 /// ```
 #[derive(Debug, Default)]
 pub struct SceneBuilder {
