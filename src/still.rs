@@ -91,9 +91,12 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
         warnings,
         ..
     } = file;
-    let size = |o: Option<u32>, f: Option<u32>| o.or(f);
-    let width = size(options.width, fs.width);
-    let height = size(options.height, fs.height);
+    // A side the caller gives replaces the file's size: alone, the other side follows
+    // the camera's aspect ratio rather than the file's other side.
+    let (width, height) = match (options.width, options.height) {
+        (None, None) => (fs.width, fs.height),
+        given => given,
+    };
     // The vertical the files mean: z for the 2014 dialect, y for the rest.
     let default_up = match dialect {
         SceneDialect::Objx2014 => Vec3::Z,

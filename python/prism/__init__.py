@@ -42,6 +42,11 @@ __all__ = [
 ]
 __version__ = _prism.__version__
 
+
+def __dir__() -> list:
+    # What the package offers, not the names it imports (np, Any, ...).
+    return sorted(__all__ + ["__version__", "distributed"])
+
 Path = Union[str, "PathLike[str]"]
 Progress = Union[None, bool, Callable[[int, int], Any]]
 
@@ -137,14 +142,23 @@ def _progress_callback(progress: Progress, unit: str) -> Tuple[Optional[Callable
             from tqdm.auto import tqdm
         except ImportError:
             return None, lambda: None
-        bar = tqdm(total=0, unit=unit)
+        # Made at the first report, when its total is known: a bar made empty prints
+        # a stray "0rows" line first.
+        bars: list = []
 
         def update(done: int, total: int) -> None:
+            if not bars:
+                bars.append(tqdm(total=total, unit=unit))
+            bar = bars[0]
             bar.total = total
             bar.n = done
             bar.refresh()
 
-        return update, bar.close
+        def close() -> None:
+            for bar in bars:
+                bar.close()
+
+        return update, close
     if progress is None or progress is False:
         return None, lambda: None
     if not callable(progress):

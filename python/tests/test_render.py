@@ -160,3 +160,24 @@ def test_ctrl_c_stops_a_render_promptly():
     with pytest.raises(KeyboardInterrupt):
         prism.render(scene, **options)
     assert time.monotonic() - fired[0] < 2.0
+
+
+def test_width_alone_keeps_the_scene_files_aspect():
+    image = prism.render(prism.load_scene(SHOWCASE), width=96, aa=1)
+    assert image.shape == (54, 96, 3)
+
+
+def test_the_namespace_is_what_the_package_offers():
+    names = dir(prism)
+    assert "render" in names and "scene_from_dict" in names and "load_scene" in names
+    for stray in ("np", "Any", "Dict", "Optional", "Tuple", "Union"):
+        assert stray not in names
+
+
+def test_a_tqdm_bar_starts_with_its_total(example, capsys):
+    pytest.importorskip("tqdm")
+    scene, camera = example
+    prism.render(scene, camera, width=32, progress=True)
+    err = capsys.readouterr().err
+    assert "0rows [" not in err
+    assert "rows" in err

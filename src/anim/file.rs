@@ -189,6 +189,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
     let camera_path = raw.camera.as_ref().map(|c| folder.join(c.get_ref()));
     let file = crate::format::load(&scene_path)?;
     let exposure = file.settings.exposure.unwrap_or(0.0);
+    let tonemap = tonemap_of(file.settings.tonemap.as_deref())?;
     let dialect = file.dialect;
     let scene = file.scene;
     let mut camera = match (&camera_path, file.camera) {
@@ -239,9 +240,15 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         settings,
         tracks,
         exposure,
+        tonemap,
         cancel: None,
         fingerprint,
     })
+}
+
+/// A scene file's tone map by name (its reader has checked the name).
+fn tonemap_of(name: Option<&str>) -> Result<crate::film::develop::ToneMap> {
+    name.map_or(Ok(Default::default()), |n| n.parse().map_err(Error::Settings))
 }
 
 /// The timing and tracks of a Prism scene file that animates (its `[animation]` and
@@ -297,6 +304,7 @@ fn parse_scene_file(text: &str, path: &Path) -> Result<Animation> {
         settings: still.settings,
         tracks,
         exposure: still.exposure.unwrap_or(0.0),
+        tonemap: tonemap_of(still.tonemap.as_deref())?,
         cancel: None,
         fingerprint: fnv1a(FNV_OFFSET, text.as_bytes()),
     })

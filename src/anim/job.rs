@@ -258,6 +258,7 @@ fn frame_output(anim: &Animation) -> OutputOptions {
     OutputOptions {
         develop: Develop {
             exposure: anim.exposure,
+            tonemap: anim.tonemap,
             transfer,
             ..Develop::classic()
         },

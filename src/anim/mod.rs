@@ -51,6 +51,8 @@ pub struct Animation {
     pub tracks: Vec<Track>,
     /// Exposure of the frames in stops (a scene file's `[render] exposure`).
     pub exposure: f32,
+    /// How their radiance is brought into range (a scene file's `[render] tonemap`).
+    pub tonemap: crate::film::develop::ToneMap,
     /// Set from any thread (a signal handler) to stop: the frame being rendered is
     /// abandoned, none after it starts, and a video being encoded is not written.
     pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,

@@ -16,7 +16,7 @@ pub use sampler::PixelSampler;
 use settings::Plan;
 pub use settings::{
     DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, IntegratorKind, MAX_DEPTH_LIMIT, MAX_SIDE, Region,
-    RenderSettings,
+    RenderSettings, check_threads,
 };
 pub use whitted::{Casters, Whitted};
 

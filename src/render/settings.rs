@@ -144,6 +144,24 @@ pub fn max_threads() -> usize {
         .max(MAX_THREADS_PER_CORE)
 }
 
+/// Refuses a thread count of 0 or above [`max_threads`]: to be asked before any
+/// thread is started (a pool of 100 000 threads fails only after starting them).
+pub fn check_threads(threads: Option<usize>) -> Result<()> {
+    if let Some(0) = threads {
+        return Err(Error::Settings("thread count must be at least 1".into()));
+    }
+    if let Some(n) = threads
+        && n > max_threads()
+    {
+        return Err(Error::Settings(format!(
+            "thread count must be at most {} ({MAX_THREADS_PER_CORE} per core on this \
+             machine), found {n}",
+            max_threads()
+        )));
+    }
+    Ok(())
+}
+
 /// Settings merged with the camera: everything concrete.
 #[derive(Clone, Debug)]
 pub(crate) struct Plan {
@@ -214,18 +232,7 @@ impl RenderSettings {
                 region.width, region.height
             )));
         }
-        if let Some(0) = self.threads {
-            return Err(Error::Settings("thread count must be at least 1".into()));
-        }
-        if let Some(n) = self.threads
-            && n > max_threads()
-        {
-            return Err(Error::Settings(format!(
-                "thread count must be at most {} ({MAX_THREADS_PER_CORE} per core on this \
-                 machine), found {n}",
-                max_threads()
-            )));
-        }
+        check_threads(self.threads)?;
         if self.max_depth > MAX_DEPTH_LIMIT {
             return Err(Error::Settings(format!(
                 "max depth must be at most {MAX_DEPTH_LIMIT}, found {}",

@@ -43,11 +43,7 @@ pub fn run(args: &BenchArgs) -> prism::Result<()> {
             args.seconds
         )));
     }
-    if args.threads == Some(0) {
-        return Err(prism::Error::Settings(
-            "expected --threads >= 1, found 0".into(),
-        ));
-    }
+    prism::render::check_threads(args.threads)?;
     let scene = prism::format::load_scene(&args.scene)?;
     let camera = prism::format::load_camera(&args.camera)?;
     let options = BenchOptions {

@@ -18,11 +18,12 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
-/// Prism renders scenes of the 2014 ray-tracer formats (.objx scene, .mtlx materials,
-/// .cmr camera) into images, Whitted style.
+/// Prism: a ray tracer for the scenes your tools export (glTF 2.0, OBJ/MTL, PLY, Prism
+/// scene files) and the 2014 course formats (.objx, .mtlx, .cmr), with a physically based
+/// Whitted model and the 2014 program's own.
 ///
-/// `prism SCENE CAMERA OUTPUT` is the report's command line; `prism render SCENE CAMERA
-/// OUTPUT [OPTIONS]` is the same with a name. Options override the camera file.
+/// `prism render SCENE OUTPUT [OPTIONS]` renders a scene (see `prism render --help`);
+/// `prism SCENE [CAMERA] OUTPUT` is the same, the 2014 program's command line.
 #[derive(Parser)]
 #[command(
     name = "prism",
@@ -39,7 +40,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene and camera to an image file.
+    /// Render a scene (glTF, OBJ, PLY, a scene file or the 2014 formats) to an image file.
     Render(Box<RenderArgs>),
     /// Measure intersector build time, memory and rays per second on a scene.
     Bench(BenchArgs),
@@ -53,12 +54,12 @@ enum Command {
 
 /// What `prism` alone prints: the commands, a line each.
 const COMMANDS: &str = "\
-Prism: a Whitted-style ray tracer.
+Prism: a ray tracer for glTF, OBJ, PLY and Prism scene files, and the 2014 formats.
 
 Usage: prism <COMMAND> [ARGS]...   (prism <COMMAND> --help for its options)
 
 Commands:
-  render    Render a scene (.objx, .obj, .ply or .toml) to an image
+  render    Render a scene (.gltf, .glb, .obj, .ply, .toml or .objx) to an image
   animate   Render every frame of an animation to images or a video
   info      Print what Prism reads in a scene file: counts, bounds, warnings
   bench     Measure intersector build time, memory and rays per second

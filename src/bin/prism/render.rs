@@ -161,6 +161,7 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     };
     // Loading (texture images decode in parallel) and development run on the threads
     // the render is given, so `--threads 1` is one thread throughout.
+    prism::render::check_threads(args.threads)?;
     let pool = match args.threads {
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
@@ -192,6 +193,9 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     }
     // Formats written from the finished image develop its rows in parallel.
     on_threads(pool.as_ref(), || file.finish(&image))?;
+    if !args.quiet {
+        eprintln!("{}", finished_line(output, region.width, region.height, &stats));
+    }
     if args.stats {
         println!(
             "rays {}  seconds {:.3}  Mrays/s {:.2}",
@@ -201,6 +205,28 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         );
     }
     Ok(())
+}
+
+/// What a finished render prints: the file, its size, the time and the ray rate.
+fn finished_line(
+    output: &std::path::Path,
+    width: u32,
+    height: u32,
+    stats: &prism::render::RenderStats,
+) -> String {
+    let bytes = std::fs::metadata(output).map_or(0, |m| m.len());
+    let size = match bytes {
+        b if b >= 1 << 20 => format!("{:.1} MB", b as f64 / f64::from(1 << 20)),
+        b if b >= 1 << 10 => format!("{:.0} KB", b as f64 / 1024.0),
+        b => format!("{b} bytes"),
+    };
+    format!(
+        "wrote {} ({width}x{height}, {size}) in {:.2} s: {} rays, {:.2} Mrays/s",
+        output.display(),
+        stats.elapsed.as_secs_f64(),
+        stats.rays,
+        stats.mrays_per_second()
+    )
 }
 
 /// Runs `f` on `pool`, or on rayon's global pool (every core) without one.
