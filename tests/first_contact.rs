@@ -39,10 +39,18 @@ fn too_many_threads_are_refused_before_any_starts() {
         .arg(&out)
         .args(["--threads", "100000"]));
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("thread count must be at most"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("thread count must be at most"),
+        "{}",
+        stderr(&o)
+    );
     assert!(!out.exists());
     assert!(start.elapsed().as_secs() < 10, "took {:?}", start.elapsed());
-    let o = run(prism().args(["bench"]).arg(example("example.objx")).arg(example("example.cmr")).args(["--threads", "100000"]));
+    let o = run(prism()
+        .args(["bench"])
+        .arg(example("example.objx"))
+        .arg(example("example.cmr"))
+        .args(["--threads", "100000"]));
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
 
@@ -62,11 +70,18 @@ fn help_says_what_prism_is_and_a_render_says_what_it_wrote() {
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
     let line = e.lines().find(|l| l.starts_with("wrote ")).expect(&e);
-    assert!(line.contains("e.png (48x27, ") && line.contains(" s: ") && line.contains("Mrays/s"), "{line}");
+    assert!(
+        line.contains("e.png (48x27, ") && line.contains(" s: ") && line.contains("Mrays/s"),
+        "{line}"
+    );
     let o = run(prism()
         .args([example("example.objx"), example("example.cmr"), out.clone()])
         .args(["--width", "48", "--quiet"]));
-    assert!(o.status.success() && !stderr(&o).contains("wrote "), "{}", stderr(&o));
+    assert!(
+        o.status.success() && !stderr(&o).contains("wrote "),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -83,17 +98,21 @@ fn an_animation_is_developed_with_its_files_tone_map() {
     )
     .unwrap();
     let frames = dir.path().join("f");
-    let o = run(prism().arg("animate").arg(&scene).arg(&frames).arg("--quiet"));
+    let o = run(prism()
+        .arg("animate")
+        .arg(&scene)
+        .arg(&frames)
+        .arg("--quiet"));
     assert!(o.status.success(), "{}", stderr(&o));
     let still = dir.path().join("still.png");
     let o = run(prism().arg("render").arg(&scene).arg(&still).arg("--quiet"));
     assert!(o.status.success(), "{}", stderr(&o));
     let clamped = dir.path().join("clamped.png");
-    let o = run(prism()
-        .arg("render")
-        .arg(&scene)
-        .arg(&clamped)
-        .args(["--tonemap", "clamp", "--quiet"]));
+    let o = run(prism().arg("render").arg(&scene).arg(&clamped).args([
+        "--tonemap",
+        "clamp",
+        "--quiet",
+    ]));
     assert!(o.status.success(), "{}", stderr(&o));
     let frame = load_rgb(&frames.join("frame_0000.png"));
     assert_eq!(frame, load_rgb(&still));

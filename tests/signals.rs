@@ -100,7 +100,12 @@ fn a_signal_during_an_animation_keeps_whole_frames_and_a_rerun_finishes() {
         .unwrap();
     std::thread::sleep(Duration::from_millis(700));
     send(&child, "INT");
+    let mut child = child;
+    let mut said = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut said).unwrap();
     assert_eq!(wait(child), Some(130));
+    assert!(said.contains("finished frames are kept in"), "{said}");
+    assert!(!said.contains("nothing was written"), "{said}");
     assert!(!out.exists(), "no video from an interrupted run");
     assert!(
         leftovers(dir.path()).is_empty(),

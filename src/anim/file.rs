@@ -248,7 +248,9 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
 
 /// A scene file's tone map by name (its reader has checked the name).
 fn tonemap_of(name: Option<&str>) -> Result<crate::film::develop::ToneMap> {
-    name.map_or(Ok(Default::default()), |n| n.parse().map_err(Error::Settings))
+    name.map_or(Ok(Default::default()), |n| {
+        n.parse().map_err(Error::Settings)
+    })
 }
 
 /// The timing and tracks of a Prism scene file that animates (its `[animation]` and

@@ -260,7 +260,6 @@ fn frame_output(anim: &Animation) -> OutputOptions {
             exposure: anim.exposure,
             tonemap: anim.tonemap,
             transfer,
-            ..Develop::classic()
         },
         ..OutputOptions::classic()
     }

@@ -109,15 +109,21 @@ impl MemoryEstimate {
         }
     }
 
-    /// An error naming the figures when the estimate exceeds `budget` bytes.
-    pub fn check(&self, budget: u64) -> Result<()> {
+    /// An error naming the figures when the estimate exceeds `budget` bytes; `accel` is
+    /// the intersector in use (the advice names the smallest only when it is not).
+    pub fn check(&self, budget: u64, accel: AccelKind) -> Result<()> {
         if self.total() <= budget {
             return Ok(());
         }
+        let triangles = if accel == AccelKind::Bvh {
+            "fewer triangles"
+        } else {
+            "fewer triangles or the bvh intersector"
+        };
         Err(Error::Settings(format!(
             "the render needs about {} (shapes {}, intersector {}, images {}, film {}), \
-             more than the memory budget of {}: render a smaller image (--width), use fewer \
-             triangles or the bvh intersector, or raise --max-memory",
+             more than the memory budget of {}: render a smaller image (--width), use \
+             {triangles}, or raise --max-memory",
             human(self.total()),
             human(self.shapes),
             human(self.accel),
@@ -324,13 +330,17 @@ mod tests {
     fn an_estimate_over_budget_is_refused_with_its_figures() {
         let e = MemoryEstimate::of(&spheres(10), AccelKind::Bvh, 65536, 65536, 1);
         assert!(e.film > 100 << 30);
-        let msg = e.check(8 << 30).unwrap_err().to_string();
+        let msg = e.check(8 << 30, AccelKind::Bvh).unwrap_err().to_string();
         assert!(
             msg.contains("more than the memory budget of 8.0 GiB"),
             "{msg}"
         );
         assert!(msg.contains("film 192 GiB"), "{msg}");
-        assert!(e.check(u64::MAX).is_ok());
+        // The bvh intersector is suggested only when another is in use.
+        assert!(!msg.contains("bvh intersector"), "{msg}");
+        let msg = e.check(8 << 30, AccelKind::List).unwrap_err().to_string();
+        assert!(msg.contains("or the bvh intersector"), "{msg}");
+        assert!(e.check(u64::MAX, AccelKind::Bvh).is_ok());
     }
 
     #[cfg(target_os = "linux")]

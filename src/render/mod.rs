@@ -168,7 +168,7 @@ impl<'a> Renderer<'a> {
         {
             estimate = estimate.with_casters(scene, plan.accel, casters);
         }
-        estimate.check(plan.max_memory)?;
+        estimate.check(plan.max_memory, plan.accel)?;
         Ok(Renderer {
             scene,
             plan,

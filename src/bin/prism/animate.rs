@@ -86,7 +86,22 @@ pub fn run(args: &AnimateArgs, interrupt: &crate::Interrupt) -> prism::Result<()
             }
         },
     };
-    let report = job::render_frames(&anim, frames.clone(), output.frames(), &observer)?;
+    let report = match job::render_frames(&anim, frames.clone(), output.frames(), &observer) {
+        Err(prism::Error::Interrupted) => {
+            bars.finish();
+            let kept = frames
+                .clone()
+                .filter(|&k| pattern.path_of(k).is_file())
+                .count();
+            eprintln!(
+                "interrupted: {kept} finished frames are kept in {} (no partial frame); \
+                 run the same command again to resume",
+                pattern.dir.display()
+            );
+            return Err(prism::Error::Interrupted);
+        }
+        other => other?,
+    };
     if args.stats {
         println!(
             "frames {} rendered, {} skipped  render seconds {:.3}  rays {}",

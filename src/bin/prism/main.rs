@@ -107,6 +107,7 @@ fn main() -> ExitCode {
     }
     let cli = Cli::parse();
     let interrupt = Interrupt::install();
+    let animating = matches!(cli.command, Some(Command::Animate(_)));
     let outcome = match cli.command {
         Some(Command::Render(args)) => render::run(&args, &interrupt),
         Some(Command::Bench(args)) => bench::run(&args),
@@ -117,8 +118,11 @@ fn main() -> ExitCode {
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
+        // `animate` says itself which frames it kept.
         Err(prism::Error::Interrupted) => {
-            eprintln!("interrupted: nothing was written");
+            if !animating {
+                eprintln!("interrupted: nothing was written");
+            }
             ExitCode::from(interrupt.exit_code())
         }
         Err(e) => {

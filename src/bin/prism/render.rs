@@ -194,7 +194,10 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     // Formats written from the finished image develop its rows in parallel.
     on_threads(pool.as_ref(), || file.finish(&image))?;
     if !args.quiet {
-        eprintln!("{}", finished_line(output, region.width, region.height, &stats));
+        eprintln!(
+            "{}",
+            finished_line(output, region.width, region.height, &stats)
+        );
     }
     if args.stats {
         println!(

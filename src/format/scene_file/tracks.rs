@@ -43,6 +43,9 @@ pub fn check(source: &Source, t: &Spanned<RawTrack>, names: &Names) -> Result<()
             }
         };
         if !list.contains(&name) {
+            if list.is_empty() {
+                return Err(unknown(format!("the scene has no {what}")));
+            }
             let mut sorted = list.clone();
             sorted.sort_unstable();
             sorted.truncate(12);

@@ -99,7 +99,7 @@ fn every_error_names_file_line_and_column() {
         ),
         (
             "[[track]]\ntarget = \"object:ghost\"\nmotion = \"translate\"\n",
-            "DIR/scene.toml:2:10: unknown target \"object:ghost\": the named objects are: there are none",
+            "DIR/scene.toml:2:10: unknown target \"object:ghost\": the scene has no named objects",
         ),
         (
             "[[track]]\ntarget = \"camera\"\nmotion = \"spin\"\n",
