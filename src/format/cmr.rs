@@ -77,6 +77,21 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
         .flat_map(|line| line.tokens.into_iter().map(move |t| (t, line.number)))
         .collect();
 
+    // A word among the numbers (a stray title line) is the error, at its own line:
+    // counting past it would blame the end of the file.
+    if let Some((i, &(token, line))) = values
+        .iter()
+        .enumerate()
+        .take(NAMES.len() + 1)
+        .find(|(_, (t, _))| t.parse::<f64>().is_err())
+    {
+        let what = DESCRIPTIONS.get(i).copied().unwrap_or("a camera value");
+        return Err(At { path, line }.error(format!(
+            "expected a number for {what}, found {} (a .cmr file holds {} numbers: {LIST})",
+            shown(token),
+            NAMES.len()
+        )));
+    }
     if values.len() < NAMES.len() {
         let at = At {
             path,
@@ -223,6 +238,16 @@ mod tests {
         assert_eq!(
             err(&text),
             "c.cmr:23: expected 14 camera values, found more: `7` after the anti-aliasing factor"
+        );
+    }
+
+    #[test]
+    fn a_stray_word_is_reported_at_its_own_line() {
+        let text = format!("my camera\n{SEED0}\n");
+        let e = err(&text);
+        assert!(
+            e.starts_with("c.cmr:1: expected a number for the eye x coordinate, found `my`"),
+            "{e}"
         );
     }
 

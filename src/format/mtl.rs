@@ -67,6 +67,8 @@ pub struct TextureMap {
     pub colorspace: Option<String>,
     /// Options read but not applied, each as written: `-mm 0.1 0.3`, `-type sphere`.
     pub other_options: Vec<String>,
+    /// The line of the library that names it, for messages about the image.
+    pub line: usize,
 }
 
 impl TextureMap {
@@ -80,6 +82,7 @@ impl TextureMap {
             bump_multiplier: 1.0,
             colorspace: None,
             other_options: Vec::new(),
+            line: 0,
         }
     }
 }
@@ -444,6 +447,7 @@ impl Parser<'_> {
     ) -> Result<Option<TextureMap>> {
         let key = String::from_utf8_lossy(keyword.bytes).into_owned();
         let mut map = TextureMap::new(String::new(), PathBuf::new());
+        map.line = line.number;
         loop {
             let mut look = tokens.clone();
             let Some(option) = look.next() else { break };

@@ -196,7 +196,7 @@ impl ImageCache {
                 warnings.push(format!(
                     "{}:{}: texture {} of material {} is missing; it is left out",
                     material.path.display(),
-                    material.line,
+                    map.line,
                     shown_path(&map.path),
                     shown(&material.name)
                 ));
@@ -206,7 +206,7 @@ impl ImageCache {
                 let texture = read_texture(&map.path, encoding).map_err(|why| {
                     Error::parse(
                         &material.path,
-                        material.line,
+                        map.line,
                         format!(
                             "cannot read texture {} of material {}: {why}",
                             shown_path(&map.path),

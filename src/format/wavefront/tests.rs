@@ -120,7 +120,7 @@ fn texture_maps_load_with_their_options_and_missing_ones_warn() {
     assert!(
         file.warnings
             .iter()
-            .any(|w| w.contains("s.mtl:7:") && w.contains("missing.png")),
+            .any(|w| w.contains("s.mtl:9:") && w.contains("missing.png")),
         "{:?}",
         file.warnings
     );
@@ -135,8 +135,8 @@ fn a_texture_that_is_there_but_unusable_is_an_error_with_the_mtl_line() {
     )
     .unwrap();
     std::fs::create_dir(dir.path().join("folder.png")).unwrap();
-    // The line of the material (its newmtl) that names the texture.
-    for (name, line) in [("broken.png", 1), ("folder.png", 1)] {
+    // The line that names the texture (its map_Kd), not the material's newmtl.
+    for (name, line) in [("broken.png", 2), ("folder.png", 2)] {
         let mtl = format!("newmtl a\nmap_Kd {name}\n");
         std::fs::write(dir.path().join("s.mtl"), mtl).unwrap();
         let obj = format!("mtllib s.mtl\n{QUAD}usemtl a\nf 1 2 3\n");
