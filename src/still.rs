@@ -55,6 +55,11 @@ pub struct StillOptions {
     pub min_weight: Option<f32>,
     /// Memory budget in bytes (`--max-memory`); `None`: half the machine's memory.
     pub max_memory: Option<u64>,
+    /// Smooth vertex normals for the triangles that have none (`--smooth`).
+    pub smooth: bool,
+    /// The scene's vertical for the default view and look-at (`--up-axis z` for
+    /// Blender's +z up exports); `None`: the dialect's (+y, +z for the 2014 files).
+    pub up_axis: Option<Vec3>,
 }
 
 /// A scene ready to render: the scene (with default lights added if it needed them),
@@ -97,11 +102,14 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
         (None, None) => (fs.width, fs.height),
         given => given,
     };
-    // The vertical the files mean: z for the 2014 dialect, y for the rest.
-    let default_up = match dialect {
+    // The vertical the files mean: z for the 2014 dialect, y for the rest, unless told.
+    let default_up = options.up_axis.unwrap_or(match dialect {
         SceneDialect::Objx2014 => Vec3::Z,
         _ => Vec3::Y,
-    };
+    });
+    if options.smooth {
+        crate::scene::mesh::smooth_all(&mut scene);
+    }
     let file_camera = match chosen_camera(&cameras, options)? {
         Some(c) => Some(c),
         None => file_camera,
@@ -303,6 +311,40 @@ mod tests {
         };
         let still = resolve(ball_file(SceneDialect::WavefrontObj), &o).unwrap();
         assert_eq!((still.camera.width, still.camera.height), (320, 180));
+    }
+
+    #[test]
+    fn smooth_and_up_axis_options_reach_the_scene_and_the_default_view() {
+        let mut file = ball_file(SceneDialect::Ply);
+        // Two triangles of a fold, without normals.
+        file.scene.push_shape(
+            Shape::Triangle(crate::scene::Triangle {
+                v: [Vec3::ZERO, Vec3::X, Vec3::Y],
+            }),
+            0,
+        );
+        file.scene.push_shape(
+            Shape::Triangle(crate::scene::Triangle {
+                v: [Vec3::ZERO, Vec3::Z, Vec3::X],
+            }),
+            0,
+        );
+        let o = StillOptions {
+            smooth: true,
+            up_axis: Some(Vec3::Z),
+            ..StillOptions::default()
+        };
+        let still = resolve(file.clone(), &o).unwrap();
+        assert_eq!(still.camera.up, Some(Vec3::Z));
+        // The triangles (shapes 1 and 2) got shared normals; the sphere none.
+        assert_eq!(still.scene.meshes.len(), 1);
+        assert_eq!(
+            (still.scene.meshes[0].first_shape, still.scene.meshes[0].len),
+            (1, 2)
+        );
+        let plain = resolve(file, &StillOptions::default()).unwrap();
+        assert!(plain.scene.meshes.is_empty());
+        assert_eq!(plain.camera.up, Some(Vec3::Y));
     }
 
     #[test]

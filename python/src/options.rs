@@ -33,6 +33,18 @@ pub fn still_options(
             "dof_rays" => o.dof_rays = Some(value.extract()?),
             "seed" => o.seed = Some(value.extract()?),
             "camera_name" => o.camera_name = Some(value.extract()?),
+            "smooth" => o.smooth = value.extract()?,
+            "up_axis" => {
+                o.up_axis = Some(match value.extract::<String>()?.as_str() {
+                    "y" => prism::math::Vec3::Y,
+                    "z" => prism::math::Vec3::Z,
+                    other => {
+                        return Err(PyValueError::new_err(format!(
+                            "up_axis must be \"y\" or \"z\", found {other:?}"
+                        )));
+                    }
+                })
+            }
             "camera_index" => o.camera_index = Some(value.extract()?),
             "threads" => o.threads = Some(value.extract()?),
             "max_depth" => o.max_depth = Some(value.extract()?),

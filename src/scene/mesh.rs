@@ -159,6 +159,73 @@ pub fn smooth_normals(scene: &mut super::Scene, shapes: std::ops::Range<u32>) {
     }
 }
 
+/// [`smooth_normals`] for every triangle of `scene` without vertex normals: each mesh
+/// that has none, and each run of triangles outside every mesh (`--smooth`).
+pub fn smooth_all(scene: &mut super::Scene) {
+    let n = scene.shapes.len() as u32;
+    let mut ranges = Vec::new();
+    let outside = |scene: &super::Scene, from: u32, to: u32, out: &mut Vec<_>| {
+        // Runs of triangles only: spheres and rectangles keep their own normals.
+        let mut start = None;
+        for i in from..to {
+            match (scene.shapes.is_triangle(i as usize), start) {
+                (true, None) => start = Some(i),
+                (false, Some(s)) => {
+                    out.push(s..i);
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        if let Some(s) = start {
+            out.push(s..to);
+        }
+    };
+    let mut at = 0;
+    for m in &scene.meshes {
+        outside(scene, at, m.first_shape, &mut ranges);
+        if m.normal_indices.is_empty() {
+            ranges.push(m.first_shape..m.first_shape + m.len);
+        }
+        at = m.first_shape + m.len;
+    }
+    outside(scene, at, n, &mut ranges);
+    for r in ranges {
+        smooth_normals(scene, r);
+    }
+}
+
+/// Turns a scene modelled with +z up (Blender's frame, which its PLY and OBJ exports
+/// keep) into Prism's +y up: `(x, y, z)` becomes `(x, z, -y)`, a rotation, so
+/// nothing mirrors and every light keeps its power.
+pub fn turn_z_up_to_y_up(scene: &mut super::Scene) {
+    let turn = |v: Vec3| Vec3::new(v.x, v.z, -v.y);
+    let mut shapes = super::Shapes::new();
+    shapes
+        .append_placed(&scene.shapes, turn, false, Ok::<_, ()>)
+        .expect("a rotation places every shape");
+    scene.shapes = shapes;
+    for m in &mut scene.meshes {
+        for n in &mut m.normals {
+            *n = turn(*n);
+        }
+    }
+    for l in &mut scene.lights {
+        l.position = turn(l.position);
+        match &mut l.kind {
+            super::LightKind::Point | super::LightKind::Sphere { .. } => {}
+            super::LightKind::Directional { direction }
+            | super::LightKind::Spot { direction, .. } => *direction = turn(*direction),
+            super::LightKind::Quad { u, v } => (*u, *v) = (turn(*u), turn(*v)),
+            super::LightKind::Disk { normal, .. } => *normal = turn(*normal),
+            super::LightKind::Mesh { .. } => {}
+        }
+    }
+    if let super::Background::Environment { up, forward, .. } = &mut scene.background {
+        (*up, *forward) = (turn(*up), turn(*forward));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

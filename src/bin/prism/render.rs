@@ -44,6 +44,14 @@ pub struct RenderArgs {
     /// Read the scene file as this dialect, whatever its extension.
     #[arg(long, value_parser = SceneDialect::names())]
     pub dialect: Option<String>,
+    /// Smooth vertex normals for meshes that have none (as `smooth = true` in a scene
+    /// file).
+    #[arg(long)]
+    pub smooth: bool,
+    /// The scene's up axis for the default view and look-at: y (default) or z (as
+    /// Blender's PLY and OBJ exports keep it).
+    #[arg(long, value_name = "AXIS", value_parser = ["y", "z"])]
+    pub up_axis: Option<String>,
     /// The scene's camera of this name (glTF camera nodes), instead of its first.
     #[arg(long, value_name = "NAME")]
     pub camera_name: Option<String>,
@@ -132,6 +140,12 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     let options = StillOptions {
         dialect: args.dialect.as_deref().map(dialect_of),
         camera_name: args.camera_name.clone(),
+        smooth: args.smooth,
+        up_axis: match args.up_axis.as_deref() {
+            Some("z") => Some(prism::math::Vec3::Z),
+            Some(_) => Some(prism::math::Vec3::Y),
+            None => None,
+        },
         camera_index: args.camera_index,
         camera_file,
         look: LookAt {

@@ -351,10 +351,7 @@ impl Builder {
     ) -> Result<()> {
         if let Some(mesh) = self.arrays.get(file.get_ref()) {
             let mut loaded = mesh.clone();
-            if o.smooth.as_ref().is_some_and(|s| *s.get_ref()) {
-                let n = loaded.shapes.len() as u32;
-                crate::scene::mesh::smooth_normals(&mut loaded, 0..n);
-            }
+            prepare_mesh(source, o, &mut loaded)?;
             return merge(&mut self.scene, loaded, t, material)
                 .map_err(|m| placement_error(source, o, m));
         }
@@ -375,10 +372,7 @@ impl Builder {
         }
         regular_file(source, file, &path)?;
         let mut loaded = crate::format::load_scene(&path)?;
-        if o.smooth.as_ref().is_some_and(|s| *s.get_ref()) {
-            let n = loaded.shapes.len() as u32;
-            crate::scene::mesh::smooth_normals(&mut loaded, 0..n);
-        }
+        prepare_mesh(source, o, &mut loaded)?;
         merge(&mut self.scene, loaded, t, material).map_err(|m| placement_error(source, o, m))
     }
 
@@ -465,6 +459,25 @@ impl Builder {
         }
         Ok(())
     }
+}
+
+/// A mesh file's scene as its object asks: turned from +z up (`up_axis = "z"`), and
+/// smooth where it has no normals (`smooth = true`).
+fn prepare_mesh(source: &Source, o: &RawObject, loaded: &mut Scene) -> Result<()> {
+    match o.up_axis.as_ref().map(|a| (a, a.get_ref().as_str())) {
+        None | Some((_, "y")) => {}
+        Some((_, "z")) => crate::scene::mesh::turn_z_up_to_y_up(loaded),
+        Some((a, other)) => {
+            return Err(source.error(
+                a,
+                format!("expected up_axis \"y\" or \"z\", found \"{other}\""),
+            ));
+        }
+    }
+    if o.smooth.as_ref().is_some_and(|s| *s.get_ref()) {
+        crate::scene::mesh::smooth_all(loaded);
+    }
+    Ok(())
 }
 
 /// The emitting triangles `first..end` as one area light, sampled in proportion to area.

@@ -27,7 +27,7 @@ pub enum Geometry {
 /// The shape keys each object type takes.
 fn keys_of(kind: &str) -> Option<&'static [&'static str]> {
     Some(match kind {
-        "mesh" => &["file", "smooth"],
+        "mesh" => &["file", "smooth", "up_axis"],
         "sphere" => &["center", "radius"],
         "plane" => &["point", "normal"],
         "quad" => &["corner", "edge1", "edge2"],

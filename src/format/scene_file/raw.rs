@@ -86,6 +86,8 @@ pub struct RawObject {
     pub capped: S<bool>,
     /// Mesh files: smooth vertex normals where the file has none.
     pub smooth: S<bool>,
+    /// Mesh files: the axis the file has up, `"y"` (default) or `"z"` (Blender's).
+    pub up_axis: S<String>,
     pub translate: S<Vector>,
     pub rotate: S<Rotations>,
     pub scale: S<Triple>,
@@ -118,6 +120,7 @@ impl RawObject {
         add("height", self.height.as_ref().map(Spanned::span));
         add("capped", self.capped.as_ref().map(Spanned::span));
         add("smooth", self.smooth.as_ref().map(Spanned::span));
+        add("up_axis", self.up_axis.as_ref().map(Spanned::span));
         out
     }
 }

@@ -185,3 +185,22 @@ fn a_mesh_file_is_merged_and_placed() {
         "DIR/scene.toml:3:8: expected a mesh file .obj, .ply, .gltf, .glb or .objx, found DIR/scene.toml"
     );
 }
+
+#[test]
+fn a_mesh_file_with_z_up_is_turned_to_y_up() {
+    let dir = Folder::new();
+    // A triangle standing up along +z, as Blender keeps it.
+    dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n");
+    let f = dir
+        .load("[[object]]\ntype = \"mesh\"\nfile = \"tri.obj\"\nup_axis = \"z\"\nsmooth = true\n");
+    let Shape::Triangle(t) = f.scene.shapes.get(0) else {
+        panic!()
+    };
+    assert_eq!(t.v, [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)]);
+    assert_eq!(f.scene.meshes.len(), 1, "smooth normals");
+    let e = dir.error("[[object]]\ntype = \"mesh\"\nfile = \"tri.obj\"\nup_axis = \"x\"\n");
+    assert!(
+        e.contains("expected up_axis \"y\" or \"z\", found \"x\""),
+        "{e}"
+    );
+}
