@@ -21,22 +21,8 @@ pub fn from_ply(mesh: PlyMesh, path: &Path) -> SceneFile {
     let mut scene = SceneBuilder::new();
     let white = scene.add_material(Material::default_white(), Surface::default());
     // PLY attributes are per vertex: every attribute shares the position indices.
-    let per_vertex = |present: bool| {
-        if present {
-            mesh.triangles.clone()
-        } else {
-            Vec::new()
-        }
-    };
-    let attributes = MeshAttributes {
-        normal_indices: per_vertex(!mesh.normals.is_empty()),
-        texcoord_indices: per_vertex(!mesh.texcoords.is_empty()),
-        color_indices: per_vertex(!mesh.colors.is_empty()),
-        normals: mesh.normals,
-        texcoords: mesh.texcoords,
-        colors: mesh.colors,
-        ..MeshAttributes::default()
-    };
+    let attributes =
+        MeshAttributes::per_vertex(&mesh.triangles, mesh.normals, mesh.texcoords, mesh.colors);
     scene.add_mesh(
         &mesh.positions,
         &mesh.triangles,

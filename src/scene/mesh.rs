@@ -25,6 +25,33 @@ pub struct MeshAttributes {
 }
 
 impl MeshAttributes {
+    /// Attributes given one per vertex (glTF, PLY, arrays): each one present is indexed
+    /// by the triangles' own corners; an empty one stays empty.
+    pub fn per_vertex(
+        triangles: &[[u32; 3]],
+        normals: Vec<Vec3>,
+        texcoords: Vec<[f32; 2]>,
+        colors: Vec<Vec3>,
+    ) -> MeshAttributes {
+        let indices = |present: bool| {
+            if present {
+                triangles.to_vec()
+            } else {
+                Vec::new()
+            }
+        };
+        MeshAttributes {
+            first_shape: 0,
+            len: triangles.len() as u32,
+            normal_indices: indices(!normals.is_empty()),
+            texcoord_indices: indices(!texcoords.is_empty()),
+            color_indices: indices(!colors.is_empty()),
+            normals,
+            texcoords,
+            colors,
+        }
+    }
+
     /// Whether shape `shape` is one of this mesh's triangles.
     #[inline]
     pub fn owns(&self, shape: u32) -> bool {

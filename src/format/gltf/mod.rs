@@ -299,23 +299,12 @@ fn place(
         })
         .collect();
     // Attributes are per vertex: they share the positions' index triples.
-    let texcoords = p.texcoords[set].clone();
-    let per_vertex = |present: bool| {
-        if present {
-            triangles.clone()
-        } else {
-            Vec::new()
-        }
-    };
-    let attributes = MeshAttributes {
-        normal_indices: per_vertex(!normals.is_empty()),
-        texcoord_indices: per_vertex(!texcoords.is_empty()),
-        color_indices: per_vertex(!p.colors.is_empty()),
+    let attributes = MeshAttributes::per_vertex(
+        &triangles,
         normals,
-        texcoords,
-        colors: p.colors.clone(),
-        ..MeshAttributes::default()
-    };
+        p.texcoords[set].clone(),
+        p.colors.clone(),
+    );
     scene.add_mesh(
         &positions,
         &triangles,

@@ -55,25 +55,16 @@ impl ArrayMesh {
         }
         let mut b = SceneBuilder::new();
         let white = b.add_material(Material::default_white(), Surface::default());
-        let per_vertex = |present: bool| {
-            if present {
-                self.faces.clone()
-            } else {
-                Vec::new()
-            }
-        };
-        let attributes = MeshAttributes {
-            normals: self
-                .normals
+        let attributes = MeshAttributes::per_vertex(
+            &self.faces,
+            self.normals
                 .iter()
                 .flatten()
                 .map(|&v| Vec3::from_array(v))
                 .collect(),
-            normal_indices: per_vertex(self.normals.is_some()),
-            texcoords: self.uvs.clone().unwrap_or_default(),
-            texcoord_indices: per_vertex(self.uvs.is_some()),
-            ..MeshAttributes::default()
-        };
+            self.uvs.clone().unwrap_or_default(),
+            Vec::new(),
+        );
         let positions: Vec<Vec3> = self.vertices.iter().map(|&v| Vec3::from_array(v)).collect();
         b.add_mesh(
             &positions,
