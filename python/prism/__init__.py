@@ -86,8 +86,13 @@ def scene_from_dict(scene: Dict[str, Any], folder: Optional[Path] = None) -> Sce
         if isinstance(obj, dict) and "vertices" in obj:
             obj = dict(obj)
             name = f"<arrays of object {i}>"
+            if "faces" not in obj:
+                raise ValueError(f"object {i}: a mesh with vertices needs faces (M x 3 vertex indices)")
             vertices = np.ascontiguousarray(obj.pop("vertices"), dtype="<f4")
-            faces = np.ascontiguousarray(obj.pop("faces"), dtype="<u4")
+            faces = np.asarray(obj.pop("faces"))
+            if faces.size and faces.min() < 0:
+                raise ValueError(f"object {i}: faces hold a negative vertex index ({faces.min()})")
+            faces = np.ascontiguousarray(faces, dtype="<u4")
             normals = obj.pop("normals", None)
             uvs = obj.pop("uvs", None)
             if vertices.ndim != 2 or vertices.shape[1] != 3:

@@ -9,7 +9,7 @@ use crate::image::file_bytes;
 use crate::watch::{self, Counter};
 use prism::anim::job::{self, Observer};
 use prism::anim::output::{Output, parse_frame_range};
-use prism::film::{Image, OutputOptions, write_image};
+use prism::film::{Image, write_image_with};
 use prism::render::Renderer;
 use prism::scene::Scene;
 use pyo3::prelude::*;
@@ -171,7 +171,8 @@ impl Animation {
                         }
                         let accel = still.as_ref().and_then(Option::as_ref);
                         let image = render_one(anim, k, &mut posed, accel, &cancel)?;
-                        write_image(&image, &path)?;
+                        // Developed as `prism animate` develops its frames.
+                        write_image_with(&image, &path, &job::frame_output(anim))?;
                         rendered += 1;
                     }
                     counter.add(1);
@@ -197,7 +198,7 @@ impl Animation {
         let counter = Counter::new(1);
         let result = watch::run(py, &cancel, &counter, None, || {
             let image = render_one(anim, k, &mut anim.scene.clone(), None, &cancel)?;
-            file_bytes(&image, &ext, &OutputOptions::classic())
+            file_bytes(&image, &ext, &job::frame_output(anim))
         })?;
         Ok(PyBytes::new(py, &result.map_err(|e| to_py(py, e))?))
     }
@@ -221,7 +222,14 @@ impl Animation {
         if matches!(out, Output::Video { .. }) && missing == 0 {
             let all = 0..anim.frames;
             let (info, _seconds) = py
-                .detach(|| job::encode_frames(anim, all.clone(), &out, &|| {}))
+                .detach(|| {
+                    let encoded = job::encode_frames(anim, all.clone(), &out, &|| {})?;
+                    // The stamp `prism animate` leaves, so its rerun does no work.
+                    if let Output::Video { path, .. } = &out {
+                        job::mark_video_current(anim, path)?;
+                    }
+                    Ok::<_, prism::Error>(encoded)
+                })
                 .py_err(py)?;
             if !keep_frames {
                 job::remove_frames(out.frames(), all);

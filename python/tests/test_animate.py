@@ -51,3 +51,46 @@ def test_an_error_in_the_animation_file_names_its_line(small_animation):
     with pytest.raises(prism.SceneError) as caught:
         prism.animate(small_animation, small_animation.parent / "out")
     assert caught.value.file == str(small_animation) and caught.value.line == 9
+
+
+WHITTED_ANIMATION = """[camera]
+from = [0, 0, 4]
+at = [0, 0, 0]
+[render]
+width = 32
+height = 18
+exposure = 0.5
+tonemap = "reinhard"
+[animation]
+frames = 2
+[[object]]
+name = "ball"
+type = "sphere"
+radius = 1
+material = { color = [0.9, 0.4, 0.2] }
+[[light]]
+type = "point"
+position = [2, 2, 4]
+intensity = 4
+[[track]]
+target = "object:ball"
+motion = "translate"
+keys = [[0, [0, 0, 0]], [0.04, [0.5, 0, 0]]]
+"""
+
+
+def test_a_whitted_animations_frames_and_video_equal_the_command_lines(prism_bin, tmp_path):
+    scene = tmp_path / "ball.toml"
+    scene.write_text(WHITTED_ANIMATION)
+    run_cli(prism_bin, "animate", scene, tmp_path / "cli")
+    prism.animate(scene, tmp_path / "py")
+    for k in (0, 1):
+        name = f"frame_{k:04d}.png"
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    # The film leaves the stamp `prism animate` leaves: a rerun there does no work.
+    prism.animate(scene, tmp_path / "film.gif")
+    assert (tmp_path / ".film.gif.prism").is_file()
+    import subprocess
+    out = subprocess.run([str(prism_bin), "animate", str(scene), str(tmp_path / "film.gif")],
+                         check=True, capture_output=True, text=True)
+    assert "nothing to do" in out.stderr

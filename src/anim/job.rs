@@ -250,7 +250,7 @@ pub fn remove_frames(pattern: &FramePattern, frames: Range<u32>) {
 
 /// How frames are stored: the classic model's values as the 2014 program wrote them,
 /// the whitted model's radiance developed for display (sRGB).
-fn frame_output(anim: &Animation) -> OutputOptions {
+pub fn frame_output(anim: &Animation) -> OutputOptions {
     let transfer = match anim.settings.integrator {
         crate::render::IntegratorKind::Classic => Transfer::Classic,
         crate::render::IntegratorKind::Whitted => Transfer::Srgb,

@@ -116,8 +116,17 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Loaded> {
     let folder = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut blob = blob.map(<[u8]>::to_vec);
     let mut buffers = Vec::new();
+    // All buffers together are bounded as one file is: a list naming one large file
+    // many times must not read it without end.
+    let mut total: u64 = 0;
     for buffer in document.buffers() {
         let at = format!("buffers[{}]", buffer.index());
+        if total.saturating_add(buffer.length() as u64) > MAX_GLTF_BYTES {
+            return Err(Error::file(
+                path,
+                format!("{at}: the buffers hold more than {MAX_GLTF_BYTES} bytes in all"),
+            ));
+        }
         let data = match buffer.source() {
             gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
                 Error::file(
@@ -136,6 +145,13 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Loaded> {
                     buffer.length(),
                     data.len()
                 ),
+            ));
+        }
+        total = total.saturating_add(data.len() as u64);
+        if total > MAX_GLTF_BYTES {
+            return Err(Error::file(
+                path,
+                format!("{at}: the buffers hold more than {MAX_GLTF_BYTES} bytes in all"),
             ));
         }
         buffers.push(data);

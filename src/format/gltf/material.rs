@@ -251,7 +251,8 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
         None => Albedo::Color(tint),
     };
     if let Some(spec) = m.specular() {
-        f0 = (f0 * spec.specular_factor() * linear(spec.specular_color_factor())).min(Vec3::ONE);
+        // The extension's order: the coloured reflectance clamped, then the factor.
+        f0 = (f0 * linear(spec.specular_color_factor())).min(Vec3::ONE) * spec.specular_factor();
     }
     match m.alpha_mode() {
         AlphaMode::Opaque => {}

@@ -20,11 +20,61 @@ pub struct Primitive {
     pub material: Option<usize>,
 }
 
-/// What reading a mesh skipped.
+impl Primitive {
+    /// Drops the vertices no triangle uses (renumbering the triangles), so what is kept
+    /// and placed is in proportion to the triangles: an accessor may hold far more
+    /// vertices than its primitive's indices name. Most files use every vertex, and
+    /// then nothing is copied.
+    fn keep_used_vertices(&mut self) {
+        let n = self.positions.len();
+        let mut new_index = vec![u32::MAX; n];
+        let mut used = 0u32;
+        for t in &self.triangles {
+            for &i in t {
+                if new_index[i as usize] == u32::MAX {
+                    new_index[i as usize] = used;
+                    used += 1;
+                }
+            }
+        }
+        if used as usize == n && new_index.iter().enumerate().all(|(i, &k)| k as usize == i) {
+            return;
+        }
+        fn keep<T: Copy>(v: &mut Vec<T>, new_index: &[u32], used: u32) {
+            if v.is_empty() {
+                return;
+            }
+            let mut out = vec![v[0]; used as usize];
+            for (i, &k) in new_index.iter().enumerate() {
+                if k != u32::MAX {
+                    out[k as usize] = v[i];
+                }
+            }
+            *v = out;
+        }
+        keep(&mut self.positions, &new_index, used);
+        keep(&mut self.normals, &new_index, used);
+        keep(&mut self.texcoords[0], &new_index, used);
+        keep(&mut self.texcoords[1], &new_index, used);
+        keep(&mut self.colors, &new_index, used);
+        for t in &mut self.triangles {
+            *t = t.map(|i| new_index[i as usize]);
+        }
+    }
+}
+
+/// Most bytes one file's meshes may decode in all (4 GiB, the most a file's buffers
+/// hold): a small file can name one large accessor from many primitives, or fill a
+/// sparse accessor with no bytes behind it.
+pub const MAX_DECODED_BYTES: usize = 1 << 32;
+
+/// What reading a file's meshes skipped and how much it has read.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Skipped {
     /// Primitives of points or lines.
     pub points_and_lines: usize,
+    /// Bytes decoded so far, against [`MAX_DECODED_BYTES`].
+    pub decoded: usize,
 }
 
 /// The triangle primitives of mesh `mesh`; `at` is its JSON path for messages.
@@ -49,6 +99,25 @@ pub fn read(
         let Some(position) = attribute("POSITION") else {
             return Err(format!("{at}: no POSITION attribute"));
         };
+        // What the reads below will hold, from the accessors' counts, before any read.
+        let sizes = [
+            ("POSITION", 12),
+            ("NORMAL", 12),
+            ("TEXCOORD_0", 8),
+            ("TEXCOORD_1", 8),
+            ("COLOR_0", 16),
+        ]
+        .into_iter()
+        .filter_map(|(name, size)| attribute(name).map(|a| a.count().saturating_mul(size)))
+        .chain(p.indices().map(|a| a.count().saturating_mul(4)));
+        for bytes in sizes {
+            skipped.decoded = skipped.decoded.saturating_add(bytes);
+        }
+        if skipped.decoded > MAX_DECODED_BYTES {
+            return Err(format!(
+                "{at}: the file's meshes would decode to more than {MAX_DECODED_BYTES} bytes"
+            ));
+        }
         let with = |what: &str, e: String| format!("{at}.attributes.{what}: {e}");
         let positions: Vec<Vec3> = read_floats::<3>(document, buffers, &position, &[3])
             .map_err(|e| with("POSITION", e))?
@@ -116,14 +185,16 @@ pub fn read(
             None => (0..n as u32).collect(),
         };
         let triangles = triangulate(mode, &indices);
-        out.push(Primitive {
+        let mut primitive = Primitive {
             positions,
             normals,
             texcoords,
             colors,
             triangles,
             material: p.material().index(),
-        });
+        };
+        primitive.keep_used_vertices();
+        out.push(primitive);
     }
     Ok(out)
 }

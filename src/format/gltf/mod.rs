@@ -263,9 +263,12 @@ fn place(
     if p.triangles.is_empty() {
         return Ok(());
     }
-    if scene.scene().shapes.len() + p.triangles.len() > MAX_SHAPES {
+    if scene.scene().shapes.len() + p.triangles.len() > MAX_SHAPES
+        || scene.scene().shapes.positions().len() + p.positions.len() > MAX_SHAPES
+    {
         return Err(format!(
-            "placing its mesh would give the scene more than {MAX_SHAPES} triangles"
+            "placing its mesh would give the scene more than {MAX_SHAPES} triangles or \
+             vertices"
         ));
     }
     let positions: Vec<Vec3> = p

@@ -772,3 +772,24 @@ fn light_through_a_volume_slab_is_absorbed_by_beer() {
         "{got} vs {expected}"
     );
 }
+
+#[test]
+fn a_large_accessor_named_by_many_primitives_is_refused_before_it_is_read_again() {
+    // A sparse POSITION accessor of 2^24 vertices with no bytes behind it (200 MB once
+    // decoded), named by 30 primitives: past the decoding budget at the 22nd, whose
+    // counts are checked before it is read.
+    let mut b = Builder::default();
+    b.mesh(&[0.0; 9], Some(&[0, 1, 2]), 4, None);
+    let mut doc = b.finish(json!({"nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]}));
+    doc["accessors"][0] = json!({"componentType": 5126, "count": 1 << 24, "type": "VEC3",
+        "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5123},
+                   "values": {"bufferView": 0}}});
+    let prim = doc["meshes"][0]["primitives"][0].clone();
+    doc["meshes"][0]["primitives"] = json!(vec![prim; 30]);
+    let (_dir, path) = write(&doc);
+    let e = crate::format::load(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("would decode to more than 4294967296 bytes"),
+        "{e}"
+    );
+}
