@@ -12,7 +12,7 @@ which every speed change that keeps the arithmetic must.
 Usage: benches/scenes.py [--runs N] [--prism BINARY] [--vs BINARY] [SCENE ...]
 
 Default: 5 runs (pairs) after one warm-up, target/release/prism, the bundled still
-scenes and `benches/povray/whitted.toml`. A scene that does not render (the dragon reads
+scenes (the Blender export among them) and `benches/povray/whitted.toml`. A scene that does not render (the dragon reads
 a mesh beside the repository) is skipped with its error. Images go to a temporary
 folder.
 """
@@ -27,6 +27,7 @@ from process import Failed, timed
 
 ROOT = Path(__file__).resolve().parent.parent
 STILLS = [
+    "scenes/blender/blender-export.glb",
     "scenes/bunny/bunny.toml",
     "scenes/cornell-box/cornell-box.toml",
     "scenes/dragon/dragon.toml",
