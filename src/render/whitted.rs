@@ -12,16 +12,18 @@ use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, cross, highlight_pow, normalize, offset_origin, reflect, sin_cos};
 use crate::scene::{
-    Albedo, Background, ConeEdge, Falloff, Highlight, Light, LightKind, MetallicRoughness, Scene,
-    Shape, Surface, SurfacePoint, material::srgb_to_linear,
+    Albedo, Background, ConeEdge, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface,
+    SurfacePoint, material::srgb_to_linear,
 };
 
 mod casters;
+mod metallic_roughness;
 mod sample_lanes;
 mod shadow_batch;
 mod visibility;
 
 pub use casters::Casters;
+use metallic_roughness::PbrAt;
 use visibility::{ShadowRole, Shadows};
 
 /// Surfaces a ray may pass through (alpha cut-outs) or a shadow ray may cross
@@ -209,7 +211,7 @@ impl<'a> Whitted<'a> {
                 None,
             ),
             Some(mr) => {
-                let t = self.metallic_roughness_at(mr, &sp);
+                let t = PbrAt::at(self.scene, mr, &sp);
                 (
                     albedo * (s.diffuse * (1.0 - t.metallic)),
                     t.f0(albedo) * std::f32::consts::FRAC_1_PI,
@@ -372,25 +374,6 @@ impl<'a> Whitted<'a> {
             .sample_slot(slot, sp.uv)
             .w
             < s.alpha_cutoff
-    }
-
-    /// A metallic-roughness surface's terms at a hit: its factors times its map.
-    fn metallic_roughness_at(&self, mr: &MetallicRoughness, sp: &SurfacePoint) -> PbrAt {
-        let (metallic, roughness) = match &mr.map {
-            Some(slot) => {
-                let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
-                (mr.metallic * c.z, mr.roughness * c.y)
-            }
-            None => (mr.metallic, mr.roughness),
-        };
-        let metallic = metallic.clamp(0.0, 1.0);
-        let roughness = roughness.clamp(0.0, 1.0);
-        PbrAt {
-            metallic,
-            base_f0: mr.f0,
-            exponent: MetallicRoughness::exponent(roughness),
-            gloss: (1.0 - roughness) * (1.0 - roughness),
-        }
     }
 
     /// The albedo C at a hit.
@@ -669,30 +652,6 @@ fn smoothstep(lo: f32, hi: f32, x: f32) -> f32 {
     }
     let t = ((x - lo) / (hi - lo)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
-}
-
-/// A metallic-roughness surface at one hit.
-struct PbrAt {
-    metallic: f32,
-    base_f0: Vec3,
-    exponent: f32,
-    /// How much of the mirror reflection a rough surface keeps.
-    gloss: f32,
-}
-
-impl PbrAt {
-    /// Reflectance at normal incidence: the dielectric's, or the metal's colour.
-    fn f0(&self, albedo: Vec3) -> Vec3 {
-        self.base_f0.lerp(albedo, self.metallic)
-    }
-
-    /// The mirror reflection's weight at incidence cosine `cos`: Schlick's Fresnel.
-    fn mirror(&self, albedo: Vec3, cos: f32) -> Vec3 {
-        let f0 = self.f0(albedo);
-        let m = 1.0 - cos;
-        let m5 = (m * m) * (m * m) * m;
-        (f0 + (Vec3::ONE - f0) * m5) * self.gloss
-    }
 }
 
 /// glTF's spot edge: the linear ramp from `lo` to `hi`, squared (KHR_lights_punctual's

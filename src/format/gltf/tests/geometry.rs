@@ -1,0 +1,267 @@
+//! Cameras, the node tree, and glTF scenes beside the scene files that say the same.
+
+use super::*;
+
+/// A white unlit square of half side 1 at z = -2 before a camera at the origin.
+fn square_before(camera: Value) -> Value {
+    let mut b = Builder::default();
+    b.mesh(&wall(1.0, -2.0), None, 4, Some(0));
+    b.finish(json!({
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0]},
+            "extensions": {"KHR_materials_unlit": {}}}],
+        "cameras": [camera],
+        "nodes": [{"mesh": 0}, {"camera": 0, "name": "view"}],
+        "scenes": [{"nodes": [0, 1]}],
+    }))
+}
+
+/// Which pixels of a 64 x 64 render see the square.
+fn coverage(doc: &Value) -> (Vec<bool>, Image) {
+    let (_dir, path) = write(doc);
+    let image = render(&path, &sized(64, 64));
+    // The square is (0.2, 0.4, 0.6); the background the default lighting's grey.
+    (image.pixels.iter().map(|p| p[2] > 0.5).collect(), image)
+}
+
+#[test]
+fn a_square_projects_to_the_pixels_through_perspective_and_orthographic_cameras() {
+    // yfov 90 degrees: at distance 2 the screen spans [-2, 2]; the square, the middle
+    // half: pixels 16 to 47 both ways. Orthographic of half width 2: the same.
+    let perspective = json!({"type": "perspective",
+        "perspective": {"yfov": PI / 2.0, "aspectRatio": 1.0, "znear": 0.1}});
+    let orthographic = json!({"type": "orthographic",
+        "orthographic": {"xmag": 2.0, "ymag": 2.0, "znear": 0.1, "zfar": 10.0}});
+    for camera in [perspective, orthographic] {
+        let (seen, image) = coverage(&square_before(camera.clone()));
+        for y in 0..64 {
+            for x in 0..64 {
+                let inside = (16..48).contains(&x) && (16..48).contains(&y);
+                assert_eq!(seen[y * 64 + x], inside, "{camera}: pixel ({x}, {y})");
+            }
+        }
+        // Unlit: the base colour itself, linear.
+        assert_eq!(image.pixels[32 * 64 + 32], [0.2, 0.4, 0.6]);
+    }
+}
+
+#[test]
+fn a_cameras_aspect_ratio_sets_the_output_and_names_pick_cameras() {
+    let mut doc = square_before(json!({"type": "perspective",
+        "perspective": {"yfov": 0.5, "aspectRatio": 2.0, "znear": 0.1}}));
+    doc["cameras"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"type": "orthographic", "orthographic": {"xmag": 1.0, "ymag": 1.0, "znear": 0.1, "zfar": 9.0}}));
+    doc["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"camera": 1, "name": "top", "translation": [0.0, 0.0, 1.0]}));
+    doc["scenes"][0]["nodes"] = json!([0, 1, 2]);
+    let (_dir, path) = write(&doc);
+    let first = still::prepare(&path, &StillOptions::default()).unwrap();
+    assert_eq!((first.camera.width, first.camera.height), (960, 480));
+    let half = first.camera.retina_scale * first.camera.height as f32;
+    assert!((half - 0.25f32.tan()).abs() < 1e-6, "{half}");
+    let by_name = StillOptions {
+        camera_name: Some("top".into()),
+        ..StillOptions::default()
+    };
+    let top = still::prepare(&path, &by_name).unwrap();
+    assert_eq!(
+        top.camera.projection,
+        crate::scene::Projection::Orthographic
+    );
+    assert_eq!(top.camera.eye, Vec3::new(0.0, 0.0, 1.0));
+    let by_index = StillOptions {
+        camera_index: Some(1),
+        ..StillOptions::default()
+    };
+    assert_eq!(still::prepare(&path, &by_index).unwrap().camera, top.camera);
+    let missing = StillOptions {
+        camera_index: Some(2),
+        ..StillOptions::default()
+    };
+    let e = still::prepare(&path, &missing).err().unwrap().to_string();
+    assert!(
+        e.contains("no camera has index 2: the scene's cameras are 0: `view`, 1: `top`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_node_hierarchys_bounds_are_its_matrices_product_and_instances_count() {
+    let mut b = Builder::default();
+    let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    b.mesh(&tri, None, 4, None);
+    // Parent: translate (1, 2, 3), rotate 90 degrees about z, scale 2. Child: a matrix
+    // translating by (0, 0, 5) and scaling x by 3; it and the parent place the mesh.
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    let doc = b.finish(json!({
+        "nodes": [
+            {"translation": [1.0, 2.0, 3.0], "rotation": [0.0, 0.0, h, h], "scale": [2.0, 2.0, 2.0],
+             "children": [1], "mesh": 0},
+            {"matrix": [3.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 5.0, 1.0],
+             "mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let file = crate::format::load(&path).unwrap();
+    assert_eq!(file.dialect, SceneDialect::Gltf);
+    assert_eq!(file.scene.shapes.len(), 2);
+    let parent = glam::Mat4::from_scale_rotation_translation(
+        Vec3::splat(2.0).into(),
+        glam::Quat::from_rotation_z(std::f32::consts::FRAC_PI_2),
+        glam::Vec3::new(1.0, 2.0, 3.0),
+    );
+    let child = parent
+        * glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, 5.0))
+        * glam::Mat4::from_scale(glam::Vec3::new(3.0, 1.0, 1.0));
+    let mut lo = Vec3::splat(f32::MAX);
+    let mut hi = Vec3::splat(f32::MIN);
+    for m in [parent, child] {
+        for v in tri.chunks(3) {
+            let p: Vec3 = m.transform_point3(glam::Vec3::new(v[0], v[1], v[2])).into();
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    let bounds = file.scene.bounds();
+    assert!(
+        (bounds.min - lo).abs().max_element() < 1e-5,
+        "{bounds:?} vs {lo}"
+    );
+    assert!(
+        (bounds.max - hi).abs().max_element() < 1e-5,
+        "{bounds:?} vs {hi}"
+    );
+}
+
+#[test]
+fn a_mirroring_node_keeps_faces_outward_and_strips_and_fans_triangulate() {
+    let mut b = Builder::default();
+    b.mesh(
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+        None,
+        4,
+        None,
+    );
+    // A strip and a fan of the four corners of a unit square: two triangles each.
+    let quad = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0];
+    b.mesh(&quad, None, 5, None);
+    b.mesh(&quad, Some(&[0, 1, 3, 2]), 6, None);
+    let doc = b.finish(json!({
+        "nodes": [{"mesh": 0, "scale": [-1.0, 1.0, 1.0]}, {"mesh": 1}, {"mesh": 2}],
+        "scenes": [{"nodes": [0, 1, 2]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let scene = crate::format::load(&path).unwrap().scene;
+    assert_eq!(scene.shapes.len(), 5);
+    for i in 0..5 {
+        let crate::scene::Shape::Triangle(t) = scene.shapes.get(i) else {
+            panic!()
+        };
+        assert!(t.normal().z > 0.99, "triangle {i}: {:?}", t.normal());
+    }
+}
+
+/// A floor and a tilted triangle over it, under a point light and a sun, seen by an
+/// orthographic camera: as glTF, and as the Prism scene file that says the same.
+#[test]
+fn the_same_scene_as_gltf_and_as_a_scene_file_renders_bit_for_bit_the_same() {
+    let mut b = Builder::default();
+    b.mesh(&floor(3.0), None, 4, Some(0));
+    let tri = [-1.0, 0.5, 0.0, 1.0, 0.5, 0.2, 0.0, 1.5, -0.5];
+    b.mesh(&tri, None, 4, Some(1));
+    let lambert = |c: [f32; 3]| {
+        json!({"pbrMetallicRoughness": {"baseColorFactor": [c[0], c[1], c[2], 1.0],
+            "metallicFactor": 0.0, "roughnessFactor": 1.0},
+            "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}})
+    };
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "point", "intensity": 20.0, "color": [1.0, 0.9, 0.8]},
+            {"type": "directional", "intensity": 1.5}]}},
+        "materials": [lambert([0.5, 0.5, 0.5]), lambert([0.8, 0.2, 0.1])],
+        "cameras": [{"type": "orthographic",
+            "orthographic": {"xmag": 2.5, "ymag": 2.5, "znear": 0.1, "zfar": 50.0}}],
+        "nodes": [
+            {"mesh": 0}, {"mesh": 1},
+            {"translation": [1.0, 3.0, 1.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"rotation": LOOK_DOWN, "extensions": {"KHR_lights_punctual": {"light": 1}}},
+            // Straight down, the image's up along -z: exact columns, as the file's
+            // look-at below gives them.
+            {"matrix": [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 5.0, 0.0, 1.0],
+             "camera": 0}],
+        "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+    }));
+    let (dir, gltf) = write(&doc);
+    let f = |v: f32| format!("{v:?}");
+    let tri_toml: Vec<String> = tri
+        .chunks(3)
+        .map(|p| format!("[{}, {}, {}]", f(p[0]), f(p[1]), f(p[2])))
+        .collect();
+    let toml = format!(
+        "[camera]\nprojection = \"orthographic\"\nview_width = 5.0\nfrom = [0, 5, 0]\nat = [0, 0, 0]\nup = [0, 0, -1]\n\
+         [[material]]\nname = \"grey\"\ncolor = [0.5, 0.5, 0.5]\ndiffuse = {pi}\n\
+         [[material]]\nname = \"red\"\ncolor = [0.8, 0.2, 0.1]\ndiffuse = {pi}\n\
+         [[object]]\ntype = \"triangle\"\nmaterial = \"grey\"\nvertices = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3]]\n\
+         [[object]]\ntype = \"triangle\"\nmaterial = \"grey\"\nvertices = [[-3, 0, -3], [3, 0, 3], [3, 0, -3]]\n\
+         [[object]]\ntype = \"triangle\"\nmaterial = \"red\"\nvertices = [{t}]\n\
+         [[light]]\ntype = \"point\"\nposition = [1, 3, 1]\ncolor = [1.0, 0.9, 0.8]\nintensity = 20\n\
+         falloff = \"inverse_square\"\n\
+         [[light]]\ntype = \"directional\"\ndirection = [0, -1, 0]\nintensity = 1.5\n",
+        pi = 1.0 / std::f64::consts::PI,
+        t = tri_toml.join(", ")
+    );
+    let toml_path = dir.path().join("scene.toml");
+    std::fs::write(&toml_path, toml).unwrap();
+    let options = sized(48, 48);
+    let a = render(&gltf, &options);
+    let b = render(&toml_path, &options);
+    let lit = a.pixels.iter().filter(|p| p[0] > 0.0).count();
+    assert!(lit > 48 * 40, "the floor fills the view: {lit}");
+    let bits = |i: &Image| -> Vec<u32> { i.pixels.iter().flatten().map(|c| c.to_bits()).collect() };
+    assert_eq!(bits(&a), bits(&b));
+}
+
+#[test]
+fn a_scene_file_places_a_gltf_mesh_with_its_materials_and_lights() {
+    let mut b = Builder::default();
+    b.mesh(&wall(1.0, 0.0), None, 4, Some(0));
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 3.0}]}},
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.2, 0.3, 1.0]},
+            "emissiveFactor": [1.0, 1.0, 1.0]}],
+        "nodes": [{"mesh": 0, "name": "panel"},
+            {"translation": [0.0, 0.0, 2.0], "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        "scenes": [{"nodes": [0, 1]}],
+    }));
+    let (dir, _) = write(&doc);
+    let toml = dir.path().join("scene.toml");
+    std::fs::write(
+        &toml,
+        "[[object]]\ntype = \"mesh\"\nfile = \"scene.gltf\"\ntranslate = [10, 0, 0]\nscale = 2\n",
+    )
+    .unwrap();
+    let file = crate::format::load(&toml).unwrap();
+    let s = &file.scene;
+    assert_eq!(s.shapes.len(), 2);
+    assert!(
+        (s.bounds().min - Vec3::new(8.0, -2.0, 0.0))
+            .abs()
+            .max_element()
+            < 1e-6
+    );
+    let kinds: Vec<_> = s.lights.iter().map(|l| l.kind_name()).collect();
+    assert_eq!(kinds, ["point", "mesh"]);
+    assert_eq!(s.lights[0].position, Vec3::new(10.0, 0.0, 4.0));
+    // The emitter's area is the placed one: a 2 x 2 square scaled by 2.
+    let crate::scene::LightKind::Mesh { area, .. } = s.lights[1].kind else {
+        panic!()
+    };
+    assert_eq!(area, 16.0);
+    assert!(s.surfaces[0].metallic_roughness.is_some());
+}

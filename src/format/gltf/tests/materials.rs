@@ -1,0 +1,179 @@
+//! Metallic-roughness, glass and textures on the whitted model.
+
+use super::*;
+
+#[test]
+fn texture_transform_places_texels_where_offset_rotation_and_scale_say() {
+    // A 4 x 4 image whose texel (col, row) holds (col, row) / 255 in red and green.
+    let texels = (0..4u8)
+        .flat_map(|row| (0..4u8).map(move |col| [col, row, 0, 255]))
+        .collect();
+    let image = crate::scene::ImageTexture {
+        name: "grid".into(),
+        width: 4,
+        height: 4,
+        texels: crate::scene::Texels::Rgba8 {
+            texels,
+            srgb: false,
+        },
+    };
+    // The extension's example: the lower left quadrant, turned a quarter clockwise.
+    let mut slot = crate::scene::TextureSlot::new(0);
+    material::transform(
+        &mut slot,
+        [0.0, 1.0],
+        std::f32::consts::FRAC_PI_2,
+        [0.5, 0.5],
+    );
+    // glTF uv (u, v) is looked up at Prism's (u, 1 - v). The texel centres in glTF
+    // terms: the transform sends uv to (v / 2, 1 - u / 2): uv (1/4, 1/4) reads glTF
+    // (1/8, 7/8), texel (0, 3); uv (3/4, 1/4) reads (1/8, 5/8), texel (0, 2).
+    for ((u, v), (col, row)) in [
+        ((0.25, 0.25), (0, 3)),
+        ((0.75, 0.25), (0, 2)),
+        ((0.25, 0.75), (1, 3)),
+    ] {
+        let c = image.sample_slot(&slot, [u, 1.0 - v]);
+        let got = ((c.x * 255.0).round() as u8, (c.y * 255.0).round() as u8);
+        assert_eq!(got, (col, row), "uv ({u}, {v})");
+    }
+    // Scale and offset alone: uv (1/4, 1/4) * 2 + (1/4, 0) = (3/4, 1/2): between rows
+    // 1 and 2 at column 2 + 1/2 -> a blend, so test a centre: uv (1/8, 1/8) -> (1/2, 1/4).
+    let mut slot = crate::scene::TextureSlot::new(0);
+    material::transform(&mut slot, [0.25, 0.0], 0.0, [2.0, 2.0]);
+    assert!(slot.matrix.is_none());
+    let c = image.sample_slot(&slot, [0.0625, 1.0 - 0.0625]);
+    assert_eq!(((c.x * 255.0).round(), (c.y * 255.0).round()), (1.0, 0.0));
+}
+
+#[test]
+fn materials_map_onto_the_whitted_model_as_documented() {
+    let mut b = Builder::default();
+    b.mesh(&wall(1.0, 0.0), None, 4, Some(0));
+    let doc = b.finish(json!({
+        "materials": [
+            {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1.0], "metallicFactor": 0.25,
+              "roughnessFactor": 0.5}, "emissiveFactor": [1.0, 0.5, 0.0],
+             "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}},
+            {"pbrMetallicRoughness": {"baseColorFactor": [0.9, 1.0, 1.0, 1.0]},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                "KHR_materials_ior": {"ior": 1.33},
+                "KHR_materials_volume": {"thicknessFactor": 1.0, "attenuationDistance": 2.0,
+                    "attenuationColor": [0.5, 0.25, 1.0]}}},
+            {"alphaMode": "MASK", "alphaCutoff": 0.3,
+             "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 0.2]}}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let file = crate::format::load(&path).unwrap();
+    let s = &file.scene.surfaces;
+    assert_eq!(s.len(), 3, "the three materials, the default unused");
+    let mr = s[0].metallic_roughness.unwrap();
+    assert_eq!((mr.metallic, mr.roughness), (0.25, 0.5));
+    assert!((mr.f0.x - 0.04).abs() < 1e-7);
+    assert!((s[0].diffuse - 1.0 / PI).abs() < 1e-7);
+    assert_eq!(s[0].emission, Vec3::new(4.0, 2.0, 0.0));
+    // The emitter is an area light.
+    assert_eq!(file.scene.lights.len(), 1);
+    assert_eq!(file.scene.lights[0].kind_name(), "mesh");
+    // Glass: Fresnel, ior, Beer from the colour left after attenuationDistance.
+    let glass = &s[1];
+    assert!(glass.fresnel && glass.metallic_roughness.is_none());
+    assert_eq!(
+        (glass.ior, glass.transmission),
+        (1.33, Vec3::new(0.9, 1.0, 1.0))
+    );
+    assert_eq!(glass.diffuse, 0.0);
+    let beer = Vec3::new(0.5f32.ln(), 0.25f32.ln(), 0.0) / -2.0;
+    assert!(
+        (glass.absorption - beer).abs().max_element() < 1e-7,
+        "{:?}",
+        glass.absorption
+    );
+    // A constant alpha below the cutoff cuts the whole surface out.
+    let slot = s[2].alpha_map.expect("a cut-out");
+    assert_eq!(file.scene.images[slot.image as usize].texel(0, 0).w, 0.0);
+    // Roughness to exponent: a = r^2, 2 / a^2 - 2.
+    assert_eq!(
+        crate::scene::MetallicRoughness::exponent(0.5),
+        2.0 / 0.0625 - 2.0
+    );
+    assert_eq!(crate::scene::MetallicRoughness::exponent(1.0), 0.0);
+    assert_eq!(crate::scene::MetallicRoughness::exponent(0.0), 1e4);
+}
+
+#[test]
+fn a_mirror_metal_reflects_its_colour_and_an_unlit_file_gets_default_lights() {
+    // A smooth metal wall facing the camera, under no light, with a unlit white
+    // square behind the camera: the camera sees the square in the metal at the metal's
+    // colour times Schlick's F at normal incidence (F0 = the colour).
+    let mut b = Builder::default();
+    b.mesh(&wall(10.0, -2.0), None, 4, Some(0));
+    let mut back = wall(10.0, 2.0);
+    // Facing -z, toward the metal.
+    back.swap(3, 6);
+    back.swap(4, 7);
+    back.swap(5, 8);
+    b.mesh(&back, None, 4, Some(1));
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "materials": [
+            {"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.5, 0.2, 1.0], "metallicFactor": 1.0,
+                "roughnessFactor": 0.0}},
+            {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0]},
+             "extensions": {"KHR_materials_unlit": {}}}],
+        "cameras": [{"type": "orthographic", "orthographic": {"xmag": 0.01, "ymag": 0.01, "znear": 0.1, "zfar": 9.0}}],
+        "nodes": [{"mesh": 0}, {"mesh": 1}, {"camera": 0}],
+        "scenes": [{"nodes": [0, 1, 2]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let s = still::prepare(&path, &sized(1, 1)).unwrap();
+    // The emitter-free, light-free file got the key and fill.
+    assert_eq!(s.scene.lights.len(), 2);
+    let mut scene = s.scene.clone();
+    scene.lights.clear();
+    let image = Renderer::new(&scene, &s.camera, s.settings.clone())
+        .unwrap()
+        .render(&|_| {})
+        .unwrap()
+        .0;
+    let got = Vec3::from_array(image.pixels[0]);
+    assert!(
+        (got - Vec3::new(0.9, 0.5, 0.2)).abs().max_element() < 1e-6,
+        "{got}"
+    );
+}
+
+#[test]
+fn light_through_a_volume_slab_is_absorbed_by_beer() {
+    // A slab 2 thick (faces at z = 0 and z = -2) of index 1, so nothing bends or
+    // reflects, before a white unlit wall: the camera sees the wall through it,
+    // times attenuationColor^(2 / attenuationDistance).
+    let mut b = Builder::default();
+    b.mesh(&wall(2.0, 0.0), None, 4, Some(0));
+    b.mesh(&back_wall(2.0, -2.0), None, 4, Some(0));
+    b.mesh(&wall(5.0, -5.0), None, 4, Some(1));
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_ior",
+            "KHR_materials_unlit"],
+        "materials": [
+            {"pbrMetallicRoughness": {"metallicFactor": 0.0},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                "KHR_materials_ior": {"ior": 1.0},
+                "KHR_materials_volume": {"thicknessFactor": 2.0, "attenuationDistance": 1.0,
+                    "attenuationColor": [0.5, 0.25, 1.0]}}},
+            {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0]},
+             "extensions": {"KHR_materials_unlit": {}}}],
+        "cameras": [{"type": "orthographic", "orthographic": {"xmag": 0.01, "ymag": 0.01, "znear": 0.1, "zfar": 50.0}}],
+        "nodes": [{"mesh": 0}, {"mesh": 1}, {"mesh": 2}, {"camera": 0, "translation": [0.0, 0.0, 3.0]}],
+        "scenes": [{"nodes": [0, 1, 2, 3]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let got = Vec3::from_array(render(&path, &sized(1, 1)).pixels[0]);
+    let expected = Vec3::new(0.25, 0.0625, 1.0);
+    assert!(
+        (got - expected).abs().max_element() < 1e-5,
+        "{got} vs {expected}"
+    );
+}
