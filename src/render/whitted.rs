@@ -12,8 +12,8 @@ use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, cross, highlight_pow, normalize, offset_origin, reflect, sin_cos};
 use crate::scene::{
-    Albedo, Background, ConeEdge, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface,
-    SurfacePoint, material::srgb_to_linear,
+    Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
+    material::srgb_to_linear,
 };
 
 mod casters;
@@ -450,10 +450,7 @@ impl<'a> Whitted<'a> {
                 } = light.kind
                 {
                     let cos = (-dir).dot(direction.normalize_or_zero());
-                    e *= match edge {
-                        ConeEdge::Smooth => smoothstep(cos_outer, cos_inner, cos),
-                        ConeEdge::Squared => squared_ramp(cos_outer, cos_inner, cos),
-                    };
+                    e *= edge.at(cos_outer, cos_inner, cos);
                 }
                 f(LightSample { dir, dist, e });
             }
@@ -643,24 +640,6 @@ fn highlight(s: &Surface, shininess: f32, n: Vec3, l: Vec3, v: Vec3) -> f32 {
     }
     let value = highlight_pow(cos, shininess);
     if s.normalized { value * norm } else { value }
-}
-
-#[inline]
-fn smoothstep(lo: f32, hi: f32, x: f32) -> f32 {
-    if hi <= lo {
-        return if x >= hi { 1.0 } else { 0.0 };
-    }
-    let t = ((x - lo) / (hi - lo)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
-}
-
-/// glTF's spot edge: the linear ramp from `lo` to `hi`, squared (KHR_lights_punctual's
-/// `saturate(cd * scale + offset)^2`, its scale bounded where the cones meet).
-#[inline]
-fn squared_ramp(lo: f32, hi: f32, x: f32) -> f32 {
-    let scale = 1.0 / (hi - lo).max(1e-3);
-    let t = ((x - lo) * scale).clamp(0.0, 1.0);
-    t * t
 }
 
 impl Integrator for Whitted<'_> {

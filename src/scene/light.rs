@@ -101,6 +101,30 @@ pub enum ConeEdge {
     Squared,
 }
 
+impl ConeEdge {
+    /// The strength at cosine `cos` from the axis, between the outer cone's cosine `lo`
+    /// and the inner one's `hi`.
+    #[inline]
+    pub fn at(self, lo: f32, hi: f32, cos: f32) -> f32 {
+        match self {
+            ConeEdge::Smooth => {
+                if hi <= lo {
+                    return if cos >= hi { 1.0 } else { 0.0 };
+                }
+                let t = ((cos - lo) / (hi - lo)).clamp(0.0, 1.0);
+                t * t * (3.0 - 2.0 * t)
+            }
+            // KHR_lights_punctual's `saturate(cd * scale + offset)^2`, its scale bounded
+            // where the cones meet.
+            ConeEdge::Squared => {
+                let scale = 1.0 / (hi - lo).max(1e-3);
+                let t = ((cos - lo) * scale).clamp(0.0, 1.0);
+                t * t
+            }
+        }
+    }
+}
+
 impl Light {
     /// An emissive-mesh light over the triangles `shapes` of `scene_shapes` (others
     /// are skipped), or `None` when they have no area.

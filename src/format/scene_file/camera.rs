@@ -24,6 +24,20 @@ pub fn image_size(settings: &FileSettings) -> (u32, u32) {
     }
 }
 
+/// Where the keys of a perspective camera's field of view and lens are given.
+fn lens_keys(raw: &RawCamera) -> impl Iterator<Item = std::ops::Range<usize>> {
+    [
+        raw.fov.as_ref().map(Spanned::span),
+        raw.fov_axis.as_ref().map(Spanned::span),
+        raw.aperture.as_ref().map(Spanned::span),
+        raw.focus_distance.as_ref().map(Spanned::span),
+        raw.focus_on.as_ref().map(Spanned::span),
+        raw.lens_samples.as_ref().map(Spanned::span),
+    ]
+    .into_iter()
+    .flatten()
+}
+
 /// `object_center(name)` is the centre of the bounds of the object called `name`.
 pub fn build(
     source: &Source,
@@ -37,16 +51,10 @@ pub fn build(
             raw.from.as_ref().map(Spanned::span),
             raw.at.as_ref().map(Spanned::span),
             raw.up.as_ref().map(Spanned::span),
-            raw.fov.as_ref().map(Spanned::span),
-            raw.fov_axis.as_ref().map(Spanned::span),
-            raw.aperture.as_ref().map(Spanned::span),
-            raw.focus_distance.as_ref().map(Spanned::span),
-            raw.focus_on.as_ref().map(Spanned::span),
-            raw.lens_samples.as_ref().map(Spanned::span),
             raw.projection.as_ref().map(Spanned::span),
             raw.view_width.as_ref().map(Spanned::span),
         ];
-        if let Some(span) = other.into_iter().flatten().next() {
+        if let Some(span) = other.into_iter().flatten().chain(lens_keys(raw)).next() {
             return Err(source.error_at(
                 span,
                 "a camera given by `cmr` takes no other key: the .cmr file says everything",
@@ -121,15 +129,7 @@ pub fn build(
                     format!("expected view_width > 0, found {}", w.get_ref().0),
                 ));
             }
-            let lens = [
-                raw.fov.as_ref().map(Spanned::span),
-                raw.fov_axis.as_ref().map(Spanned::span),
-                raw.aperture.as_ref().map(Spanned::span),
-                raw.focus_distance.as_ref().map(Spanned::span),
-                raw.focus_on.as_ref().map(Spanned::span),
-                raw.lens_samples.as_ref().map(Spanned::span),
-            ];
-            if let Some(span) = lens.into_iter().flatten().next() {
+            if let Some(span) = lens_keys(raw).next() {
                 return Err(source.error_at(
                     span,
                     "an orthographic camera has no field of view or lens: `view_width` sets \
