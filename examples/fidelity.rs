@@ -224,7 +224,7 @@ fn render(scene: &Scene, camera: &Camera, width: u32, job: Job, region: Option<R
     });
     let settings = RenderSettings {
         aa: Some(job.aa),
-        dof_rays: Some(job.rays),
+        spp: Some(job.rays),
         region: Some(region),
         ..Default::default()
     };

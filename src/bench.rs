@@ -449,7 +449,7 @@ mod tests {
             retina_scale: 0.5 / 40.0,
             focal_length: 1.0,
             aperture: 0.0,
-            rays_per_pixel: 1,
+            spp: 1,
             aa: 1,
             up: None,
             projection: crate::scene::Projection::Perspective,

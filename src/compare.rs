@@ -8,8 +8,11 @@
 /// A borrowed 8-bit RGB image: row-major, 3 bytes per pixel, no row padding.
 #[derive(Clone, Copy, Debug)]
 pub struct RgbImage<'a> {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width * height * 3` bytes, R G B per pixel, top row first.
     pub data: &'a [u8],
 }
 
@@ -138,8 +141,12 @@ pub fn ssim(a: &RgbImage, b: &RgbImage) -> f64 {
 /// zero-mean normalised cross-correlation of luma, in [-1, 1].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Match {
+    /// Column of the template's left edge in the image, in pixels.
     pub x: u32,
+    /// Row of the template's top edge in the image, in pixels.
     pub y: u32,
+    /// Correlation at that offset, in [-1, 1]: 1 is an exact match up to gain and
+    /// offset; 0 where the template or window is flat.
     pub ncc: f64,
 }
 

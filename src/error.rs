@@ -2,29 +2,48 @@
 
 use std::path::{Path, PathBuf};
 
+/// An error Prism reports to the user: bad input, an unusable file, settings that cannot
+/// be rendered, or a stop on request.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// Malformed content at a known place in a file.
     #[error("{}:{line}: {message}", shown_path(path))]
     Parse {
+        /// The file, as given (shown shortened if absurdly long).
         path: PathBuf,
+        /// 1-based line number.
         line: usize,
+        /// What was wrong and what was expected, with long words cut.
         message: String,
     },
     /// Malformed content at a known line and column (1-based, in characters) of a file.
     #[error("{}:{line}:{column}: {message}", shown_path(path))]
     ParseAt {
+        /// The file, as given (shown shortened if absurdly long).
         path: PathBuf,
+        /// 1-based line number.
         line: usize,
+        /// 1-based column, counted in characters.
         column: usize,
+        /// What was wrong and what was expected, with long words cut.
         message: String,
     },
     /// A file that cannot be opened, read or written.
     #[error("{}: {message}", shown_path(path))]
-    File { path: PathBuf, message: String },
+    File {
+        /// The file, as given (shown shortened if absurdly long).
+        path: PathBuf,
+        /// Why it failed: usually the operating system's error.
+        message: String,
+    },
     /// Malformed content of a scene given as data (Python's dicts), at `place` in it.
     #[error("{place}: {message}")]
-    Data { place: String, message: String },
+    Data {
+        /// Where in the data: `scene`, a table such as `objects[2]`, or a named mesh.
+        place: String,
+        /// What was wrong and what was expected.
+        message: String,
+    },
     /// Settings that cannot be rendered (resolution, sample counts, region...).
     #[error("{0}")]
     Settings(String),
@@ -34,6 +53,7 @@ pub enum Error {
 }
 
 impl Error {
+    /// An [`Error::Parse`] at `line` (1-based) of `path`, its message bounded.
     pub fn parse(path: &Path, line: usize, message: impl Into<String>) -> Error {
         Error::Parse {
             path: path.to_path_buf(),
@@ -42,6 +62,8 @@ impl Error {
         }
     }
 
+    /// An [`Error::ParseAt`] at `line` and `column` (1-based, in characters) of `path`,
+    /// its message bounded.
     pub fn parse_at(path: &Path, line: usize, column: usize, message: impl Into<String>) -> Error {
         Error::ParseAt {
             path: path.to_path_buf(),
@@ -51,6 +73,8 @@ impl Error {
         }
     }
 
+    /// An [`Error::File`] for `path`, with `message` (an `io::Error`, say) as its bounded
+    /// text.
     pub fn file(path: &Path, message: impl std::fmt::Display) -> Error {
         Error::File {
             path: path.to_path_buf(),
@@ -109,6 +133,7 @@ fn shown_path(path: &Path) -> String {
     bounded_words(path.display().to_string(), 4096)
 }
 
+/// Prism's result type: errors are [`Error`] unless said otherwise.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 #[cfg(test)]

@@ -10,18 +10,27 @@ use std::collections::HashSet;
 /// triangulation; a 2014 rectangle is two) unless they say otherwise.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct SceneInfo {
+    /// The format the file was read as, by the name `--dialect` takes.
     pub dialect: &'static str,
     /// The file's vertex records (`v` lines, PLY vertices); for formats that do not
     /// count them, the distinct corner positions of the shapes.
     pub vertices: usize,
+    /// The file's normal records (`vn` lines and the like), else the meshes' vertex
+    /// normals.
     pub normals: usize,
+    /// The file's texture-coordinate records (`vt` lines and the like), else the meshes'.
     pub texcoords: usize,
+    /// Triangles rendered, each rectangle counted as two.
     pub triangles: usize,
+    /// Spheres rendered.
     pub spheres: usize,
+    /// 2014 rectangles (already counted twice in `triangles`).
     pub rectangles: usize,
     /// Named objects and groups that hold at least one shape.
     pub objects: usize,
+    /// Names of the objects counted in `objects`, in file order.
     pub object_names: Vec<String>,
+    /// Materials in the loaded scene, a default one the reader added included.
     pub materials: usize,
     /// Images: the 2014 textures and those read at texture coordinates.
     pub textures: usize,
@@ -34,19 +43,23 @@ pub struct SceneInfo {
     /// The file's cameras (glTF camera nodes), which `--camera-name` and
     /// `--camera-index` choose from.
     pub cameras: Vec<CameraInfo>,
+    /// What was read but not used, or read with a guess, one message each.
     pub warnings: Vec<String>,
 }
 
 /// One camera of a scene file.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct CameraInfo {
+    /// The camera's name in the file; `None` when it has none.
     pub name: Option<String>,
     /// `perspective` or `orthographic`.
     pub projection: &'static str,
+    /// Eye position in world space.
     pub position: [f32; 3],
 }
 
 impl SceneInfo {
+    /// The figures of the loaded `file`.
     pub fn of(file: &SceneFile) -> SceneInfo {
         let scene = &file.scene;
         let mut triangles = 0;
@@ -188,6 +201,7 @@ impl SceneInfo {
         out
     }
 
+    /// The figures as one pretty-printed JSON object, keyed by these fields' names.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("plain data serialises")
     }

@@ -13,9 +13,11 @@ pub mod error;
 pub mod film;
 pub mod format;
 pub mod info;
+pub mod job;
 pub mod math;
+pub mod options;
 pub mod render;
 pub mod scene;
-pub mod still;
+pub mod util;
 
 pub use error::{Error, Result};

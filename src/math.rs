@@ -6,7 +6,9 @@ pub use glam::Vec3A as Vec3;
 /// which the classic shading model relies on (intensity cut-offs, shadow tests).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
+    /// Start point in world space.
     pub origin: Vec3,
+    /// Unit direction.
     pub dir: Vec3,
 }
 
@@ -20,6 +22,7 @@ impl Ray {
         }
     }
 
+    /// The point at distance `t` along the ray.
     #[inline]
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + self.dir * t
@@ -170,20 +173,26 @@ pub fn highlight_pow(x: f32, y: f32) -> f32 {
 /// Axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// Corner with the smallest coordinate on every axis.
     pub min: Vec3,
+    /// Corner with the largest coordinate on every axis.
     pub max: Vec3,
 }
 
 impl Aabb {
+    /// The box around nothing (`min` at +inf, `max` at -inf): the identity of
+    /// [`Aabb::union`] and [`Aabb::grow`].
     pub const EMPTY: Aabb = Aabb {
         min: Vec3::splat(f32::INFINITY),
         max: Vec3::splat(f32::NEG_INFINITY),
     };
 
+    /// The smallest box holding every point; [`Aabb::EMPTY`] for none.
     pub fn from_points(points: &[Vec3]) -> Aabb {
         points.iter().fold(Aabb::EMPTY, |b, &p| b.grow(p))
     }
 
+    /// The smallest box holding `self` and `p`.
     pub fn grow(self, p: Vec3) -> Aabb {
         Aabb {
             min: self.min.min(p),
@@ -191,6 +200,7 @@ impl Aabb {
         }
     }
 
+    /// The smallest box holding both boxes.
     pub fn union(self, o: Aabb) -> Aabb {
         Aabb {
             min: self.min.min(o.min),
@@ -198,10 +208,13 @@ impl Aabb {
         }
     }
 
+    /// Whether `min` exceeds `max` on some axis, as for [`Aabb::EMPTY`]; flat boxes are
+    /// not empty.
     pub fn is_empty(&self) -> bool {
         self.min.cmpgt(self.max).any()
     }
 
+    /// Size along each axis, `max - min`.
     pub fn extent(&self) -> Vec3 {
         self.max - self.min
     }

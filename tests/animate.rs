@@ -149,7 +149,7 @@ fn a_frame_where_the_tracks_come_back_is_the_still_render_of_the_files() {
     let anim = write_anim(
         dir.path(),
         &format!(
-            "frames = 3\n{SMALL}aa = 2\ndof_rays = 3\n\
+            "frames = 3\n{SMALL}aa = 2\nspp = 3\n\
              [[track]]\ntarget = \"group:pyramid\"\nmotion = \"translate\"\n\
              keys = [[0, [0, 0, 0]], [0.0416666, [0, -40, 10]], [0.0833333, [0, 0, 0]]]\n"
         ),

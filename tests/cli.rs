@@ -32,7 +32,7 @@ fn image_is_identical_for_any_thread_count_and_intersector() {
         let out = dir.path().join(name);
         let o = run(prism()
             .args([example("example.objx"), example("example.cmr"), out.clone()])
-            .args(["--width", "64", "--aa", "2", "--dof-rays", "11"])
+            .args(["--width", "64", "--aa", "2", "--spp", "11"])
             .args(extra));
         assert!(o.status.success(), "{}", stderr(&o));
         fs::read(out).unwrap()
@@ -50,6 +50,31 @@ fn image_is_identical_for_any_thread_count_and_intersector() {
         one,
         render("s.ppm", &["--seed", "10"]),
         "the seed must matter with DOF"
+    );
+}
+
+/// `--dof-rays` and `--aa-filter` are the older names of `--spp` and `--filter`.
+#[test]
+fn old_flag_names_still_work_and_mean_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, flags: &[&str]| {
+        let out = dir.path().join(name);
+        let o = run(prism()
+            .args([example("example.objx"), example("example.cmr"), out.clone()])
+            .args(["--width", "48", "--aa", "2"])
+            .args(flags));
+        assert!(o.status.success(), "{}", stderr(&o));
+        fs::read(out).unwrap()
+    };
+    let new = render("new.ppm", &["--spp", "5", "--filter", "lanczos"]);
+    assert_eq!(
+        new,
+        render("old.ppm", &["--dof-rays", "5", "--aa-filter", "lanczos"])
+    );
+    assert_ne!(
+        new,
+        render("other.ppm", &["--spp", "5"]),
+        "the filter matters"
     );
 }
 

@@ -49,7 +49,7 @@ fn check(scene: &Scene, camera: &Camera, reference: &Path, e: &Expect) {
     };
     let settings = RenderSettings {
         aa: Some(1),
-        dof_rays: Some(1),
+        spp: Some(1),
         region: Some(region),
         ..Default::default()
     };

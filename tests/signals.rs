@@ -83,7 +83,7 @@ fn a_signal_during_an_animation_keeps_whole_frames_and_a_rerun_finishes() {
         &anim,
         format!(
             "scene = {:?}\ncamera = {:?}\nframes = 40\nfps = 24\n[render]\nwidth = 320\n\
-             height = 180\ndof_rays = 16\n",
+             height = 180\nspp = 16\n",
             turntable.join("turntable.objx"),
             turntable.join("turntable.cmr"),
         ),
@@ -145,7 +145,7 @@ fn a_million_frame_gif_renders_in_bounded_memory_and_stops_cleanly() {
     std::fs::write(
         &anim,
         "scene = \"example.objx\"\ncamera = \"example.cmr\"\nframes = 1000000\nfps = 24\n\
-         [render]\nwidth = 8\nheight = 8\naa = 1\ndof_rays = 1\n",
+         [render]\nwidth = 8\nheight = 8\naa = 1\nspp = 1\n",
     )
     .unwrap();
     let out = dir.path().join("long.gif");

@@ -15,7 +15,12 @@ fuzz_target!(|data: &[u8]| {
         let scene = &file.scene;
         assert_eq!(scene.material_of.len(), scene.shapes.len());
         assert_eq!(scene.surfaces.len(), scene.materials.len());
-        assert!(scene.material_of.iter().all(|&m| (m as usize) < scene.materials.len()));
+        assert!(
+            scene
+                .material_of
+                .iter()
+                .all(|&m| (m as usize) < scene.materials.len())
+        );
         assert!(scene.shapes.positions().iter().all(|p| p.is_finite()));
         for mesh in &scene.meshes {
             assert!(mesh.check().is_ok());

@@ -35,7 +35,7 @@ fuzz_target!(|data: &[u8]| {
         width: Some(8),
         height: Some(8),
         aa: Some(1),
-        dof_rays: Some(1),
+        spp: Some(1),
         threads: Some(1),
         ..RenderSettings::default()
     };

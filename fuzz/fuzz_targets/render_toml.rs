@@ -7,8 +7,8 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use prism::accel::AccelKind;
+use prism::job::{JobOptions, resolve};
 use prism::render::{IntegratorKind, Renderer};
-use prism::still::{StillOptions, resolve};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -39,15 +39,18 @@ fuzz_target!(|data: &[u8]| {
         return;
     }
     let threads = thread_count();
-    let options = StillOptions {
-        width: Some(8),
-        height: Some(8),
-        aa: Some(1),
-        dof_rays: Some(1),
+    let options = JobOptions {
+        render: prism::options::RenderOptions {
+            width: Some(8),
+            height: Some(8),
+            aa: Some(1),
+            spp: Some(1),
+            integrator: Some(IntegratorKind::Whitted),
+            max_depth: Some(file.settings.max_depth.unwrap_or(4).min(4)),
+            ..Default::default()
+        },
         threads: Some(1),
-        integrator: Some(IntegratorKind::Whitted),
-        max_depth: Some(file.settings.max_depth.unwrap_or(4).min(4)),
-        ..StillOptions::default()
+        ..JobOptions::default()
     };
     let Ok(still) = resolve(file, &options) else {
         return;

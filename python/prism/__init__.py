@@ -194,9 +194,11 @@ def render(
     ``bilinear``, ``area``, ``bicubic``, ``lanczos``), ``region=(x, y, w, h)`` (that
     window of the full frame, identical to the same crop of a full render), ``seed``,
     ``threads`` (the image does not depend on it), ``integrator`` (``classic`` or
-    ``whitted``), and the keywords ``dof_rays``, ``max_depth``, ``min_weight``,
-    ``accel`` and ``max_memory`` (bytes, or a size such as ``"4G"``: a render whose
-    estimate is larger is refused; default half the machine's memory). ``camera`` (:class:`Camera`) replaces the scene's own.
+    ``whitted``), and the keywords ``spp`` (samples per pixel; ``dof_rays`` is its
+    older name), ``max_depth``, ``min_weight``, ``exposure`` and ``tonemap`` (the
+    development of ``srgb=True``), ``accel`` and ``max_memory`` (bytes, or a size such
+    as ``"4G"``: a render whose estimate is larger is refused; default half the
+    machine's memory). ``camera`` (:class:`Camera`) replaces the scene's own.
 
     Returns an H x W x 3 ``float32`` array of linear values (0..1 for the classic
     model, radiance for whitted), or with ``srgb=True`` the H x W x 3 ``uint8`` values
@@ -229,7 +231,8 @@ def render(
 def plan(scene: Scene, camera: Optional[Camera] = None, **options: Any) -> Dict[str, Any]:
     """What :func:`render` with these options would make, without rendering: the full
     frame's ``width`` and ``height`` (before any region), the ``integrator``, and the
-    ``exposure``, ``tonemap`` and ``transfer`` ``prism render`` would develop it with."""
+    ``exposure``, ``tonemap`` and ``transfer`` ``prism render`` would develop it with
+    (and the ``png_bits`` and ``exr_precision`` it would write)."""
     return _prism.plan(scene, camera, options)
 
 

@@ -241,7 +241,9 @@ def render(scene_path: str, output: Optional[str] = None, camera: Optional[str] 
     scene = prism.load_scene(scene_path, dialect)
     cam = prism.Camera.from_file(camera) if camera else None
     options = {k: v for k, v in options.items() if v is not None}
-    plan = prism.plan(scene, cam, **options)
+    # The development is resolved with the rest of the job, as prism render does.
+    develop = {k: v for k, v in (("exposure", exposure), ("tonemap", tonemap)) if v is not None}
+    plan = prism.plan(scene, cam, **options, **develop)
     width, height = plan["width"], plan["height"]
     image = np.empty((height, width, 3), dtype=np.float32)
     ray = _init_ray(address, working_dir, **(ray_init or {}))
@@ -257,12 +259,8 @@ def render(scene_path: str, output: Optional[str] = None, camera: Optional[str] 
 
     _gather(ray, refs, "tile", place, progress, stats)
     if output is not None:
-        prism.write_image(
-            image, output,
-            exposure=plan["exposure"] if exposure is None else exposure,
-            tonemap=tonemap or plan["tonemap"],
-            transfer=plan["transfer"],
-        )
+        prism.write_image(image, output, exposure=plan["exposure"], tonemap=plan["tonemap"],
+                          transfer=plan["transfer"])
     return image
 
 
@@ -293,9 +291,11 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("paths", nargs="+", metavar="[CAMERA] OUTPUT")
     r.add_argument("--tiles", type=int, default=8)
     r.add_argument("--dialect", choices=["objx", "obj", "toml"])
-    for name in ("width", "height", "aa", "dof_rays", "seed", "max_depth"):
+    for name in ("width", "height", "aa", "seed", "max_depth"):
         r.add_argument("--" + name.replace("_", "-"), type=int)
-    r.add_argument("--aa-filter", dest="filter",
+    # --dof-rays and --aa-filter are the older names of --spp and --filter.
+    r.add_argument("--spp", "--dof-rays", dest="spp", type=int)
+    r.add_argument("--filter", "--aa-filter", dest="filter",
                    choices=["nearest", "bilinear", "area", "bicubic", "lanczos"])
     r.add_argument("--integrator", choices=["classic", "whitted"])
     r.add_argument("--accel", choices=["bvh", "bvh-copied", "octree", "list"])
@@ -337,7 +337,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 raise prism.SettingsError("expected [CAMERA] OUTPUT after the scene")
             camera, output = (None, args.paths[0]) if len(args.paths) == 1 else args.paths
             options = {k: getattr(args, k) for k in (
-                "width", "height", "aa", "dof_rays", "seed", "max_depth", "filter",
+                "width", "height", "aa", "spp", "seed", "max_depth", "filter",
                 "integrator", "accel", "min_weight")}
             render(args.scene, output, camera=camera, tiles=args.tiles, dialect=args.dialect,
                    exposure=args.exposure, tonemap=args.tonemap, **common, **options)

@@ -9,7 +9,7 @@ use crate::image::file_bytes;
 use crate::watch::{self, Counter};
 use prism::anim::job::{self, Observer};
 use prism::anim::output::{Output, parse_frame_range};
-use prism::film::{Image, write_image_with};
+use prism::film::{Image, write_image};
 use prism::render::Renderer;
 use prism::scene::Scene;
 use pyo3::prelude::*;
@@ -172,7 +172,7 @@ impl Animation {
                         let accel = still.as_ref().and_then(Option::as_ref);
                         let image = render_one(anim, k, &mut posed, accel, &cancel)?;
                         // Developed as `prism animate` develops its frames.
-                        write_image_with(&image, &path, &job::frame_output(anim))?;
+                        write_image(&image, &path, &anim.output)?;
                         rendered += 1;
                     }
                     counter.add(1);
@@ -198,7 +198,7 @@ impl Animation {
         let counter = Counter::new(1);
         let result = watch::run(py, &cancel, &counter, None, || {
             let image = render_one(anim, k, &mut anim.scene.clone(), None, &cancel)?;
-            file_bytes(&image, &ext, &job::frame_output(anim))
+            file_bytes(&image, &ext, &anim.output)
         })?;
         Ok(PyBytes::new(py, &result.map_err(|e| to_py(py, e))?))
     }

@@ -3,8 +3,8 @@
 //! `--look-at`, `--up`, `--fov`, `--width`, `--height`, so the image is the same.
 
 use crate::errors::IntoPy;
+use prism::job::{JobOptions, LookAt};
 use prism::math::Vec3;
-use prism::still::{LookAt, StillOptions};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -100,7 +100,7 @@ impl Camera {
 impl Camera {
     /// Sets the camera's part of the options; the render's own width and height, applied
     /// after, win over the look-at's.
-    pub fn apply(&self, o: &mut StillOptions) {
+    pub fn apply(&self, o: &mut JobOptions) {
         match &self.kind {
             Kind::File(path) => o.camera_file = Some(path.clone()),
             Kind::LookAt {
@@ -109,8 +109,8 @@ impl Camera {
                 height,
             } => {
                 o.look = *look;
-                o.width = *width;
-                o.height = *height;
+                o.render.width = *width;
+                o.render.height = *height;
             }
         }
     }

@@ -2,9 +2,7 @@
 //! the development and the atomic write of `prism render`.
 
 use crate::errors::IntoPy;
-use prism::film::{
-    Develop, ExrPrecision, Image, OutputOptions, PngBits, ToneMap, Transfer, write_image_with,
-};
+use prism::film::{Develop, ExrPrecision, Image, OutputOptions, PngBits, ToneMap, Transfer};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -83,7 +81,7 @@ pub fn write_image(
         png_bits: parse::<PngBits>(&png_bits.to_string())?,
         exr_precision: parse::<ExrPrecision>(exr_precision)?,
     };
-    py.detach(|| write_image_with(&image, &path, &options))
+    py.detach(|| prism::film::write_image(&image, &path, &options))
         .py_err(py)
 }
 
@@ -105,6 +103,6 @@ pub fn encode_png<'py>(
 pub fn file_bytes(image: &Image, ext: &str, options: &OutputOptions) -> prism::Result<Vec<u8>> {
     let dir = tempfile::tempdir().map_err(|e| prism::Error::file(Path::new("."), e))?;
     let path = dir.path().join(format!("image.{ext}"));
-    write_image_with(image, &path, options)?;
+    prism::film::write_image(image, &path, options)?;
     std::fs::read(&path).map_err(|e| prism::Error::file(&path, e))
 }

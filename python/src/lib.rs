@@ -5,7 +5,7 @@
 //!
 //! - [`errors`]: Prism's errors as the package's exceptions;
 //! - [`watch`]: running a job off the GIL while Ctrl-C and progress are served;
-//! - [`options`]: a Python dict of render options to `StillOptions`;
+//! - [`options`]: a Python dict of render options to `JobOptions`;
 //! - [`scene`], [`camera`]: the loaded scene file and the camera choice;
 //! - [`still`]: rendering one image (or a region of it);
 //! - [`image`]: writing pixels in every output format;
@@ -25,7 +25,7 @@ use pyo3::prelude::*;
 /// Confines every later read of this process to `folder` (`prism --restrict-paths`).
 #[pyfunction]
 fn restrict_paths(py: Python<'_>, folder: std::path::PathBuf) -> PyResult<()> {
-    prism::format::file::restrict_reads_to(&folder)
+    prism::util::file::restrict_reads_to(&folder)
         .map_err(|e| errors::to_py(py, prism::Error::Settings(format!("restrict_paths: {e}"))))
 }
 

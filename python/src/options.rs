@@ -1,20 +1,20 @@
 //! The render options of `prism.render` (a dict of the keyword arguments that are not
-//! `None`) as the library's `StillOptions`: the same struct the command line fills, so
+//! `None`) as the library's `JobOptions`: the same struct the command line fills, so
 //! a render from Python is the render `prism render` makes with the same options.
 
 use crate::camera::Camera;
+use prism::job::JobOptions;
 use prism::render::Region;
-use prism::still::StillOptions;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 /// Options over the scene's own; unknown keys are a `TypeError`, as for a function.
-pub fn still_options(
+pub fn job_options(
     camera: Option<&Camera>,
     options: Option<&Bound<'_, PyDict>>,
-) -> PyResult<StillOptions> {
-    let mut o = StillOptions::default();
+) -> PyResult<JobOptions> {
+    let mut o = JobOptions::default();
     if let Some(camera) = camera {
         camera.apply(&mut o);
     }
@@ -27,11 +27,12 @@ pub fn still_options(
             continue;
         }
         match key.as_str() {
-            "width" => o.width = Some(value.extract()?),
-            "height" => o.height = Some(value.extract()?),
-            "aa" => o.aa = Some(value.extract()?),
-            "dof_rays" => o.dof_rays = Some(value.extract()?),
-            "seed" => o.seed = Some(value.extract()?),
+            "width" => o.render.width = Some(value.extract()?),
+            "height" => o.render.height = Some(value.extract()?),
+            "aa" => o.render.aa = Some(value.extract()?),
+            // `dof_rays` is the older name of `spp`.
+            "spp" | "dof_rays" => o.render.spp = Some(value.extract()?),
+            "seed" => o.render.seed = Some(value.extract()?),
             "camera_name" => o.camera_name = Some(value.extract()?),
             "smooth" => o.smooth = value.extract()?,
             "up_axis" => {
@@ -47,8 +48,8 @@ pub fn still_options(
             }
             "camera_index" => o.camera_index = Some(value.extract()?),
             "threads" => o.threads = Some(value.extract()?),
-            "max_depth" => o.max_depth = Some(value.extract()?),
-            "min_weight" => o.min_weight = Some(value.extract()?),
+            "max_depth" => o.render.max_depth = Some(value.extract()?),
+            "min_weight" => o.render.min_weight = Some(value.extract()?),
             "max_memory" => {
                 o.max_memory = Some(match value.extract::<String>() {
                     Ok(text) => {
@@ -57,8 +58,19 @@ pub fn still_options(
                     Err(_) => value.extract()?,
                 })
             }
-            "filter" => o.filter = Some(parse(&value)?),
-            "integrator" => o.integrator = Some(parse(&value)?),
+            "filter" => o.render.filter = Some(parse(&value)?),
+            "integrator" => o.render.integrator = Some(parse(&value)?),
+            "exposure" => {
+                let stops: f32 = value.extract()?;
+                let checked = prism::film::develop::parse_exposure(&stops.to_string());
+                o.render.exposure = Some(checked.map_err(PyValueError::new_err)?);
+            }
+            "tonemap" => o.render.tonemap = Some(parse(&value)?),
+            "png_bits" => {
+                let bits: u32 = value.extract()?;
+                o.png_bits = bits.to_string().parse().map_err(PyValueError::new_err)?;
+            }
+            "exr_precision" => o.exr_precision = parse(&value)?,
             "accel" => o.accel = parse(&value)?,
             "region" => {
                 let (x, y, width, height): (u32, u32, u32, u32) = value.extract()?;

@@ -1,14 +1,13 @@
 //! One still image (or a region of it) from a loaded scene, as `prism render` makes it:
-//! the same `still::resolve`, the same renderer, the same development for 8-bit output.
+//! the same `job::resolve`, the same renderer, the same development for 8-bit output.
 
 use crate::camera::Camera;
 use crate::errors::{IntoPy, to_py};
-use crate::options::still_options;
+use crate::options::job_options;
 use crate::scene::Scene;
 use crate::watch::{self, Counter};
-use prism::film::{Develop, ToneMap, Transfer};
-use prism::render::{IntegratorKind, Renderer};
-use prism::still::Still;
+use prism::film::Transfer;
+use prism::job::Job;
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict};
 use std::sync::atomic::AtomicBool;
@@ -18,29 +17,10 @@ fn resolve(
     scene: &Scene,
     camera: Option<&Camera>,
     options: Option<&Bound<'_, PyDict>>,
-) -> PyResult<Still> {
-    let o = still_options(camera, options)?;
+) -> PyResult<Job> {
+    let o = job_options(camera, options)?;
     let file = (*scene.file).clone();
-    py.detach(|| prism::still::resolve(file, &o)).py_err(py)
-}
-
-/// The development the command line gives 8-bit files: the scene file's exposure and
-/// tone map; no transfer curve for the classic model (the 2014 program's values), the
-/// sRGB curve for the whitted model's radiance.
-pub fn develop_of(still: &Still) -> prism::Result<Develop> {
-    let transfer = match still.settings.integrator {
-        IntegratorKind::Classic => Transfer::Classic,
-        IntegratorKind::Whitted => Transfer::Srgb,
-    };
-    let tonemap = match still.tonemap.as_deref() {
-        Some(name) => name.parse::<ToneMap>().map_err(prism::Error::Settings)?,
-        None => ToneMap::default(),
-    };
-    Ok(Develop {
-        exposure: still.exposure.unwrap_or(0.0),
-        tonemap,
-        transfer,
-    })
+    py.detach(|| prism::job::resolve(file, &o)).py_err(py)
 }
 
 /// Renders; returns the pixels (f32 radiance, or developed u8 with `srgb`), the width,
@@ -55,12 +35,9 @@ pub fn render<'py>(
     progress: Option<Bound<'py, PyAny>>,
     srgb: bool,
 ) -> PyResult<(Bound<'py, PyByteArray>, u32, u32, &'static str)> {
-    let still = resolve(py, scene, camera, options)?;
-    let develop = develop_of(&still).py_err(py)?;
+    let job = resolve(py, scene, camera, options)?;
     let cancel = AtomicBool::new(false);
-    let renderer = Renderer::new(&still.scene, &still.camera, still.settings.clone())
-        .py_err(py)?
-        .cancel_on(&cancel);
+    let renderer = job.renderer().py_err(py)?.cancel_on(&cancel);
     let counter = Counter::new(renderer.rows_to_trace());
     let result = watch::run(py, &cancel, &counter, progress.as_ref(), || {
         renderer.render(&|n| counter.add(n))
@@ -68,7 +45,7 @@ pub fn render<'py>(
     let (image, _stats) = result.map_err(|e| to_py(py, e))?;
     let (w, h) = (image.width, image.height);
     if srgb {
-        let bytes = develop.to_rgb8(&image);
+        let bytes = job.output.develop.to_rgb8(&image);
         Ok((PyByteArray::new(py, &bytes), w, h, "u1"))
     } else {
         let bytes: &[u8] = bytemuck::cast_slice(&image.pixels);
@@ -86,15 +63,14 @@ pub fn plan<'py>(
     camera: Option<&Camera>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let still = resolve(py, scene, camera, options)?;
-    let develop = develop_of(&still).py_err(py)?;
-    let mut settings = still.settings.clone();
-    settings.region = None;
-    let renderer = Renderer::new(&still.scene, &still.camera, settings).py_err(py)?;
+    let mut job = resolve(py, scene, camera, options)?;
+    job.settings.region = None;
+    let renderer = job.renderer().py_err(py)?;
+    let develop = job.output.develop;
     let d = PyDict::new(py);
     d.set_item("width", renderer.camera().width)?;
     d.set_item("height", renderer.camera().height)?;
-    d.set_item("integrator", still.settings.integrator.name())?;
+    d.set_item("integrator", job.settings.integrator.name())?;
     d.set_item("exposure", develop.exposure)?;
     d.set_item("tonemap", develop.tonemap.name())?;
     let transfer = match develop.transfer {
@@ -102,6 +78,8 @@ pub fn plan<'py>(
         Transfer::Srgb => "srgb",
     };
     d.set_item("transfer", transfer)?;
-    d.set_item("warnings", still.warnings.clone())?;
+    d.set_item("png_bits", job.output.png_bits.to_string())?;
+    d.set_item("exr_precision", job.output.exr_precision.to_string())?;
+    d.set_item("warnings", job.warnings.clone())?;
     Ok(d)
 }

@@ -34,6 +34,7 @@ def test_shapes_and_dtypes(example):
 @pytest.mark.parametrize("scene_path,camera,options", [
     (EXAMPLE, EXAMPLE_CMR, dict(width=120, aa=2)),
     (SHOWCASE, None, dict(width=96, height=54, seed=3)),
+    (SHOWCASE, None, dict(width=64, spp=2, exposure=1.5, tonemap="aces")),
 ])
 def test_pixels_equal_the_command_line(prism_bin, tmp_path, scene_path, camera, options):
     cli_args = [scene_path] + ([camera] if camera else [])
@@ -181,3 +182,20 @@ def test_a_tqdm_bar_starts_with_its_total(example, capsys):
     err = capsys.readouterr().err
     assert "0rows [" not in err
     assert "rows" in err
+
+
+def test_old_option_names_are_aliases(example):
+    scene, camera = example
+    new = prism.render(scene, camera, width=48, aa=2, spp=3)
+    old = prism.render(scene, camera, width=48, aa=2, dof_rays=3)
+    assert same_bits(new, old)
+    assert not same_bits(new, prism.render(scene, camera, width=48, aa=2, spp=3, seed=4))
+
+
+def test_the_plan_carries_the_development_given(example):
+    scene, camera = example
+    plan = prism.plan(scene, None, exposure=2.0, tonemap="reinhard", png_bits=16)
+    assert (plan["exposure"], plan["tonemap"], plan["transfer"]) == (2.0, "reinhard", "classic")
+    assert plan["png_bits"] == "16"
+    with pytest.raises(ValueError, match="tone map"):
+        prism.plan(scene, None, tonemap="filmic")

@@ -90,7 +90,7 @@ impl FromStr for AccelKind {
             .into_iter()
             .find(|k| k.name() == s)
             .ok_or_else(|| {
-                let s = crate::format::text::shown(s);
+                let s = crate::util::text::shown(s);
                 format!("unknown intersector {s}: expected bvh, bvh-copied, octree or list")
             })
     }

@@ -36,6 +36,8 @@ impl Node {
     }
 }
 
+/// The report's octree over a scene's shapes: cells of the scene's bounds, split eight
+/// ways, with each leaf listing the shapes its closed box touches.
 pub struct Octree<'s> {
     shapes: &'s Shapes,
     nodes: Vec<Node>,
@@ -43,6 +45,7 @@ pub struct Octree<'s> {
 }
 
 impl<'s> Octree<'s> {
+    /// Builds the tree over `shapes`, from a root slightly larger than their bounds.
     pub fn build(shapes: &'s Shapes) -> Octree<'s> {
         let boxes: Vec<Aabb> = shapes.par_iter().map(|s| s.bounds()).collect();
         let root = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
@@ -120,6 +123,7 @@ impl<'s> Octree<'s> {
         self.nodes.len()
     }
 
+    /// Number of shapes the tree was built over.
     pub fn shape_count(&self) -> usize {
         self.shapes.len()
     }
@@ -129,6 +133,7 @@ impl<'s> Octree<'s> {
         self.nodes.capacity() * size_of::<Node>() + self.items.capacity() * size_of::<u32>()
     }
 
+    /// The nearest hit with `0 < t < t_max`, ties going to the lower shape index.
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         self.walk(ray, t_max, |shape, _| {
@@ -143,6 +148,8 @@ impl<'s> Octree<'s> {
         best
     }
 
+    /// Whether a shape for which `blocks(shape)` holds is hit with `0 < t < t_max`; stops
+    /// at the first such hit.
     pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
         let mut hit = false;
         self.walk(ray, t_max, |shape, t_limit| {

@@ -12,6 +12,7 @@ use std::sync::OnceLock;
 /// The environment variable that overrides the detected level.
 pub const SIMD_ENV: &str = "PRISM_SIMD";
 
+/// A set of vector instructions the intersectors' kernels are compiled for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SimdLevel {
     /// The architecture's baseline: SSE2 on x86-64.
@@ -21,6 +22,8 @@ pub enum SimdLevel {
 }
 
 impl SimdLevel {
+    /// Lower-case name, as [`SIMD_ENV`] takes it and benchmarks report it: `sse2` (the
+    /// x86-64 baseline), `baseline` on other architectures, or `avx2`.
     pub fn name(self) -> &'static str {
         match self {
             SimdLevel::Baseline if cfg!(target_arch = "x86_64") => "sse2",

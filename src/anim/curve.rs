@@ -33,7 +33,7 @@ impl std::str::FromStr for Interpolation {
             "smooth" => Ok(Interpolation::Smooth),
             _ => Err(format!(
                 "unknown interpolation {}: expected linear or smooth",
-                crate::format::text::shown(s)
+                crate::util::text::shown(s)
             )),
         }
     }

@@ -4,8 +4,8 @@
 use super::curve::{Curve, Interpolation};
 use super::motion::{Aim, Motion, Selection, Target, Track};
 use super::{Animation, FNV_OFFSET, MAX_FPS, MAX_FRAMES, MIN_FPS, fnv1a};
-use crate::film::resample::Filter;
-use crate::render::{RenderSettings, Renderer};
+use crate::options::{Filter, RenderOptions};
+use crate::render::Renderer;
 use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
 use glam::DVec3;
@@ -45,7 +45,9 @@ struct RawRender {
     width: Option<u32>,
     height: Option<u32>,
     aa: Option<u32>,
-    dof_rays: Option<u32>,
+    /// Samples per pixel; `dof_rays` is its older name.
+    #[serde(alias = "dof_rays")]
+    spp: Option<u32>,
     filter: Option<Spanned<String>>,
     seed: Option<u64>,
 }
@@ -166,7 +168,7 @@ pub const MAX_FILE_BYTES: u64 = 64 << 20;
 /// would block or never end, and a file that grows while read stops at the bound.
 fn read_bounded(path: &Path) -> Result<String> {
     let cannot = |e: &dyn std::fmt::Display| Error::file(path, format!("cannot read: {e}"));
-    let bytes = crate::format::file::read_regular(path, MAX_FILE_BYTES).map_err(|e| cannot(&e))?;
+    let bytes = crate::util::file::read_regular(path, MAX_FILE_BYTES).map_err(|e| cannot(&e))?;
     String::from_utf8(bytes).map_err(|_| cannot(&"not UTF-8 text"))
 }
 
@@ -188,24 +190,33 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
     let scene_path = folder.join(raw.scene.get_ref());
     let camera_path = raw.camera.as_ref().map(|c| folder.join(c.get_ref()));
     let file = crate::format::load(&scene_path)?;
-    let exposure = file.settings.exposure.unwrap_or(0.0);
-    let tonemap = tonemap_of(file.settings.tonemap.as_deref())?;
-    let dialect = file.dialect;
-    let scene = file.scene;
-    let mut camera = match (&camera_path, file.camera) {
-        (Some(c), _) => crate::format::load_camera(c)?,
-        (None, Some(own)) => own,
-        (None, None) => {
-            return Err(lines.error(
-                &raw.scene,
-                "the scene has no camera of its own: name a 2014 camera file with `camera`",
-            ));
-        }
+    if camera_path.is_none() && file.camera.is_none() {
+        return Err(lines.error(
+            &raw.scene,
+            "the scene has no camera of its own: name a 2014 camera file with `camera`",
+        ));
+    }
+    // The one resolution a still has: the animation's [render] over the scene file's.
+    let options = crate::job::JobOptions {
+        render: render_options(&lines, raw.render.as_ref())?,
+        camera_file: camera_path.clone(),
+        ..Default::default()
     };
+    let job = crate::job::resolve(file, &options).map_err(|e| match (&raw.render, e) {
+        (Some(r), Error::Settings(m)) => lines.error(r, m),
+        (_, e) => e,
+    })?;
+    let crate::job::Job {
+        scene,
+        mut camera,
+        settings,
+        output,
+        ..
+    } = job;
     let mut fingerprint = fnv1a(FNV_OFFSET, text.as_bytes());
     for file in std::iter::once(&scene_path).chain(camera_path.as_ref()) {
         // The files were read once already; read again within the same bounds.
-        let bytes = crate::format::file::read_regular(file, crate::format::text::MAX_TEXT_BYTES)
+        let bytes = crate::util::file::read_regular(file, crate::util::limits::MAX_TEXT_BYTES)
             .map_err(|e| Error::file(file, format!("cannot read: {e}")))?;
         // The length first, so moving bytes from one file to the next changes the hash.
         fingerprint = fnv1a(fingerprint, &(bytes.len() as u64).to_le_bytes());
@@ -216,11 +227,6 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
     }
     let fps = fps_of(&lines, raw.fps.as_ref())?;
     let frames = frames_of(&lines, raw.frames.as_ref(), raw.duration.as_ref(), fps)?;
-    let settings = RenderSettings {
-        // The scene's own model: classic for the 2014 files, whitted for the rest.
-        integrator: dialect.default_integrator(),
-        ..render_settings(&lines, raw.render.as_ref())?
-    };
     // Check the settings against the camera now, not after the first frame.
     Renderer::new(&scene, &camera, settings.clone()).map_err(|e| match (&raw.render, e) {
         (Some(r), Error::Settings(m)) => lines.error(r, m),
@@ -239,17 +245,9 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         fps,
         settings,
         tracks,
-        exposure,
-        tonemap,
+        output,
         cancel: None,
         fingerprint,
-    })
-}
-
-/// A scene file's tone map by name (its reader has checked the name).
-fn tonemap_of(name: Option<&str>) -> Result<crate::film::develop::ToneMap> {
-    name.map_or(Ok(Default::default()), |n| {
-        n.parse().map_err(Error::Settings)
     })
 }
 
@@ -276,7 +274,7 @@ struct RawTiming {
 fn parse_scene_file(text: &str, path: &Path) -> Result<Animation> {
     let lines = Lines::new(text, path);
     let file = crate::format::scene_file::parse(text, path)?;
-    let still = crate::still::resolve(file, &crate::still::StillOptions::default())?;
+    let job = crate::job::resolve(file, &crate::job::JobOptions::default())?;
     let raw: RawSceneAnimation = toml::from_str(text).map_err(|e| {
         let line = e.span().map_or(1, |s| lines.line(s.start));
         Error::parse(path, line, e.message().trim_end().replace('\n', "; "))
@@ -291,22 +289,21 @@ fn parse_scene_file(text: &str, path: &Path) -> Result<Animation> {
     let t = timing.get_ref();
     let fps = fps_of(&lines, t.fps.as_ref())?;
     let frames = frames_of(&lines, t.frames.as_ref(), t.duration.as_ref(), fps)?;
-    Renderer::new(&still.scene, &still.camera, still.settings.clone())?;
+    job.renderer()?;
     let tracks = raw
         .track
         .iter()
-        .map(|tr| track(&lines, tr, &still.scene))
+        .map(|tr| track(&lines, tr, &job.scene))
         .collect::<Result<Vec<_>>>()?;
     Ok(Animation {
         path: path.to_path_buf(),
-        scene: still.scene,
-        camera: still.camera,
+        scene: job.scene,
+        camera: job.camera,
         frames,
         fps,
-        settings: still.settings,
+        settings: job.settings,
         tracks,
-        exposure: still.exposure.unwrap_or(0.0),
-        tonemap: tonemap_of(still.tonemap.as_deref())?,
+        output: job.output,
         cancel: None,
         fingerprint: fnv1a(FNV_OFFSET, text.as_bytes()),
     })
@@ -417,26 +414,25 @@ fn frames_of(
     Ok(n as u32)
 }
 
-fn render_settings(lines: &Lines, render: Option<&Spanned<RawRender>>) -> Result<RenderSettings> {
+/// The animation file's `[render]` table, over the scene file's.
+fn render_options(lines: &Lines, render: Option<&Spanned<RawRender>>) -> Result<RenderOptions> {
     let Some(r) = render else {
-        return Ok(RenderSettings::default());
+        return Ok(RenderOptions::default());
     };
     let raw = r.get_ref();
-    let filter = match &raw.filter {
-        None => Filter::default(),
-        Some(f) => f
-            .get_ref()
-            .parse::<Filter>()
-            .map_err(|m| lines.error(f, m))?,
-    };
-    Ok(RenderSettings {
+    let filter = raw
+        .filter
+        .as_ref()
+        .map(|f| f.get_ref().parse::<Filter>().map_err(|m| lines.error(f, m)))
+        .transpose()?;
+    Ok(RenderOptions {
         width: raw.width,
         height: raw.height,
         aa: raw.aa,
         filter,
-        dof_rays: raw.dof_rays,
-        seed: raw.seed.unwrap_or(0),
-        ..RenderSettings::default()
+        spp: raw.spp,
+        seed: raw.seed,
+        ..RenderOptions::default()
     })
 }
 
@@ -444,7 +440,7 @@ fn render_settings(lines: &Lines, render: Option<&Spanned<RawRender>>) -> Result
 fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selection> {
     let name = at.get_ref();
     let unknown = |why: String| {
-        let name = crate::format::text::shown(name);
+        let name = crate::util::text::shown(name);
         lines.error(at, format!("unknown target {name}: {why}"))
     };
     let (kind, what) = name.split_once(':').ok_or_else(|| {
@@ -457,7 +453,7 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
             let i: u32 = what.parse().map_err(|_| {
                 unknown(format!(
                     "expected a shape index, found {}",
-                    crate::format::text::shown(what)
+                    crate::util::text::shown(what)
                 ))
             })?;
             if i as usize >= scene.shapes.len() {
@@ -475,7 +471,7 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
             if shapes.is_empty() {
                 return Err(unknown(format!(
                     "no shape wears material {}",
-                    crate::format::text::shown(what)
+                    crate::util::text::shown(what)
                 )));
             }
             (shapes, vec![])
@@ -488,7 +484,7 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
             if g.shapes.is_empty() && g.lights.is_empty() {
                 return Err(unknown(format!(
                     "group {} is empty",
-                    crate::format::text::shown(what)
+                    crate::util::text::shown(what)
                 )));
             }
             (g.shapes.clone(), g.lights.clone())
@@ -543,7 +539,7 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
             lines.line(at),
             format!(
                 "{} does not apply to motion `{}`, which takes {}",
-                crate::format::text::shown(name),
+                crate::util::text::shown(name),
                 raw.motion.get_ref(),
                 allowed
                     .iter()
@@ -627,7 +623,7 @@ fn track(lines: &Lines, t: &Spanned<RawTrack>, scene: &Scene) -> Result<Track> {
                 &raw.motion,
                 format!(
                     "unknown motion {}: expected translate, rotate, orbit or look_at",
-                    crate::format::text::shown(other)
+                    crate::util::text::shown(other)
                 ),
             ));
         }

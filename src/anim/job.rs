@@ -4,8 +4,8 @@
 use super::Animation;
 use super::output::{FramePattern, Output};
 use super::video::{self, VideoInfo};
+use crate::film::OutputFile;
 use crate::film::output::write_atomically;
-use crate::film::{Develop, OutputFile, OutputOptions, Transfer};
 use crate::{Error, Result};
 use std::io::Write;
 use std::ops::Range;
@@ -154,7 +154,7 @@ pub fn render_frames(
         }
         let size = anim.frame_size()?;
         // A PNG frame is compressed while the frame renders.
-        let file = OutputFile::create(&path, size.0, size.1, &frame_output(anim))?;
+        let file = OutputFile::create(&path, size.0, size.1, &anim.output)?;
         let (image, stats) = anim.render_frame_in(
             k,
             &mut posed,
@@ -246,23 +246,6 @@ pub fn remove_frames(pattern: &FramePattern, frames: Range<u32>) {
     }
     let _ = std::fs::remove_file(pattern.dir.join(MANIFEST));
     let _ = std::fs::remove_dir(&pattern.dir);
-}
-
-/// How frames are stored: the classic model's values as the 2014 program wrote them,
-/// the whitted model's radiance developed for display (sRGB).
-pub fn frame_output(anim: &Animation) -> OutputOptions {
-    let transfer = match anim.settings.integrator {
-        crate::render::IntegratorKind::Classic => Transfer::Classic,
-        crate::render::IntegratorKind::Whitted => Transfer::Srgb,
-    };
-    OutputOptions {
-        develop: Develop {
-            exposure: anim.exposure,
-            tonemap: anim.tonemap,
-            transfer,
-        },
-        ..OutputOptions::classic()
-    }
 }
 
 /// The stamp beside a finished video (`.NAME.prism`): the fingerprint of the animation

@@ -49,10 +49,9 @@ pub struct Animation {
     /// The file's `[render]` overrides; a caller may set threads and intersector.
     pub settings: RenderSettings,
     pub tracks: Vec<Track>,
-    /// Exposure of the frames in stops (a scene file's `[render] exposure`).
-    pub exposure: f32,
-    /// How their radiance is brought into range (a scene file's `[render] tonemap`).
-    pub tonemap: crate::film::develop::ToneMap,
+    /// How the frames are developed and stored: the job's output (the scene file's
+    /// exposure and tone map, the integrator's transfer curve).
+    pub output: crate::film::OutputOptions,
     /// Set from any thread (a signal handler) to stop: the frame being rendered is
     /// abandoned, none after it starts, and a video being encoded is not written.
     pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,

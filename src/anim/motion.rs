@@ -16,13 +16,16 @@ pub struct Selection {
 /// What a track moves.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Target {
+    /// The camera: its eye, view direction and (with `focus`) focal length.
     Camera,
+    /// Shapes and lights, moved rigidly together.
     Objects(Selection),
 }
 
 /// Where a camera looks.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Aim {
+    /// A fixed point in world space.
     Point(DVec3),
     /// The centre of the selection's bounding box, wherever earlier tracks have put it.
     Objects(Selection),
@@ -36,8 +39,11 @@ pub enum Motion {
     Translate(Curve<DVec3>),
     /// Turn rigidly about the axis through `center` (a camera's view turns with it).
     Rotate {
+        /// Unit axis direction, world space.
         axis: DVec3,
+        /// A point the axis passes through, world space.
         center: DVec3,
+        /// Angle turned from the starting pose, in degrees, over time.
         angle: Curve<f64>,
     },
     /// Carry the target round the axis through `center`, keeping its orientation: it
@@ -45,20 +51,30 @@ pub enum Motion {
     /// view direction). An orbit with `keep_orientation = false` in the file is a
     /// [`Motion::Rotate`].
     Orbit {
+        /// Unit axis direction, world space.
         axis: DVec3,
+        /// A point the axis passes through, world space.
         center: DVec3,
+        /// Angle carried round from the starting pose, in degrees, over time.
         angle: Curve<f64>,
     },
     /// The camera turns to look at a point or at objects; with `focus`, the focal
     /// length becomes the distance from the eye to that point (the convention of the
     /// 2014 `scene.cmr`, whose focal length is its eye's distance to the glass sphere).
-    LookAt { aim: Aim, focus: bool },
+    LookAt {
+        /// What the camera turns to.
+        aim: Aim,
+        /// Whether the focal length follows the distance to the aim point.
+        focus: bool,
+    },
 }
 
 /// One track of the animation file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Track {
+    /// What the track moves.
     pub target: Target,
+    /// How it moves it, as a function of time in seconds.
     pub motion: Motion,
     /// Line of the track's `[[track]]` header, for errors.
     pub line: usize,

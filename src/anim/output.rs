@@ -22,9 +22,13 @@ use std::path::{Path, PathBuf};
 /// Numbered frame files: `dir/prefix{k:0width}suffix`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FramePattern {
+    /// Folder the frames are written in (`.` for a bare file name).
     pub dir: PathBuf,
+    /// File name before the frame number.
     pub prefix: String,
+    /// Minimum digits of the frame number, zero-padded (1 to 9).
     pub width: usize,
+    /// File name after the frame number, with the extension that picks the format.
     pub suffix: String,
 }
 
@@ -39,6 +43,7 @@ impl FramePattern {
         }
     }
 
+    /// The file of frame number `frame` (counted from 0).
     pub fn path_of(&self, frame: u32) -> PathBuf {
         let width = self.width;
         self.dir
@@ -49,19 +54,26 @@ impl FramePattern {
 /// The video formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VideoFormat {
+    /// H.264 in an MP4 container (`.mp4`).
     Mp4,
+    /// Animated GIF (`.gif`).
     Gif,
+    /// Animated PNG, lossless (`.apng` or `.png`).
     Apng,
 }
 
 /// What `prism animate` writes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Output {
+    /// Numbered image files, one per frame, and nothing more.
     Frames(FramePattern),
     /// A video file, made from the PNG frames in `frames`.
     Video {
+        /// The video file to write.
         path: PathBuf,
+        /// Its container and codec, from the extension.
         format: VideoFormat,
+        /// The PNG frames it is made from, in `OUTPUT.frames/` beside it.
         frames: FramePattern,
     },
 }

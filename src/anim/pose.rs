@@ -20,7 +20,9 @@ use std::collections::HashMap;
 /// Why a pose cannot be rendered, and which track caused it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PoseError {
+    /// Line of the offending track's `[[track]]` header in the animation file.
     pub line: usize,
+    /// What went wrong, and at what time.
     pub message: String,
 }
 

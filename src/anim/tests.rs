@@ -377,6 +377,49 @@ fn frame_k_is_the_still_render_of_the_posed_scene_for_any_thread_count() {
 }
 
 #[test]
+fn spp_is_the_samples_key_and_dof_rays_its_older_name() {
+    let new = parse_str("frames = 2\n[render]\nspp = 3\n").unwrap();
+    let old = parse_str("frames = 2\n[render]\ndof_rays = 3\n").unwrap();
+    assert_eq!((new.settings.spp, old.settings.spp), (Some(3), Some(3)));
+}
+
+/// An animation file's `[render]` lies over its scene file's, resolved as a still's
+/// job is: the scene's model, samples and development hold unless the animation says.
+#[test]
+fn an_animation_takes_its_scene_files_render_settings_under_its_own() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("scene.toml"),
+        "[camera]\nfrom = [0, 0, 5]\nat = [0, 0, 0]\n\
+         [render]\nwidth = 40\nheight = 20\nspp = 2\nintegrator = \"classic\"\n\
+         exposure = 1\ntonemap = \"aces\"\n\
+         [[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n",
+    )
+    .unwrap();
+    let path = dir.path().join("anim.toml");
+    let text = "scene = \"scene.toml\"\nframes = 2\n[render]\nwidth = 32\n";
+    std::fs::write(&path, text).unwrap();
+    let a = file::parse(text, &path).unwrap();
+    assert_eq!(
+        a.settings.integrator,
+        crate::render::IntegratorKind::Classic
+    );
+    assert_eq!(a.settings.spp, Some(2));
+    // A side the animation gives replaces the scene's size: the height follows the aspect.
+    assert_eq!((a.settings.width, a.settings.height), (Some(32), None));
+    assert_eq!(a.frame_size().unwrap(), (32, 16));
+    let d = a.output.develop;
+    assert_eq!(
+        (d.exposure, d.tonemap, d.transfer),
+        (
+            1.0,
+            crate::film::ToneMap::Aces,
+            crate::film::Transfer::Classic
+        )
+    );
+}
+
+#[test]
 fn a_camera_only_animation_shares_one_intersector_and_renders_the_same_frames() {
     let a = parse_str(
         "frames = 3\nfps = 1\n[render]\nwidth = 32\nheight = 18\n\

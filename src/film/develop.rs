@@ -7,37 +7,10 @@
 //! so a stray sample can never make an image fail to write.
 
 use super::{Image, quantize};
+pub use crate::options::{ToneMap, Transfer};
 use rayon::prelude::*;
-use std::fmt;
-use std::str::FromStr;
-
-/// How radiance above 1 (after exposure) is brought into 0..1.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum ToneMap {
-    /// `min(x, 1)`: what the classic model has always done.
-    #[default]
-    Clamp,
-    /// `x / (1 + x)` on each channel: never reaches 1, so highlights keep some detail and
-    /// saturated colours fade towards white as they brighten (luminance-based Reinhard
-    /// keeps the hue but pushes channels past 1, to be clipped again).
-    Reinhard,
-    /// Narkowicz's fit of the ACES filmic curve, on each channel:
-    /// `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, clamped to 0..1. Applied to
-    /// radiance as is (no 0.6 pre-scale; `--exposure -0.737` gives it).
-    Aces,
-}
 
 impl ToneMap {
-    pub const ALL: [ToneMap; 3] = [ToneMap::Clamp, ToneMap::Reinhard, ToneMap::Aces];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            ToneMap::Clamp => "clamp",
-            ToneMap::Reinhard => "reinhard",
-            ToneMap::Aces => "aces",
-        }
-    }
-
     /// Maps exposed radiance `x` (finite or +∞, not negative) into 0..1.
     pub fn apply(self, x: f32) -> f32 {
         if x == f32::INFINITY {
@@ -57,37 +30,6 @@ fn aces_narkowicz(x: f32) -> f32 {
     let x = f64::from(x);
     let y = x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14);
     y.clamp(0.0, 1.0) as f32
-}
-
-impl fmt::Display for ToneMap {
-    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for ToneMap {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<ToneMap, String> {
-        ToneMap::ALL
-            .into_iter()
-            .find(|t| t.name() == s)
-            .ok_or_else(|| {
-                let s = crate::format::text::shown(s);
-                format!("unknown tone map {s}: expected clamp, reinhard or aces")
-            })
-    }
-}
-
-/// The curve from tone-mapped values (0..1, linear) to the values stored in the file.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Transfer {
-    /// IEC 61966-2-1: `12.92 v` up to `v = 0.0031308`, `1.055 v^(1/2.4) - 0.055` above.
-    /// What every viewer assumes of an untagged 8-bit image.
-    #[default]
-    Srgb,
-    /// No curve: values are stored as they are, as the 2014 program stored them.
-    Classic,
 }
 
 impl Transfer {
@@ -310,7 +252,7 @@ pub fn parse_exposure(s: &str) -> Result<f32, String> {
         Ok(ev) if ev.is_finite() && ev.abs() <= 64.0 => Ok(ev),
         _ => Err(format!(
             "expected an exposure in stops between -64 and 64, found {}",
-            crate::format::text::shown(s)
+            crate::util::text::shown(s)
         )),
     }
 }

@@ -3,8 +3,8 @@
 
 use super::Image;
 use super::develop::Develop;
-use super::hdr_io::{ExrPrecision, write_exr, write_hdr};
 use super::stream::PngStream;
+use crate::util::hdr::{ExrPrecision, write_exr, write_hdr};
 use crate::{Error, Result};
 use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
 use image::{ExtendedColorType, ImageEncoder, ImageFormat};
@@ -90,7 +90,7 @@ impl FromStr for PngBits {
             "16" => Ok(PngBits::Sixteen),
             _ => Err(format!(
                 "unknown PNG depth {}: expected 8 or 16",
-                crate::format::text::shown(s)
+                crate::util::text::shown(s)
             )),
         }
     }
@@ -145,17 +145,13 @@ pub fn check_output_path(path: &Path) -> Result<OutputFormat> {
     Ok(format)
 }
 
-/// Writes `image` to `path` in the format its extension names, developed as the 2014
-/// program did (`OutputOptions::classic`): classic renders keep their exact values.
-pub fn write_image(image: &Image, path: &Path) -> Result<()> {
-    write_image_with(image, path, &OutputOptions::classic())
-}
-
 /// Rows of a finished image developed as one task when it is written as a PNG.
 const STREAM_ROWS: usize = 32;
 
-/// Writes `image` to `path` in the format its extension names.
-pub fn write_image_with(image: &Image, path: &Path, options: &OutputOptions) -> Result<()> {
+/// Writes `image` to `path` in the format its extension names, developed as `options`
+/// say for display formats (a job's [`crate::job::Job::output`] says it for a render;
+/// [`OutputOptions::classic`] keeps a classic render's exact values).
+pub fn write_image(image: &Image, path: &Path, options: &OutputOptions) -> Result<()> {
     let format = check_output_path(path)?;
     let cannot_encode =
         |e: &dyn fmt::Display| Error::file(path, format!("cannot encode image: {e}"));
@@ -238,7 +234,7 @@ impl OutputFile {
     pub fn finish(self, image: &Image) -> Result<()> {
         match self.png {
             Some(png) => png.finish(),
-            None => write_image_with(image, &self.path, &self.options),
+            None => write_image(image, &self.path, &self.options),
         }
     }
 }
@@ -287,12 +283,12 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         for ext in ["png", "bmp", "ppm", "tga", "PNG"] {
             let p = dir.path().join(format!("a.{ext}"));
-            write_image(&tiny(), &p).unwrap();
+            write_image(&tiny(), &p, &OutputOptions::classic()).unwrap();
             let back = image::open(&p).unwrap().to_rgb8();
             assert_eq!(back.as_raw(), &vec![255, 0, 0, 0, 128, 255], "{ext}");
         }
         let jpg = dir.path().join("a.jpg");
-        write_image(&tiny(), &jpg).unwrap();
+        write_image(&tiny(), &jpg, &OutputOptions::classic()).unwrap();
         assert_eq!(image::open(&jpg).unwrap().width(), 2);
         // Nothing but the outputs is left behind.
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 6);
@@ -301,7 +297,12 @@ mod tests {
     #[test]
     fn bad_paths_are_refused_without_writing() {
         let dir = tempfile::tempdir().unwrap();
-        let e = write_image(&tiny(), &dir.path().join("a.xyz")).unwrap_err();
+        let e = write_image(
+            &tiny(),
+            &dir.path().join("a.xyz"),
+            &OutputOptions::classic(),
+        )
+        .unwrap_err();
         assert!(
             e.to_string().contains(
                 "unknown image extension `xyz`: expected one of png, bmp, jpg/jpeg, ppm, tga, \
@@ -309,7 +310,12 @@ mod tests {
             ),
             "{e}"
         );
-        let e = write_image(&tiny(), &dir.path().join("missing/a.png")).unwrap_err();
+        let e = write_image(
+            &tiny(),
+            &dir.path().join("missing/a.png"),
+            &OutputOptions::classic(),
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("does not exist"), "{e}");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
@@ -360,7 +366,7 @@ mod tests {
             ("tga", ImageFormat::Tga),
         ] {
             let p = dir.path().join(format!("a.{ext}"));
-            write_image(&image, &p).unwrap();
+            write_image(&image, &p, &OutputOptions::classic()).unwrap();
             let bytes = std::fs::read(&p).unwrap();
             let legacy = legacy_bytes(&image, format);
             if format == ImageFormat::Png {
@@ -378,7 +384,7 @@ mod tests {
     fn ppm_is_binary_pixmap() {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("a.ppm");
-        write_image(&tiny(), &p).unwrap();
+        write_image(&tiny(), &p, &OutputOptions::classic()).unwrap();
         let bytes = std::fs::read(&p).unwrap();
         assert!(bytes.starts_with(b"P6\n"), "{:?}", &bytes[..8]);
         // Netpbm allows any whitespace between the header's numbers.
@@ -394,7 +400,7 @@ mod tests {
             png_bits: PngBits::Sixteen,
             ..OutputOptions::default()
         };
-        write_image_with(&image, &p, &options).unwrap();
+        write_image(&image, &p, &options).unwrap();
         let back = image::open(&p).unwrap();
         assert_eq!(back.color(), image::ColorType::Rgb16);
         // sRGB: 0.5 -> 0.7353570 * 65535 = 48191.6; 0.001 -> 0.01292 * 65535 = 846.7.
@@ -417,7 +423,7 @@ mod tests {
         };
         for ext in ["png", "ppm", "bmp", "tga"] {
             let p = dir.path().join(format!("a.{ext}"));
-            write_image_with(&image, &p, &options).unwrap();
+            write_image(&image, &p, &options).unwrap();
             // Doubled to 1, 0.5 and 4: sRGB 255, 188 and clamped 255.
             let back = image::open(&p).unwrap().into_rgb8().into_raw();
             assert_eq!(back, [255, 188, 255], "{ext}");
@@ -452,7 +458,8 @@ mod tests {
         let old = dir.path().join("old.png");
         std::fs::write(&old, b"previous").unwrap();
         for name in ["a.png", "a.exr", "a.jpg", "old.png"] {
-            let e = write_image(&empty, &dir.path().join(name)).unwrap_err();
+            let e =
+                write_image(&empty, &dir.path().join(name), &OutputOptions::classic()).unwrap_err();
             assert!(e.to_string().contains("cannot encode image"), "{name}: {e}");
         }
         let left: Vec<_> = std::fs::read_dir(dir.path())

@@ -39,40 +39,9 @@
 //! full-frame resample. Results are not clamped: Bicubic and Lanczos have negative lobes,
 //! and the caller clamps when quantising. Single-threaded and deterministic.
 
-use std::fmt;
-use std::str::FromStr;
-
-/// Reconstruction filter used to shrink the supersampled frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Filter {
-    Nearest,
-    Bilinear,
-    /// Box filter: mean of each `k x k` block.
-    #[default]
-    Area,
-    Bicubic,
-    Lanczos,
-}
+pub use crate::options::Filter;
 
 impl Filter {
-    pub const ALL: [Filter; 5] = [
-        Filter::Nearest,
-        Filter::Bilinear,
-        Filter::Area,
-        Filter::Bicubic,
-        Filter::Lanczos,
-    ];
-
-    pub fn name(&self) -> &'static str {
-        match self {
-            Filter::Nearest => "nearest",
-            Filter::Bilinear => "bilinear",
-            Filter::Area => "area",
-            Filter::Bicubic => "bicubic",
-            Filter::Lanczos => "lanczos",
-        }
-    }
-
     /// Kernel radius in output pixels (`Nearest` is handled apart).
     fn radius(self) -> f64 {
         match self {
@@ -110,27 +79,6 @@ impl Filter {
             Filter::Lanczos if (-3.0..3.0).contains(&x) => sinc(x) * sinc(x / 3.0),
             Filter::Lanczos => 0.0,
         }
-    }
-}
-
-impl fmt::Display for Filter {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for Filter {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Filter, String> {
-        Filter::ALL
-            .into_iter()
-            .find(|f| f.name() == s)
-            .ok_or_else(|| {
-                format!(
-                    "unknown filter {}: expected nearest, bilinear, area, bicubic or lanczos",
-                    crate::format::text::shown(s)
-                )
-            })
     }
 }
 

@@ -226,7 +226,7 @@ impl Write for Memory {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::film::{Develop, Image, ToneMap, Transfer, write_image_with};
+    use crate::film::{Develop, Image, ToneMap, Transfer, write_image};
 
     /// A `w x h` image of radiance that crosses every 8-bit level, above 1 and below 0.
     fn ramp(w: u32, h: u32) -> Image {
@@ -295,7 +295,7 @@ mod tests {
         for bits in [PngBits::Eight, PngBits::Sixteen] {
             let whole = dir.path().join(format!("whole{bits}.png"));
             let streamed = dir.path().join(format!("streamed{bits}.png"));
-            write_image_with(&image, &whole, &options(bits)).unwrap();
+            write_image(&image, &whole, &options(bits)).unwrap();
             let stream = PngStream::for_output(&streamed, 37, 23, &options(bits))
                 .unwrap()
                 .unwrap();

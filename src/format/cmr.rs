@@ -127,11 +127,11 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
     // The image's sides, checked here so the message names this file and line.
     let side = |i: usize| -> Result<u32> {
         let v = count(i)?;
-        if v > crate::render::MAX_SIDE {
+        if v > crate::util::limits::MAX_SIDE {
             return Err(at(i).error(format!(
                 "expected {} of at most {}, found {v}",
                 DESCRIPTIONS[i],
-                crate::render::MAX_SIDE
+                crate::util::limits::MAX_SIDE
             )));
         }
         Ok(v)
@@ -148,7 +148,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
         retina_scale: above(9, true)?,
         focal_length: above(10, false)?,
         aperture: above(11, false)?,
-        rays_per_pixel: count(12)?,
+        spp: count(12)?,
         aa: count(13)?,
         up: None,
         projection: crate::scene::Projection::Perspective,
@@ -199,7 +199,7 @@ mod tests {
                 retina_scale: 0.00125,
                 focal_length: 900.0,
                 aperture: 5.0,
-                rays_per_pixel: 128,
+                spp: 128,
                 aa: 4,
                 up: None,
                 projection: crate::scene::Projection::Perspective,
@@ -213,10 +213,7 @@ mod tests {
         let c = parse_str(one_line).unwrap();
         assert_eq!(c.eye, Vec3::new(-1.5, 2.0, 3.0));
         assert_eq!((c.theta_deg, c.phi_deg, c.medium_ior), (45.0, -30.0, 1.33));
-        assert_eq!(
-            (c.width, c.height, c.rays_per_pixel, c.aa),
-            (640, 480, 1, 1)
-        );
+        assert_eq!((c.width, c.height, c.spp, c.aa), (640, 480, 1, 1));
         assert_eq!((c.focal_length, c.aperture), (0.0, 0.0));
     }
 

@@ -3,8 +3,8 @@
 //! header when they are too large, never read unless they are regular files.
 
 use crate::Error;
-use crate::film::hdr_io::decode_linear_image;
 use crate::scene::{ImageTexture, Texels};
+use crate::util::hdr::decode_linear_image;
 use std::io::Cursor;
 use std::path::Path;
 
@@ -28,7 +28,7 @@ pub enum Encoding {
 /// Reads `path` as a texture. The error says why, without the path (callers name the
 /// file and the line that asked for it).
 pub fn read_texture(path: &Path, encoding: Encoding) -> Result<ImageTexture, String> {
-    let bytes = super::file::read_regular(path, MAX_IMAGE_FILE_BYTES)?;
+    let bytes = crate::util::file::read_regular(path, MAX_IMAGE_FILE_BYTES)?;
     let name = path.display().to_string();
     decode_texture(&bytes, &name, encoding, MAX_TEXTURE_PIXELS)
 }
@@ -95,7 +95,7 @@ pub const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
 /// Reads and decodes an 8-bit image file (the format from its content, else from its
 /// extension), refusing it from its header when it has more than [`MAX_TEXTURE_PIXELS`].
 pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
-    let bytes = super::file::read_regular(path, MAX_IMAGE_FILE_BYTES)?;
+    let bytes = crate::util::file::read_regular(path, MAX_IMAGE_FILE_BYTES)?;
     decode_image(&bytes, &path.display().to_string(), MAX_TEXTURE_PIXELS)
 }
 

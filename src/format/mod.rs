@@ -19,7 +19,6 @@
 //! where more slot in.
 
 pub mod cmr;
-pub mod file;
 pub mod gltf;
 pub mod image_file;
 pub mod mtl;
@@ -35,8 +34,7 @@ pub mod wavefront;
 use std::path::Path;
 
 use crate::Result;
-use crate::film::resample::Filter;
-use crate::render::IntegratorKind;
+use crate::options::{IntegratorKind, RenderOptions};
 use crate::scene::{Camera, Scene};
 
 /// What a scene file says: the scene, and for the dialects that can say them (Prism
@@ -50,7 +48,7 @@ pub struct SceneFile {
     /// Every camera the file holds, in its order (`camera` is the first): glTF's
     /// camera nodes, which `--camera-name` and `--camera-index` choose from.
     pub cameras: Vec<NamedCamera>,
-    pub settings: FileSettings,
+    pub settings: RenderOptions,
     /// What was read but not understood or not found (`file:line: message`): the peers
     /// are lenient with these, and so is Prism, but it says so.
     pub warnings: Vec<String>,
@@ -73,25 +71,6 @@ pub struct SourceCounts {
     pub vertices: usize,
     pub normals: usize,
     pub texcoords: usize,
-}
-
-/// Render settings a scene file may state; `None` leaves the front end's default.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct FileSettings {
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub aa: Option<u32>,
-    pub filter: Option<Filter>,
-    /// Camera rays per pixel (lens samples for depth of field).
-    pub spp: Option<u32>,
-    pub max_depth: Option<u32>,
-    pub min_weight: Option<f32>,
-    pub seed: Option<u64>,
-    pub integrator: Option<IntegratorKind>,
-    /// Exposure in stops.
-    pub exposure: Option<f32>,
-    /// `clamp`, `reinhard` or `aces`.
-    pub tonemap: Option<String>,
 }
 
 impl SceneDialect {
@@ -203,7 +182,7 @@ fn load_objx_file(path: &Path) -> Result<SceneFile> {
         scene,
         camera: None,
         cameras: Vec::new(),
-        settings: FileSettings::default(),
+        settings: RenderOptions::default(),
         warnings: Vec::new(),
         counts: SourceCounts::default(),
     })
@@ -397,7 +376,7 @@ mod tests {
         assert_eq!(scene1.lights.len(), 1);
         let camera1 = load_camera(&root.join("scene1/scene.cmr")).unwrap();
         assert_eq!((camera1.width, camera1.height), (3840, 2160));
-        assert_eq!((camera1.aa, camera1.rays_per_pixel), (4, 128));
+        assert_eq!((camera1.aa, camera1.spp), (4, 128));
         assert_eq!(camera1.theta_deg, 78.0614);
     }
 }

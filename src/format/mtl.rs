@@ -22,28 +22,44 @@ use crate::{Error, Result};
 pub struct MtlMaterial {
     /// As written after `newmtl`, spaces inside kept, ends trimmed.
     pub name: String,
+    /// `Ka`, the ambient colour, as written (one number sets all three channels).
     pub ka: Option<Vec3>,
+    /// `Kd`, the diffuse colour, as written.
     pub kd: Option<Vec3>,
+    /// `Ks`, the specular (highlight) colour, as written.
     pub ks: Option<Vec3>,
+    /// `Ke`, the emitted colour, as written.
     pub ke: Option<Vec3>,
     /// `Tf`, or its synonym `Kt`.
     pub tf: Option<Vec3>,
+    /// `Ns`, the highlight exponent.
     pub ns: Option<f32>,
+    /// `Ni`, the index of refraction inside the surface.
     pub ni: Option<f32>,
     /// `d`, or `1 - Tr` when only `Tr` is given (`d` wins whatever the order).
     pub d: Option<f32>,
+    /// `illum`, the illumination model (Wavefront's are 0 to 10; others are kept, with a
+    /// warning).
     pub illum: Option<u32>,
+    /// `map_Kd`: image multiplying the diffuse colour.
     pub map_kd: Option<TextureMap>,
+    /// `map_Ks`: image multiplying the specular colour.
     pub map_ks: Option<TextureMap>,
+    /// `map_Ka`: image multiplying the ambient colour.
     pub map_ka: Option<TextureMap>,
+    /// `map_Ke`: image multiplying the emitted colour.
     pub map_ke: Option<TextureMap>,
+    /// `map_d`: image of the dissolve (opacity), for alpha cut-outs.
     pub map_d: Option<TextureMap>,
     /// `map_bump`, `map_Bump` or `bump`.
     pub bump: Option<TextureMap>,
+    /// `norm`: a tangent-space normal map.
     pub norm: Option<TextureMap>,
+    /// `refl`: a reflection map; for a cube map, its first face.
     pub refl: Option<TextureMap>,
     /// The library that defines it, and the line of its `newmtl`, for messages.
     pub path: PathBuf,
+    /// 1-based line of the `newmtl` in `path`.
     pub line: usize,
 }
 
@@ -90,7 +106,9 @@ impl TextureMap {
 /// The materials of one library, with what was skipped.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MtlLibrary {
+    /// The materials in file order, duplicates of a name included.
     pub materials: Vec<MtlMaterial>,
+    /// What was read but not used, or read with a guess, each at its line.
     pub warnings: Vec<Warning>,
     /// Keys skipped, by name (`Pr`, `disp`, ..., `unknown`), with their counts.
     pub skipped: BTreeMap<String, usize>,

@@ -99,6 +99,7 @@ fn fill_key(fill: FillMode) -> FillKey {
 }
 
 impl MaterialLibrary {
+    /// An empty library.
     pub fn new() -> MaterialLibrary {
         MaterialLibrary::default()
     }
@@ -108,10 +109,13 @@ impl MaterialLibrary {
         self.names.get(name).map(|d| d.index)
     }
 
+    /// The materials read so far, in file order; [`Material::texture`] indexes
+    /// [`MaterialLibrary::textures`].
     pub fn materials(&self) -> &[Material] {
         &self.materials
     }
 
+    /// The decoded textures, one per distinct image and fill mode.
     pub fn textures(&self) -> &[Texture] {
         &self.textures
     }

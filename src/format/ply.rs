@@ -53,7 +53,7 @@ pub fn load(path: &Path) -> Result<PlyMesh> {
 /// end, so only regular files are read, and never more than the bound (a file may
 /// grow between the check and the read).
 fn read_bytes(path: &Path) -> Result<Vec<u8>> {
-    super::file::read_regular(path, MAX_FILE_BYTES)
+    crate::util::file::read_regular(path, MAX_FILE_BYTES)
         .map_err(|e| Error::file(path, format!("cannot read: {e}")))
 }
 
@@ -414,13 +414,13 @@ fn read_faces(
                 }
                 previous = index;
             }
-            if mesh.triangles.len() > crate::accel::MAX_SHAPES {
+            if mesh.triangles.len() > crate::util::limits::MAX_SHAPES {
                 let place = values.place();
                 return Err(values.error_at(
                     place,
                     format!(
                         "expected at most {} triangles, found more by {field}",
-                        crate::accel::MAX_SHAPES
+                        crate::util::limits::MAX_SHAPES
                     ),
                 ));
             }

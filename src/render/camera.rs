@@ -18,7 +18,7 @@ pub struct CameraRays {
     /// (d + f) / d: how much farther the focal plane is than the screen.
     focus_ratio: f32,
     aperture: f32,
-    rays_per_pixel: u32,
+    spp: u32,
     /// Parallel rays from the screen (shifted back to the eye's plane) along forward.
     orthographic: bool,
 }
@@ -26,7 +26,7 @@ pub struct CameraRays {
 impl CameraRays {
     /// `aa` is the supersampling factor per axis; the field of view stays that of the
     /// camera: the screen spans `2 width s` by `2 height s` at any `aa`.
-    pub fn new(camera: &Camera, aa: u32, rays_per_pixel: u32) -> CameraRays {
+    pub fn new(camera: &Camera, aa: u32, spp: u32) -> CameraRays {
         let frame = camera.frame();
         let s = camera.retina_scale / aa as f32;
         let step = 2.0 * s;
@@ -39,18 +39,18 @@ impl CameraRays {
             origin_y: -(camera.height as f32) * camera.retina_scale + 0.5 * step,
             focus_ratio: (camera.screen_distance + camera.focal_length) / camera.screen_distance,
             aperture: camera.aperture,
-            rays_per_pixel: if camera.projection == Projection::Orthographic {
+            spp: if camera.projection == Projection::Orthographic {
                 1
             } else {
-                rays_per_pixel.max(1)
+                spp.max(1)
             },
             orthographic: camera.projection == Projection::Orthographic,
         }
     }
 
     /// Rays per pixel: one pinhole ray plus `n - 1` lens rays.
-    pub fn rays_per_pixel(&self) -> u32 {
-        self.rays_per_pixel
+    pub fn spp(&self) -> u32 {
+        self.spp
     }
 
     /// The pinhole ray through the centre of supersampled pixel `(x, y)`.
@@ -98,7 +98,7 @@ impl CameraRays {
         }
         let to_screen = self.screen_point(x, y) - self.eye;
         emit(Ray::new(self.eye, to_screen), sampler);
-        let lens_rays = self.rays_per_pixel - 1;
+        let lens_rays = self.spp - 1;
         if lens_rays == 0 {
             return;
         }
@@ -130,7 +130,7 @@ mod tests {
             retina_scale: 0.5,
             focal_length: 3.0,
             aperture: 0.5,
-            rays_per_pixel: 1,
+            spp: 1,
             aa: 1,
             up: None,
             projection: crate::scene::Projection::Perspective,

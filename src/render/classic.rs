@@ -23,6 +23,8 @@ pub const SHADOW_WEIGHT: f32 = 3.0;
 /// surface must not give an infinite weight.
 const MIN_COS: f32 = 1e-6;
 
+/// The classic integrator: traces each camera ray's tree as the 2014 program did, adding
+/// (colour, weight) pairs whose weighted mean is the pixel.
 pub struct Classic<'a> {
     scene: &'a Scene,
     accel: &'a Accel<'a>,
@@ -76,13 +78,18 @@ impl RectangleFrame {
 /// A ray of the classic model: geometry plus what R3 of the report adds.
 #[derive(Clone, Copy, Debug)]
 pub struct ClassicRay {
+    /// Origin and unit direction.
     pub ray: Ray,
+    /// Product of the reflect and refract ratios along the path, 1 for camera rays; it
+    /// scales every weight the ray adds, and the ray is dropped below [`MIN_INTENSITY`].
     pub intensity: f32,
     /// Refractive index of the medium the ray travels in.
     pub ior: f32,
 }
 
 impl<'a> Classic<'a> {
+    /// The integrator for `scene` with intersector `accel` over its shapes; camera rays
+    /// start in a medium of index `camera_ior`.
     pub fn new(scene: &'a Scene, accel: &'a Accel<'a>, camera_ior: f32) -> Classic<'a> {
         let rectangles = (scene.shapes.others().iter())
             .map(|shape| match shape {

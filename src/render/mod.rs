@@ -10,14 +10,12 @@ mod settings;
 pub mod shadows;
 pub mod whitted;
 
+pub use crate::options::{IntegratorKind, Region};
 pub use camera::CameraRays;
 pub use classic::Classic;
 pub use sampler::PixelSampler;
 use settings::Plan;
-pub use settings::{
-    DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, IntegratorKind, MAX_DEPTH_LIMIT, MAX_SIDE, Region,
-    RenderSettings, check_threads,
-};
+pub use settings::{DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, RenderSettings, check_threads};
 pub use whitted::{Casters, Whitted};
 
 use crate::Result;
@@ -342,7 +340,7 @@ impl<'a> Renderer<'a> {
         rows: &RowSink<'_>,
     ) -> (Image, RenderStats) {
         let plan = &self.plan;
-        let rays = CameraRays::new(&plan.camera, plan.aa, plan.dof_rays);
+        let rays = CameraRays::new(&plan.camera, plan.aa, plan.spp);
         let region = plan.region;
         let (wx, wy) = self.weights();
         let (x_lo, x_hi) = wx.input_span(region.x, region.x + region.width);
@@ -356,7 +354,7 @@ impl<'a> Renderer<'a> {
                 return;
             }
             let mut count = RayCount::default();
-            if rays.rays_per_pixel() == 1 {
+            if rays.spp() == 1 {
                 self.strip_in_packets(
                     integrator,
                     accel,
@@ -477,7 +475,7 @@ impl<'a> Renderer<'a> {
     ) -> Vec3 {
         let mut sampler = PixelSampler::new(self.plan.seed, x, y);
         let mut acc = WeightedColor::default();
-        if !integrator.lens_packets() || rays.rays_per_pixel() == 1 {
+        if !integrator.lens_packets() || rays.spp() == 1 {
             rays.for_each_ray(x, y, &mut sampler, |ray, sampler| {
                 integrator.trace_camera_ray(ray, sampler, &mut acc, count)
             });

@@ -1,38 +1,12 @@
 //! What a user may override from the camera file, checked before anything is traced.
 
 use crate::accel::AccelKind;
-use crate::film::resample::Filter;
+use crate::options::{Filter, IntegratorKind, Region};
 use crate::scene::Camera;
+use crate::util::limits::{
+    MAX_AA, MAX_CAMERA_RAYS, MAX_DEPTH, MAX_SIDE, MAX_SPP, MAX_THREADS_PER_CORE, max_threads,
+};
 use crate::{Error, Result};
-
-/// A window `x, y, width, height` of the final frame, in output pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Region {
-    pub x: u32,
-    pub y: u32,
-    pub width: u32,
-    pub height: u32,
-}
-
-impl std::str::FromStr for Region {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Region, String> {
-        let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-        let nums: Option<Vec<u32>> = parts.iter().map(|p| p.parse().ok()).collect();
-        match nums.as_deref() {
-            Some(&[x, y, width, height]) => Ok(Region {
-                x,
-                y,
-                width,
-                height,
-            }),
-            _ => Err(format!(
-                "expected X,Y,W,H (four non-negative integers), found {}",
-                crate::format::text::shown(s)
-            )),
-        }
-    }
-}
 
 /// Render options. `None` keeps the camera file's value.
 #[derive(Clone, Debug)]
@@ -45,7 +19,7 @@ pub struct RenderSettings {
     pub aa: Option<u32>,
     pub filter: Filter,
     /// Camera rays per pixel (1 = pinhole, more = depth of field).
-    pub dof_rays: Option<u32>,
+    pub spp: Option<u32>,
     /// Render only this window of the frame.
     pub region: Option<Region>,
     pub seed: u64,
@@ -69,7 +43,7 @@ impl Default for RenderSettings {
             height: None,
             aa: None,
             filter: Filter::default(),
-            dof_rays: None,
+            spp: None,
             region: None,
             seed: 0,
             threads: None,
@@ -82,67 +56,12 @@ impl Default for RenderSettings {
     }
 }
 
-/// The shading models (SPEC 3.2 and 4.3).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum IntegratorKind {
-    /// The 2014 program's weighted-mean colours: the 2014 files' model, frozen.
-    #[default]
-    Classic,
-    /// Physically based Whitted: linear radiance, Fresnel, Beer, area lights.
-    Whitted,
-}
-
-impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::Classic, IntegratorKind::Whitted];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            IntegratorKind::Classic => "classic",
-            IntegratorKind::Whitted => "whitted",
-        }
-    }
-}
-
-impl std::str::FromStr for IntegratorKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        IntegratorKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let s = crate::format::text::shown(s);
-                format!("unknown integrator {s}: expected classic or whitted")
-            })
-    }
-}
-
 /// Recursion depth of the whitted model: POV-Ray's `max_trace_level` default is 5;
 /// ten lets light cross a few glass surfaces.
 pub const DEFAULT_MAX_DEPTH: u32 = 10;
 /// A ray whose contribution can change no 8-bit value is not traced (POV-Ray's
 /// `adc_bailout`).
 pub const DEFAULT_MIN_WEIGHT: f32 = 1.0 / 255.0;
-/// The deepest recursion a scene may ask for.
-pub const MAX_DEPTH_LIMIT: u32 = 64;
-
-/// Limits that keep a typo from asking for days of work or all the memory.
-pub const MAX_SIDE: u32 = 1 << 16;
-pub const MAX_AA: u32 = 16;
-pub const MAX_RAYS_PER_PIXEL: u32 = 1 << 16;
-/// Camera rays in one image: the report's heaviest setting (3840 x 2160, AA 4, 128
-/// rays) is 1.7e10; a hundred times that is a typo.
-pub const MAX_CAMERA_RAYS: u64 = 2_000_000_000_000;
-
-/// More worker threads than this per core only adds switching: the render is CPU-bound.
-pub const MAX_THREADS_PER_CORE: usize = 4;
-
-/// The most threads a render may ask for on this machine.
-pub fn max_threads() -> usize {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    cores
-        .saturating_mul(MAX_THREADS_PER_CORE)
-        .max(MAX_THREADS_PER_CORE)
-}
 
 /// Refuses a thread count of 0 or above [`max_threads`]: to be asked before any
 /// thread is started (a pool of 100 000 threads fails only after starting them).
@@ -167,7 +86,7 @@ pub fn check_threads(threads: Option<usize>) -> Result<()> {
 pub(crate) struct Plan {
     pub camera: Camera,
     pub aa: u32,
-    pub dof_rays: u32,
+    pub spp: u32,
     pub region: Region,
     pub filter: Filter,
     pub seed: u64,
@@ -200,10 +119,10 @@ impl RenderSettings {
                 "anti-aliasing factor must be between 1 and {MAX_AA}, found {aa}"
             )));
         }
-        let dof_rays = self.dof_rays.unwrap_or(camera.rays_per_pixel);
-        if dof_rays == 0 || dof_rays > MAX_RAYS_PER_PIXEL {
+        let spp = self.spp.unwrap_or(camera.spp);
+        if spp == 0 || spp > MAX_SPP {
             return Err(Error::Settings(format!(
-                "rays per pixel must be between 1 and {MAX_RAYS_PER_PIXEL}, found {dof_rays}"
+                "rays per pixel must be between 1 and {MAX_SPP}, found {spp}"
             )));
         }
         let region = self.region.unwrap_or(Region {
@@ -225,17 +144,17 @@ impl RenderSettings {
         let camera_rays = u64::from(region.width)
             * u64::from(region.height)
             * u64::from(aa * aa)
-            * u64::from(dof_rays);
+            * u64::from(spp);
         if camera_rays > MAX_CAMERA_RAYS {
             return Err(Error::Settings(format!(
-                "{camera_rays} camera rays ({}x{} pixels, anti-aliasing {aa}, {dof_rays} rays per pixel) exceed the limit of {MAX_CAMERA_RAYS}",
+                "{camera_rays} camera rays ({}x{} pixels, anti-aliasing {aa}, {spp} rays per pixel) exceed the limit of {MAX_CAMERA_RAYS}",
                 region.width, region.height
             )));
         }
         check_threads(self.threads)?;
-        if self.max_depth > MAX_DEPTH_LIMIT {
+        if self.max_depth > MAX_DEPTH {
             return Err(Error::Settings(format!(
-                "max depth must be at most {MAX_DEPTH_LIMIT}, found {}",
+                "max depth must be at most {MAX_DEPTH}, found {}",
                 self.max_depth
             )));
         }
@@ -247,11 +166,11 @@ impl RenderSettings {
         }
         let mut camera = camera.with_resolution(width, height);
         camera.aa = aa;
-        camera.rays_per_pixel = dof_rays;
+        camera.spp = spp;
         Ok(Plan {
             camera,
             aa,
-            dof_rays,
+            spp,
             region,
             filter: self.filter,
             seed: self.seed,
@@ -289,7 +208,7 @@ mod tests {
             retina_scale: 0.00125,
             focal_length: 900.0,
             aperture: 5.0,
-            rays_per_pixel: 128,
+            spp: 128,
             aa: 4,
             up: None,
             projection: crate::scene::Projection::Perspective,
@@ -305,7 +224,7 @@ mod tests {
         let plan = s.resolve(&camera()).unwrap();
         assert_eq!((plan.camera.width, plan.camera.height), (960, 540));
         assert_eq!(plan.camera.retina_scale, 0.005);
-        assert_eq!((plan.aa, plan.dof_rays), (4, 128));
+        assert_eq!((plan.aa, plan.spp), (4, 128));
     }
 
     #[test]
@@ -337,7 +256,7 @@ mod tests {
     fn absurd_requests_are_refused_with_the_numbers() {
         let s = RenderSettings {
             aa: Some(16),
-            dof_rays: Some(60000),
+            spp: Some(60000),
             ..Default::default()
         };
         let e = s.resolve(&camera()).unwrap_err().to_string();
@@ -364,7 +283,7 @@ mod tests {
         };
         assert!(most.resolve(&camera()).is_ok());
         let deep = RenderSettings {
-            max_depth: MAX_DEPTH_LIMIT + 1,
+            max_depth: MAX_DEPTH + 1,
             ..Default::default()
         };
         assert!(deep.resolve(&camera()).is_err());

@@ -97,10 +97,10 @@ mod cancel_tests {
         let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 2048, 8);
         let accel = Accel::build(crate::accel::AccelKind::Bvh, &scene.shapes);
         let threads = rayon::current_num_threads() as u64;
-        for (dof_rays, aa, per_call) in [(None, 1, 1), (Some(8), 1, 8), (None, 2, 1)] {
+        for (spp, aa, per_call) in [(None, 1, 1), (Some(8), 1, 8), (None, 2, 1)] {
             let flag = AtomicBool::new(false);
             let settings = RenderSettings {
-                dof_rays,
+                spp,
                 aa: Some(aa),
                 ..RenderSettings::default()
             };
@@ -129,7 +129,7 @@ mod cancel_tests {
             ));
             // Each thread finishes the tile or pixel it is in.
             let calls = cancelling.calls.into_inner();
-            let case = format!("{dof_rays:?} lens rays, AA {aa}");
+            let case = format!("{spp:?} lens rays, AA {aa}");
             assert!(calls <= threads * per_call, "{calls} calls, {case}");
             assert_eq!(progressed.into_inner(), 0, "progress reported, {case}");
             // No band is resampled or handed on once the render is cancelled.
@@ -197,13 +197,13 @@ mod lens_packet_tests {
             scene.lights = lights;
             let settings = RenderSettings {
                 aa: Some(1),
-                dof_rays: Some(21),
+                spp: Some(21),
                 integrator: IntegratorKind::Whitted,
                 ..RenderSettings::default()
             };
             let renderer = Renderer::new(&scene, &camera, settings).unwrap();
             let plan = &renderer.plan;
-            let rays = CameraRays::new(&plan.camera, 1, plan.dof_rays);
+            let rays = CameraRays::new(&plan.camera, 1, plan.spp);
             let accel = Accel::build(plan.accel, &scene.shapes);
             let surfaces = scene.resolved_surfaces();
             let whitted = Whitted::new(&scene, &accel, &surfaces, plan.max_depth, plan.min_weight);
@@ -260,10 +260,10 @@ mod band_tests {
         });
         // Heights that leave a short last strip of rows, with and without anti-aliasing.
         let camera = Camera::look_at(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 37, 23);
-        for (aa, dof_rays) in [(1, 1), (3, 1), (2, 3)] {
+        for (aa, spp) in [(1, 1), (3, 1), (2, 3)] {
             let settings = RenderSettings {
                 aa: Some(aa),
-                dof_rays: Some(dof_rays),
+                spp: Some(spp),
                 ..RenderSettings::default()
             };
             let renderer = Renderer::new(&scene, &camera, settings).unwrap();
@@ -358,7 +358,7 @@ mod band_tests {
                 // What the band loop gives: traced pixels through the resampler.
                 let r = renderer.region();
                 let plan = &renderer.plan;
-                let rays = CameraRays::new(&plan.camera, 1, plan.dof_rays);
+                let rays = CameraRays::new(&plan.camera, 1, plan.spp);
                 let accel = Accel::build(plan.accel, &scene.shapes);
                 let surfaces = scene.resolved_surfaces();
                 let whitted =

@@ -47,6 +47,8 @@ const WALK_SPHERES: usize = 16;
 const FLAT_CROSSINGS: usize = 32;
 const _: () = assert!(FLAT_CROSSINGS <= MAX_CROSSINGS as usize);
 
+/// The physically based Whitted integrator over a scene, its intersector and its resolved
+/// surfaces.
 pub struct Whitted<'a> {
     scene: &'a Scene,
     accel: &'a Accel<'a>,
@@ -88,6 +90,9 @@ struct LightSample {
 }
 
 impl<'a> Whitted<'a> {
+    /// The integrator for `scene` with intersector `accel`; `surfaces[m]` shades material
+    /// `m`. Hits at depth `max_depth` (camera rays are depth 0) spawn no children, nor do
+    /// children whose path weight (largest channel) would fall below `min_weight`.
     pub fn new(
         scene: &'a Scene,
         accel: &'a Accel<'a>,

@@ -22,7 +22,7 @@ pub struct Camera {
     /// Radius of the lens.
     pub aperture: f32,
     /// Camera rays per pixel; more than one turns on depth of field.
-    pub rays_per_pixel: u32,
+    pub spp: u32,
     /// Supersampling factor per axis.
     pub aa: u32,
     /// `None`: the 2014 frame (SPEC 3.1), as the `.cmr` files mean it. `Some(up)`: a
@@ -96,7 +96,7 @@ impl Camera {
             retina_scale: half / width.max(1) as f32,
             focal_length: 0.0,
             aperture: 0.0,
-            rays_per_pixel: 1,
+            spp: 1,
             aa: 1,
             up: Some(up),
             projection: Projection::Perspective,
@@ -158,7 +158,7 @@ mod tests {
             retina_scale: 0.5,
             focal_length: 1.0,
             aperture: 0.0,
-            rays_per_pixel: 1,
+            spp: 1,
             aa: 1,
             up: None,
             projection: Projection::Perspective,

@@ -12,17 +12,26 @@ use std::sync::LazyLock;
 pub enum Texels {
     /// 8-bit RGBA; `srgb` says whether the colour channels are sRGB-encoded (alpha
     /// never is).
-    Rgba8 { texels: Vec<[u8; 4]>, srgb: bool },
+    Rgba8 {
+        /// `width * height` texels, row-major.
+        texels: Vec<[u8; 4]>,
+        /// Whether R, G and B are sRGB-encoded (colour maps) rather than linear.
+        srgb: bool,
+    },
     /// Linear float RGBA.
     RgbaF32(Vec<[f32; 4]>),
 }
 
+/// A decoded image, read by image albedos, material maps and environment backgrounds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImageTexture {
     /// Where it came from, for messages and `prism info`.
     pub name: String,
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
+    /// `width * height` texels, row-major from the top row.
     pub texels: Texels,
 }
 

@@ -14,49 +14,67 @@ pub struct Light {
     /// irradiance a surface facing the light receives (before any falloff); for area
     /// lights it is the emitted radiance.
     pub color: Vec3,
+    /// Scalar strength multiplying `color` (for a mesh light, its triangles' emission).
     pub intensity: f32,
+    /// The light's geometry: point, directional, spot or one of the area shapes.
     pub kind: LightKind,
+    /// Dimming with distance, applied to point and spot lights only.
     pub falloff: Falloff,
     /// Shadow rays per shading point for area lights (stratified, seeded per pixel).
     pub samples: u32,
 }
 
+/// The geometry of a light and how it is sampled.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightKind {
+    /// Emits equally in all directions from `position`.
     Point,
     /// Light arriving from infinitely far along `direction` (the way it travels).
     Directional {
+        /// Unit direction the light travels in, world space.
         direction: Vec3,
     },
     /// A point light shining along `direction`, full inside `cos_inner`, fading to
     /// nothing at `cos_outer` along the curve `edge` names.
     Spot {
+        /// Unit axis of the cone, world space, pointing away from the light.
         direction: Vec3,
+        /// Cosine of the inner cone's half-angle: full strength inside it.
         cos_inner: f32,
+        /// Cosine of the outer cone's half-angle: no light outside it.
         cos_outer: f32,
+        /// Fade curve between the two cones.
         edge: ConeEdge,
     },
     /// A parallelogram `position + s u + t v`, `s, t` in `[-1/2, 1/2]`, emitting on the
     /// side `u x v` points to.
     Quad {
+        /// First full edge vector, world units.
         u: Vec3,
+        /// Second full edge vector, world units; `|u x v|` is the light's area.
         v: Vec3,
     },
     /// A disk around `position` facing `normal`, emitting on that side.
     Disk {
+        /// Direction the lit side faces (normalised when sampled; `+Y` if zero).
         normal: Vec3,
+        /// Radius in world units.
         radius: f32,
     },
     /// A sphere around `position`, emitting outward.
     Sphere {
+        /// Radius in world units; shading points are sampled over the cone it subtends.
         radius: f32,
     },
     /// Triangles of `Scene::shapes` (by index) emitting with their material's
     /// emission: an emissive mesh. `cdf` holds their cumulative areas, normalised, so
     /// samples pick triangles in proportion to area; `area` is the total.
     Mesh {
+        /// Indices of the emitting triangles in `Scene::shapes`.
         shapes: Vec<u32>,
+        /// Cumulative area of `shapes` over the total, rising to 1.
         cdf: Vec<f32>,
+        /// Total area of the triangles, in squared world units.
         area: f32,
     },
 }
@@ -71,7 +89,10 @@ pub enum Falloff {
     InverseSquare,
     /// `1 / d^2` brought smoothly to zero at `range`: `clamp(1 - (d / range)^4, 0, 1) /
     /// d^2` (glTF's KHR_lights_punctual, after Unreal).
-    Range { range: f32 },
+    Range {
+        /// Distance in world units at which the light reaches zero.
+        range: f32,
+    },
 }
 
 impl Falloff {

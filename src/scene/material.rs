@@ -2,14 +2,22 @@
 
 use crate::math::Vec3;
 
+/// A material of the 2014 format, as the classic model shades it: factors that weight the
+/// surface colour, white diffuse light, highlights and child rays.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// Name the scene file gives the material, by which shapes refer to it.
     pub name: String,
     /// Base colour, 0..1 per channel (the file gives 0..255). Ignored under a texture.
     pub color: Vec3,
+    /// Weight of the surface colour in a hit's classic mix (in the whitted reading, Ka's
+    /// share of the colour).
     pub ambient: f32,
+    /// Weight of the white diffuse term (in the whitted reading, kd).
     pub diffuse: f32,
+    /// Strength of each light's highlight (ks).
     pub specular: f32,
+    /// Phong exponent of the highlight, over `R.V`.
     pub shininess: f32,
     /// Refractive index of the medium inside the surface.
     pub ior: f32,
@@ -58,6 +66,7 @@ pub struct Surface {
     pub specular: Vec3,
     /// Ns: the highlight exponent.
     pub shininess: f32,
+    /// Phong or Blinn-Phong form of the highlight term.
     pub highlight: Highlight,
     /// Scale the highlight so Ns changes its width, not the scene's brightness.
     pub normalized: bool,
@@ -82,7 +91,9 @@ pub struct Surface {
     /// Images multiplying `specular`, `ambient` and `emission` (MTL `map_Ks`,
     /// `map_Ka`, `map_Ke`; colour maps, decoded from sRGB).
     pub specular_map: Option<TextureSlot>,
+    /// See `specular_map`: multiplies `ambient` (MTL `map_Ka`).
     pub ambient_map: Option<TextureSlot>,
+    /// See `specular_map`: multiplies `emission` (MTL `map_Ke`).
     pub emission_map: Option<TextureSlot>,
     /// Where the alpha map cuts: rays pass where its value is below this.
     pub alpha_cutoff: f32,
@@ -106,7 +117,9 @@ pub struct Surface {
 ///   surfaces reflect their lights' highlights only.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MetallicRoughness {
+    /// Metalness, 0 (dielectric) to 1 (metal): mixes F0 from `f0` to the albedo.
     pub metallic: f32,
+    /// Perceptual roughness, 0 (mirror) to 1; squared to give the microfacet `a`.
     pub roughness: f32,
     /// Multiplies roughness by its green channel and metallic by its blue (linear).
     pub map: Option<TextureSlot>,
@@ -133,16 +146,22 @@ impl MetallicRoughness {
 /// The albedo of a surface.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Albedo {
+    /// A constant colour, linear RGB.
     Color(Vec3),
     /// An image read at the hit's texture coordinates, times a tint.
     Image {
+        /// The image and how texture coordinates map onto it.
         slot: TextureSlot,
+        /// Linear RGB factor applied to the image's colour.
         tint: Vec3,
     },
     /// A solid checker in world space: cubes of side `scale` alternate `a` and `b`.
     Checker {
+        /// Colour of the cells whose integer coordinates sum to an even number.
         a: Vec3,
+        /// Colour of the other cells.
         b: Vec3,
+        /// Side of a cell in world units.
         scale: f32,
     },
     /// The 2014 material colour or texture, with the 2014 mapping, decoded from sRGB.
@@ -152,9 +171,11 @@ pub enum Albedo {
 /// An image (an index into `Scene::images`) with its texture-coordinate transform.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TextureSlot {
+    /// Index into `Scene::images`.
     pub image: u32,
     /// `uv * scale + offset` is what is looked up (MTL `-s`, `-o`).
     pub scale: [f32; 2],
+    /// Added to the scaled (or transformed) texture coordinates (MTL `-o`).
     pub offset: [f32; 2],
     /// Clamp to the edge instead of repeating (MTL `-clamp on`).
     pub clamp: bool,
@@ -165,6 +186,7 @@ pub struct TextureSlot {
 }
 
 impl TextureSlot {
+    /// Image `image` read as is: unit scale, no offset, repeating, no matrix.
     pub fn new(image: u32) -> TextureSlot {
         TextureSlot {
             image,
@@ -176,6 +198,7 @@ impl TextureSlot {
     }
 }
 
+/// The form of the highlight term s(N, L, V).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Highlight {
     /// `max(0, R.V)^Ns`.

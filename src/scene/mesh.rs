@@ -11,16 +11,22 @@ use crate::math::{Vec3, cross};
 /// empty too.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshAttributes {
+    /// Index in `Scene::shapes` of the mesh's first triangle.
     pub first_shape: u32,
     /// Number of triangles (shapes) the mesh owns.
     pub len: u32,
+    /// Vertex normals in world space (unit length not required; interpolation
+    /// normalises).
     pub normals: Vec<Vec3>,
     /// One index triple into `normals` per triangle (or none at all).
     pub normal_indices: Vec<[u32; 3]>,
+    /// Texture coordinates `(u, v)`, v running bottom to top as in OBJ and PLY.
     pub texcoords: Vec<[f32; 2]>,
+    /// One index triple into `texcoords` per triangle (or none at all).
     pub texcoord_indices: Vec<[u32; 3]>,
     /// Linear RGB, multiplied into the albedo.
     pub colors: Vec<Vec3>,
+    /// One index triple into `colors` per triangle (or none at all).
     pub color_indices: Vec<[u32; 3]>,
 }
 
@@ -75,6 +81,8 @@ impl MeshAttributes {
         Some(idx.map(|i| self.normals[i as usize]))
     }
 
+    /// Interpolated texture coordinates of triangle `tri` at barycentrics `(b0, b1, b2)`,
+    /// if the mesh has them.
     pub fn texcoord(&self, tri: usize, b: [f32; 3]) -> Option<[f32; 2]> {
         let [i, j, k] = *self.texcoord_indices.get(tri)?;
         let (a, c, d) = (
@@ -88,6 +96,8 @@ impl MeshAttributes {
         ])
     }
 
+    /// Interpolated vertex colour (linear RGB) of triangle `tri` at barycentrics
+    /// `(b0, b1, b2)`, if the mesh has colours.
     pub fn color(&self, tri: usize, b: [f32; 3]) -> Option<Vec3> {
         let [i, j, k] = *self.color_indices.get(tri)?;
         Some(

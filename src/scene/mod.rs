@@ -54,9 +54,7 @@ pub enum Background {
 
 /// Everything that can be seen. `shapes[i]` wears `materials[material_of[i]]`; the two
 /// arrays are parallel so the intersection loop touches geometry only.
-/// The most shapes (triangles, mostly) a scene may hold: 2^28, about 40 GB of mesh and
-/// BVH. Readers refuse a mesh that would pass it where they read its size.
-pub const MAX_SHAPES: usize = 1 << 28;
+pub use crate::util::limits::MAX_SHAPES;
 
 #[derive(Clone, Debug, Default)]
 pub struct Scene {

@@ -10,15 +10,20 @@ use crate::math::{Aabb, Ray, Vec3, cross};
 /// relative amount about its centroid for the same reason.
 pub(crate) const EDGE_SLACK: f32 = 1e-5;
 
+/// A sphere given by its centre and radius, in world units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
+    /// Centre in world space.
     pub center: Vec3,
+    /// Radius in world units.
     pub radius: f32,
 }
 
 /// A triangle with vertices in file order; its normal follows the right-hand rule.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
+    /// Vertices in world space, in file order (counter-clockwise seen from the normal
+    /// side).
     pub v: [Vec3; 3],
 }
 
@@ -26,13 +31,19 @@ pub struct Triangle {
 /// triangle `v0 v1 v2`; texture x runs along `v1 - v0`, y along `v3 - v0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rectangle {
+    /// Corners in world space, in order around the rectangle; `v1` and `v3` neighbour
+    /// `v0`.
     pub v: [Vec3; 4],
 }
 
+/// One surface of a scene, as stored in the scene and tested by the intersectors.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
+    /// A sphere.
     Sphere(Sphere),
+    /// A triangle, on its own or one of a mesh.
     Triangle(Triangle),
+    /// A flat rectangle, intersected as one parallelogram rather than two triangles.
     Rectangle(Rectangle),
 }
 
@@ -42,11 +53,17 @@ pub enum Shape {
 /// the image onto.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceCoords {
+    /// Planar x coordinate of the point in the shape's frame.
     pub x: f32,
+    /// Planar y coordinate of the point in the shape's frame.
     pub y: f32,
+    /// Lower `x` bound of the shape's extent in its frame.
     pub x0: f32,
+    /// Lower `y` bound of the shape's extent in its frame.
     pub y0: f32,
+    /// Width of the shape along `x`, in the same units as `x`.
     pub len_x: f32,
+    /// Height of the shape along `y`, in the same units as `y`.
     pub len_y: f32,
 }
 
@@ -82,10 +99,12 @@ impl Sphere {
         }
     }
 
+    /// Outward unit normal at `p`, a point on the surface; `+Z` if `p` is the centre.
     pub fn normal(&self, p: Vec3) -> Vec3 {
         (p - self.center).normalize_or(Vec3::Z)
     }
 
+    /// Axis-aligned box that just encloses the sphere.
     pub fn bounds(&self) -> Aabb {
         let r = Vec3::splat(self.radius);
         Aabb {
@@ -149,17 +168,22 @@ pub(crate) fn intersect_parallelogram(
 }
 
 impl Triangle {
+    /// Distance to the intersection in `(0, t_max)`, if any; both sides are hit (no
+    /// culling).
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let [a, b, c] = self.v;
         intersect_parallelogram(ray, a, b - a, c - a, 1.0, t_max)
     }
 
+    /// Unit normal by the right-hand rule over `v0 v1 v2`; `+Z` if the triangle is
+    /// degenerate.
     pub fn normal(&self) -> Vec3 {
         let [a, b, c] = self.v;
         cross(b - a, c - a).normalize_or(Vec3::Z)
     }
 
+    /// Axis-aligned box of the three vertices.
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(&self.v)
     }
@@ -196,21 +220,27 @@ impl Triangle {
 }
 
 impl Rectangle {
+    /// Distance to the intersection in `(0, t_max)`, if any; both sides are hit (no
+    /// culling).
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let [a, b, _, d] = self.v;
         intersect_parallelogram(ray, a, b - a, d - a, 2.0, t_max)
     }
 
+    /// Unit normal of the triangle `v0 v1 v2`; `+Z` if the rectangle is degenerate.
     pub fn normal(&self) -> Vec3 {
         let [a, b, c, _] = self.v;
         cross(b - a, c - a).normalize_or(Vec3::Z)
     }
 
+    /// Axis-aligned box of the four corners.
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(&self.v)
     }
 
+    /// Frame with origin `v0`, x along `v1 - v0` and y along `v3 - v0`, both in world
+    /// units; the extent is `[0, |v1 - v0|] x [0, |v3 - v0|]`.
     pub fn surface_coords(&self, p: Vec3) -> SurfaceCoords {
         let [a, b, _, d] = self.v;
         let (ex, ey) = (b - a, d - a);
@@ -226,6 +256,8 @@ impl Rectangle {
 }
 
 impl Shape {
+    /// Distance along `ray` (whose direction is unit length) to the first hit in
+    /// `(0, t_max)`; `None` if the ray misses within that range.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         match self {
@@ -244,6 +276,7 @@ impl Shape {
         }
     }
 
+    /// World-space axis-aligned bounding box, which the acceleration structures build on.
     pub fn bounds(&self) -> Aabb {
         match self {
             Shape::Sphere(s) => s.bounds(),
@@ -252,6 +285,8 @@ impl Shape {
         }
     }
 
+    /// Texture coordinates of `p`, a point on the surface, and the shape's extent in its
+    /// frame.
     pub fn surface_coords(&self, p: Vec3) -> SurfaceCoords {
         match self {
             Shape::Sphere(s) => s.surface_coords(p),

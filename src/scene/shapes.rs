@@ -33,15 +33,18 @@ pub struct Shapes {
 }
 
 impl Shapes {
+    /// An empty set of shapes.
     pub fn new() -> Shapes {
         Shapes::default()
     }
 
+    /// Number of shapes, triangles and others together.
     #[inline]
     pub fn len(&self) -> usize {
         self.corners.len()
     }
 
+    /// Whether there are no shapes at all.
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.corners.is_empty()
@@ -106,18 +109,23 @@ impl Shapes {
         &self.corners
     }
 
+    /// Every shape in index order, as [`Shape`] values.
     pub fn iter(&self) -> impl ExactSizeIterator<Item = Shape> + DoubleEndedIterator + '_ {
         (0..self.len()).map(|i| self.get(i))
     }
 
+    /// Every shape in index order, as [`Shape`] values, in parallel.
     pub fn par_iter(&self) -> impl IndexedParallelIterator<Item = Shape> + '_ {
         (0..self.len()).into_par_iter().map(|i| self.get(i))
     }
 
+    /// Every shape in index order, copied out whole (triangles with their own corners).
     pub fn to_vec(&self) -> Vec<Shape> {
         self.iter().collect()
     }
 
+    /// Room for `shapes` more shape indices (not their positions, which grow with each
+    /// push).
     pub fn reserve(&mut self, shapes: usize) {
         self.corners.reserve(shapes);
     }
@@ -281,6 +289,7 @@ impl Shapes {
             + self.others.capacity() * size_of::<Shape>()
     }
 
+    /// World-space box around every shape; [`Aabb::EMPTY`] when there are none.
     pub fn bounds(&self) -> Aabb {
         self.par_iter()
             .map(|s| s.bounds())

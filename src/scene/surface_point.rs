@@ -7,6 +7,7 @@ use crate::math::{Ray, Vec3};
 /// A hit, resolved for shading.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
+    /// The hit point in world space, `ray.at(t)`.
     pub p: Vec3,
     /// Unit geometric normal, as the shape is wound (not turned toward the ray): for
     /// inside/outside and for offsetting new rays.

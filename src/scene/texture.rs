@@ -7,7 +7,10 @@ use crate::math::Vec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FillMode {
     /// Repeat the image; one texel covers `scale` world units.
-    Tile { scale: f32 },
+    Tile {
+        /// Side of one texel in world units (of the shape's planar frame).
+        scale: f32,
+    },
     /// Map the image onto the shape's extent, distorting its aspect ratio.
     Stretch,
     /// Scale uniformly so the whole image shows, centred; the rest of the surface keeps
@@ -20,13 +23,19 @@ pub enum FillMode {
 /// An 8-bit RGB image, rows top to bottom.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
+    /// Width in texels, at least 1.
     pub width: u32,
+    /// Height in texels, at least 1.
     pub height: u32,
+    /// `width * height` 8-bit RGB texels, row-major from the top row.
     pub texels: Vec<[u8; 3]>,
+    /// How the image is laid onto the surfaces that use it.
     pub fill: FillMode,
 }
 
 impl Texture {
+    /// A texture of `width x height` texels, top row first. Panics when `texels` does not
+    /// hold exactly that many or either side is zero.
     pub fn new(width: u32, height: u32, texels: Vec<[u8; 3]>, fill: FillMode) -> Texture {
         assert_eq!(texels.len(), width as usize * height as usize);
         assert!(width > 0 && height > 0);

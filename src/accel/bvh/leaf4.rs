@@ -19,6 +19,9 @@ use crate::scene::{Shape, Shapes, Sphere, Stored};
 
 /// Shape indices must fit in a lane's `u32` with one value left for an empty lane.
 pub const MAX_SHAPES: usize = 1 << 30;
+// The tree takes more shapes than a scene may hold, so the scene's limit is the only
+// one a reader can reach.
+const _: () = assert!(crate::util::limits::MAX_SHAPES <= MAX_SHAPES);
 const EMPTY_LANE: u32 = u32::MAX;
 
 /// Up to four shapes. A triangle or rectangle lane holds its corner `p` and edges `e1`,

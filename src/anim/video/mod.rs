@@ -18,7 +18,9 @@ use std::path::Path;
 /// What was written.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VideoInfo {
+    /// Number of frames in the file.
     pub frames: u32,
+    /// Size of the file written, in bytes (0 if it could not be read back).
     pub bytes: u64,
     /// The frame rate the file plays at on average: GIF delays are whole hundredths of
     /// a second (each frame is rounded so the whole film lasts as long as asked), MP4

@@ -145,7 +145,7 @@ impl ReadLimits {
     /// Puts the limits in force for the rest of the process.
     pub fn apply(&self) -> prism::Result<()> {
         if let Some(dir) = &self.restrict_paths {
-            prism::format::file::restrict_reads_to(dir)
+            prism::util::file::restrict_reads_to(dir)
                 .map_err(|e| prism::Error::Settings(format!("--restrict-paths: {e}")))?;
         }
         Ok(())

@@ -4,12 +4,11 @@
 use clap::Args;
 use prism::accel::AccelKind;
 use prism::film::output::check_output_path;
-use prism::film::resample::Filter;
-use prism::film::{Develop, ExrPrecision, OutputFile, OutputOptions, PngBits, ToneMap, Transfer};
+use prism::film::{ExrPrecision, OutputFile, PngBits};
 use prism::format::SceneDialect;
+use prism::job::{JobOptions, LookAt};
 use prism::math::Vec3;
-use prism::render::{IntegratorKind, Region, Renderer};
-use prism::still::{LookAt, StillOptions};
+use prism::options::{Filter, IntegratorKind, Region, RenderOptions, ToneMap};
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -39,7 +38,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "DEGREES")]
     pub fov: Option<f32>,
     /// Shading model (default: classic for .objx, whitted otherwise).
-    #[arg(long, value_parser = integrator_parser())]
+    #[arg(long, value_parser = names_parser::<IntegratorKind, 2>(IntegratorKind::ALL.map(IntegratorKind::name)))]
     pub integrator: Option<IntegratorKind>,
     /// Read the scene file as this dialect, whatever its extension.
     #[arg(long, value_parser = SceneDialect::names())]
@@ -71,12 +70,13 @@ pub struct RenderArgs {
     /// Anti-aliasing: render K times larger per axis and resample down.
     #[arg(long, value_name = "K")]
     pub aa: Option<u32>,
-    /// Resampling filter for anti-aliasing (default: area).
-    #[arg(long, value_name = "FILTER", value_parser = ["nearest", "bilinear", "area", "bicubic", "lanczos"])]
-    pub aa_filter: Option<String>,
-    /// Camera rays per pixel; more than 1 turns on depth of field.
-    #[arg(long, value_name = "N")]
-    pub dof_rays: Option<u32>,
+    /// Resampling filter for anti-aliasing (default: area; also --aa-filter).
+    #[arg(long, alias = "aa-filter", value_name = "FILTER", value_parser = names_parser::<Filter, 5>(Filter::ALL.map(|f| f.name())))]
+    pub filter: Option<Filter>,
+    /// Samples (camera rays) per pixel; more than 1 turns on depth of field (also
+    /// --dof-rays).
+    #[arg(long, alias = "dof-rays", value_name = "N")]
+    pub spp: Option<u32>,
     /// Whitted model: deepest reflection/refraction recursion (default 10).
     #[arg(long, value_name = "N")]
     pub max_depth: Option<u32>,
@@ -87,8 +87,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "EV", allow_hyphen_values = true, value_parser = prism::film::develop::parse_exposure)]
     pub exposure: Option<f32>,
     /// Tone map for 8- and 16-bit outputs (default: clamp).
-    #[arg(long, value_parser = ["clamp", "reinhard", "aces"])]
-    pub tonemap: Option<String>,
+    #[arg(long, value_parser = names_parser::<ToneMap, 3>(ToneMap::ALL.map(ToneMap::name)))]
+    pub tonemap: Option<ToneMap>,
     /// Bits per channel of PNG output.
     #[arg(long, value_name = "BITS", default_value = "8", value_parser = ["8", "16"])]
     pub png_bits: String,
@@ -137,41 +137,46 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     args.limits.apply()?;
     // Refuse a bad output path before spending time on the render.
     check_output_path(output)?;
-    let options = StillOptions {
-        dialect: args.dialect.as_deref().map(dialect_of),
-        camera_name: args.camera_name.clone(),
-        smooth: args.smooth,
-        up_axis: match args.up_axis.as_deref() {
-            Some("z") => Some(prism::math::Vec3::Z),
-            Some(_) => Some(prism::math::Vec3::Y),
-            None => None,
+    let settings_error = prism::Error::Settings;
+    let options = JobOptions {
+        render: RenderOptions {
+            width: args.width,
+            height: args.height,
+            aa: args.aa,
+            filter: args.filter,
+            spp: args.spp,
+            seed: args.seed,
+            integrator: args.integrator,
+            max_depth: args.max_depth,
+            min_weight: args.min_weight,
+            exposure: args.exposure,
+            tonemap: args.tonemap,
         },
-        camera_index: args.camera_index,
+        dialect: args.dialect.as_deref().map(dialect_of),
         camera_file,
+        camera_name: args.camera_name.clone(),
+        camera_index: args.camera_index,
         look: LookAt {
             from: args.look_from,
             at: args.look_at,
             up: args.up,
             fov: args.fov,
         },
-        integrator: args.integrator,
-        width: args.width,
-        height: args.height,
-        aa: args.aa,
-        filter: args
-            .aa_filter
-            .as_deref()
-            .map(str::parse::<Filter>)
-            .transpose()
-            .map_err(prism::Error::Settings)?,
-        dof_rays: args.dof_rays,
         region: args.region,
-        seed: args.seed,
         threads: args.threads,
         accel: args.accel,
-        max_depth: args.max_depth,
-        min_weight: args.min_weight,
         max_memory: args.max_memory,
+        smooth: args.smooth,
+        up_axis: match args.up_axis.as_deref() {
+            Some("z") => Some(Vec3::Z),
+            Some(_) => Some(Vec3::Y),
+            None => None,
+        },
+        png_bits: args.png_bits.parse::<PngBits>().map_err(settings_error)?,
+        exr_precision: args
+            .exr_precision
+            .parse::<ExrPrecision>()
+            .map_err(settings_error)?,
     };
     // Loading (texture images decode in parallel) and development run on the threads
     // the render is given, so `--threads 1` is one thread throughout.
@@ -185,19 +190,15 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         ),
         None => None,
     };
-    let still = on_threads(pool.as_ref(), || {
-        prism::still::prepare(scene_path, &options)
-    })?;
+    let job = on_threads(pool.as_ref(), || prism::job::prepare(scene_path, &options))?;
     if !args.quiet {
-        for w in &still.warnings {
+        for w in &job.warnings {
             eprintln!("warning: {w}");
         }
     }
-    let renderer = Renderer::new(&still.scene, &still.camera, still.settings.clone())?
-        .cancel_on(&interrupt.stop);
-    let output_options = output_options(args, &still)?;
+    let renderer = job.renderer()?.cancel_on(&interrupt.stop);
     let region = renderer.region();
-    let file = OutputFile::create(output, region.width, region.height, &output_options)?;
+    let file = OutputFile::create(output, region.width, region.height, &job.output)?;
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
     let (image, stats) =
         renderer.render_streaming(None, &|n| bar.inc(n), &|y, rows| file.rows(y, rows))?;
@@ -254,40 +255,20 @@ fn on_threads<T: Send>(pool: Option<&rayon::ThreadPool>, f: impl FnOnce() -> T +
     }
 }
 
-/// How the image is stored: the classic model's values as the 2014 program wrote them
-/// (no transfer curve), the whitted model's radiance developed for display; the scene
-/// file's exposure and tone map unless the command line says otherwise.
-fn output_options(args: &RenderArgs, still: &prism::still::Still) -> prism::Result<OutputOptions> {
-    let settings_error = prism::Error::Settings;
-    let transfer = match still.settings.integrator {
-        IntegratorKind::Classic => Transfer::Classic,
-        IntegratorKind::Whitted => Transfer::Srgb,
-    };
-    let tonemap = match args.tonemap.as_deref().or(still.tonemap.as_deref()) {
-        Some(name) => name.parse::<ToneMap>().map_err(settings_error)?,
-        None => ToneMap::default(),
-    };
-    Ok(OutputOptions {
-        develop: Develop {
-            exposure: args.exposure.or(still.exposure).unwrap_or(0.0),
-            tonemap,
-            transfer,
-        },
-        png_bits: args.png_bits.parse::<PngBits>().map_err(settings_error)?,
-        exr_precision: args
-            .exr_precision
-            .parse::<ExrPrecision>()
-            .map_err(settings_error)?,
-    })
-}
-
 fn dialect_of(name: &str) -> SceneDialect {
     SceneDialect::named(name).expect("clap accepts only listed names")
 }
 
-fn integrator_parser() -> impl clap::builder::TypedValueParser<Value = IntegratorKind> {
+/// A parser of one of `names`, into the type they name.
+fn names_parser<T, const N: usize>(
+    names: [&'static str; N],
+) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+    T::Err: std::fmt::Debug,
+{
     use clap::builder::TypedValueParser as _;
-    clap::builder::PossibleValuesParser::new(IntegratorKind::ALL.map(IntegratorKind::name))
+    clap::builder::PossibleValuesParser::new(names)
         .map(|name| name.parse().expect("clap accepts only listed names"))
 }
 

@@ -1,6 +1,6 @@
 //! A glTF file's JSON (from a `.gltf`, or a `.glb`'s first chunk) and its buffers: the
 //! GLB's binary chunk, base64 `data:` URIs and files beside it, every file read through
-//! [`crate::format::file`].
+//! [`crate::util::file`].
 
 use crate::Error;
 use crate::Result;
@@ -42,7 +42,7 @@ pub struct Loaded {
 
 /// Reads `path` (`.gltf` or `.glb`) and its buffers.
 pub fn load(path: &Path) -> Result<Loaded> {
-    let bytes = crate::format::file::read_regular(path, MAX_GLTF_BYTES)
+    let bytes = crate::util::file::read_regular(path, MAX_GLTF_BYTES)
         .map_err(|e| Error::file(path, format!("cannot read: {e}")))?;
     parse(&bytes, path)
 }
@@ -317,11 +317,11 @@ pub fn read_uri(uri: &str, folder: &Path, max: u64) -> std::result::Result<Vec<u
     {
         return Err(format!(
             "the URI {} is not a file beside the glTF file (Prism reads no network URIs)",
-            crate::format::text::shown(uri)
+            crate::util::text::shown(uri)
         ));
     }
     let file = folder.join(percent_decoded(uri)?);
-    crate::format::file::read_regular(&file, max)
+    crate::util::file::read_regular(&file, max)
         .map_err(|e| format!("cannot read {}: {e}", file.display()))
 }
 
@@ -342,7 +342,7 @@ fn percent_decoded(uri: &str) -> std::result::Result<String, String> {
                 .ok_or_else(|| {
                     format!(
                         "a bad %-escape in the URI {}",
-                        crate::format::text::shown(uri)
+                        crate::util::text::shown(uri)
                     )
                 })?;
             out.push(hex);

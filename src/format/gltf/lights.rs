@@ -24,7 +24,7 @@ fn size_for(aspect: f64) -> (u32, u32) {
     let (w, _) = DEFAULT_SIZE;
     let h = (f64::from(w) / aspect)
         .round()
-        .clamp(1.0, f64::from(crate::render::MAX_SIDE));
+        .clamp(1.0, f64::from(crate::util::limits::MAX_SIDE));
     (w, h as u32)
 }
 

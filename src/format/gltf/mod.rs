@@ -18,8 +18,9 @@ pub mod material;
 pub mod mesh;
 
 use super::scene_file::lights::DEFAULT_AREA_SAMPLES;
-use super::{FileSettings, NamedCamera, SceneDialect, SceneFile, SourceCounts};
+use super::{NamedCamera, SceneDialect, SceneFile, SourceCounts};
 use crate::math::Vec3;
+use crate::options::RenderOptions;
 use crate::scene::{
     Group, MAX_SHAPES, Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface,
 };
@@ -157,9 +158,9 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
         ));
     }
     let scene = scene.finish();
-    let settings = FileSettings {
+    let settings = RenderOptions {
         exposure: blender_lit(doc).then_some(BLENDER_EXPOSURE),
-        ..FileSettings::default()
+        ..RenderOptions::default()
     };
     Ok(SceneFile {
         dialect: SceneDialect::Gltf,

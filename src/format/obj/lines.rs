@@ -18,7 +18,7 @@ pub const MAX_FILE_BYTES: u64 = 2 << 30;
 /// Reads a whole regular file of at most `max` bytes. A directory, FIFO or device would
 /// fail late or block forever, so they are refused before opening.
 pub fn read_file(path: &Path, max: u64) -> Result<Vec<u8>> {
-    crate::format::file::read_regular(path, max)
+    crate::util::file::read_regular(path, max)
         .map_err(|e| Error::file(path, format!("cannot read: {e}")))
 }
 

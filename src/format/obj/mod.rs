@@ -67,6 +67,7 @@ pub struct ObjFile {
 /// One triangle: 0-based indices into [`ObjFile`]'s arrays.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ObjTriangle {
+    /// Indices into [`ObjFile::positions`], in the face's winding order.
     pub v: [u32; 3],
     /// Present when every corner of the face named a texture coordinate.
     pub vt: Option<[u32; 3]>,
@@ -84,10 +85,13 @@ pub struct ObjTriangle {
 pub struct ObjGroup {
     /// The name; the names of `g a b` are joined by single spaces ("a b").
     pub name: String,
+    /// Whether an `o` or a `g` started the run (the unnamed first run counts as `g`).
     pub kind: GroupKind,
+    /// The run's triangles, as a range of indices into [`ObjFile::triangles`].
     pub triangles: Range<usize>,
 }
 
+/// The statement that names a run of triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GroupKind {
     /// `o NAME`.
@@ -99,8 +103,11 @@ pub enum GroupKind {
 /// Something read but not used, or read with a guess: the file keeps loading.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Warning {
+    /// The file the warning concerns (the OBJ or one of its libraries).
     pub path: PathBuf,
+    /// 1-based line of the statement.
     pub line: usize,
+    /// What was skipped or guessed.
     pub message: String,
 }
 
@@ -146,7 +153,9 @@ pub fn parse_obj_with(
 /// order, polygons fanned.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// Positions, 0-based in file order.
     pub vertices: Vec<Vec3>,
+    /// Index triples into `vertices`, every index checked in range.
     pub triangles: Vec<[u32; 3]>,
 }
 

@@ -561,10 +561,6 @@ thread_local! {
     static TEST_TRIANGLE_LIMIT: std::cell::Cell<Option<usize>> = const { std::cell::Cell::new(None) };
 }
 
-// The bounding volume hierarchy takes more triangles than a scene may hold, so the
-// scene's limit is the only one a face can reach.
-const _: () = assert!(crate::scene::MAX_SHAPES <= crate::accel::MAX_SHAPES);
-
 /// Triangulates a polygon whose positions are all known into `slots` (`n - 2` of them),
 /// which hold its material and smoothing group already.
 fn split_polygon(

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use super::header::{Encoding, Scalar};
-use crate::format::text::shown;
+use crate::util::text::shown;
 use crate::{Error, Result};
 
 /// What is being read, for messages: `property y of vertex 3`.

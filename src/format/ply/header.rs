@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use crate::format::text::shown;
+use crate::util::text::shown;
 use crate::{Error, Result};
 
 /// Longer headers are refused: real ones are a few hundred bytes, and the bound keeps a

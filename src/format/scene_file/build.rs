@@ -11,8 +11,8 @@ use super::source::{Source, regular_file};
 use super::transform::Transform;
 use super::{camera, lights, settings, tracks};
 use crate::Result;
-use crate::format::FileSettings;
 use crate::math::{Aabb, Vec3, cross};
+use crate::options::RenderOptions;
 use crate::scene::{
     Albedo, Camera, Falloff, Group, Light, LightKind, Material, Rectangle, Scene, SceneBuilder,
     Shape, Surface,
@@ -48,7 +48,7 @@ struct Builder {
     arrays: HashMap<String, Scene>,
 }
 
-pub type Built = (Scene, Option<Camera>, FileSettings, Vec<String>);
+pub type Built = (Scene, Option<Camera>, RenderOptions, Vec<String>);
 
 pub fn build(documents: &[Document], arrays: HashMap<String, Scene>) -> Result<Built> {
     let mut b = Builder {
@@ -72,7 +72,7 @@ pub fn build(documents: &[Document], arrays: HashMap<String, Scene>) -> Result<B
     let (source, raw) = (&main.source, &main.raw);
     let settings = match &raw.render {
         Some(r) => settings::render(source, r.get_ref())?,
-        None => FileSettings::default(),
+        None => RenderOptions::default(),
     };
     let eye = raw
         .camera

@@ -3,8 +3,8 @@
 use super::raw::RawCamera;
 use super::source::{Source, regular_file};
 use crate::Result;
-use crate::format::FileSettings;
 use crate::math::Vec3;
+use crate::options::RenderOptions;
 use crate::scene::Camera;
 use toml::Spanned;
 
@@ -14,7 +14,7 @@ pub const DEFAULT_SIZE: (u32, u32) = (640, 360);
 pub const DEFAULT_FOV: f32 = 60.0;
 
 /// The camera's image size: `[render]`'s, the missing side following 16:9.
-pub fn image_size(settings: &FileSettings) -> (u32, u32) {
+pub fn image_size(settings: &RenderOptions) -> (u32, u32) {
     let aspect = |v: u32, num: u64, den: u64| ((u64::from(v) * num).div_ceil(den)).max(1) as u32;
     match (settings.width, settings.height) {
         (Some(w), Some(h)) => (w, h),
@@ -32,7 +32,7 @@ fn lens_keys(raw: &RawCamera) -> impl Iterator<Item = std::ops::Range<usize>> {
         raw.aperture.as_ref().map(Spanned::span),
         raw.focus_distance.as_ref().map(Spanned::span),
         raw.focus_on.as_ref().map(Spanned::span),
-        raw.lens_samples.as_ref().map(Spanned::span),
+        raw.spp.as_ref().map(Spanned::span),
     ]
     .into_iter()
     .flatten()
@@ -42,7 +42,7 @@ fn lens_keys(raw: &RawCamera) -> impl Iterator<Item = std::ops::Range<usize>> {
 pub fn build(
     source: &Source,
     at: &Spanned<RawCamera>,
-    settings: &FileSettings,
+    settings: &RenderOptions,
     object_center: impl Fn(&str) -> Option<Vec3>,
 ) -> Result<Camera> {
     let raw = at.get_ref();
@@ -187,8 +187,8 @@ pub fn build(
     }
     camera.focal_length = (focus.get_ref() - 1.0).max(0.0);
     camera.aperture = aperture;
-    camera.rays_per_pixel = raw
-        .lens_samples
+    camera.spp = raw
+        .spp
         .as_ref()
         .map(|n| *n.get_ref())
         .or(settings.spp)

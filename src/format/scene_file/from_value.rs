@@ -99,7 +99,7 @@ pub fn from_value(
     for (name, mesh) in meshes {
         let scene = mesh
             .scene()
-            .map_err(|e| data(format!("mesh {}", crate::format::text::shown(name)), e))?;
+            .map_err(|e| data(format!("mesh {}", crate::util::text::shown(name)), e))?;
         scenes.insert(name.clone(), scene);
     }
     parse_with_meshes(&text, &origin, scenes).map_err(|e| match e {
@@ -132,7 +132,7 @@ pub fn from_value(
             };
             data(
                 place,
-                format!("{}: {message}", crate::format::text::shown(entry)),
+                format!("{}: {message}", crate::util::text::shown(entry)),
             )
         }
         e => e,
@@ -184,7 +184,7 @@ mod tests {
         std::fs::write(&path, text).unwrap();
         let b = crate::format::load(&path).unwrap();
         let render = |f: SceneFile| {
-            let s = crate::still::resolve(f, &crate::still::StillOptions::default()).unwrap();
+            let s = crate::job::resolve(f, &crate::job::JobOptions::default()).unwrap();
             crate::render::Renderer::new(&s.scene, &s.camera, s.settings)
                 .unwrap()
                 .render(&|_| {})

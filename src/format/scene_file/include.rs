@@ -34,7 +34,7 @@ pub fn read_all(text: String, path: &Path) -> Result<Vec<Document>> {
 
 /// Reads a scene file, refusing anything but a regular file of reasonable size.
 pub fn read_text(path: &Path) -> std::result::Result<String, String> {
-    let bytes = crate::format::file::read_regular(path, MAX_FILE_BYTES)
+    let bytes = crate::util::file::read_regular(path, MAX_FILE_BYTES)
         .map_err(|e| format!("cannot read: {e}"))?;
     String::from_utf8(bytes).map_err(|_| "cannot read: not UTF-8 text".to_string())
 }

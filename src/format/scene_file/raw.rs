@@ -55,7 +55,9 @@ pub struct RawCamera {
     pub aperture: S<Num>,
     pub focus_distance: S<Num>,
     pub focus_on: S<String>,
-    pub lens_samples: S<u32>,
+    /// Samples per pixel for depth of field; `lens_samples` is its older name.
+    #[serde(alias = "lens_samples")]
+    pub spp: S<u32>,
     pub cmr: S<String>,
 }
 

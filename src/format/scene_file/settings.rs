@@ -5,23 +5,14 @@ use super::objects::unit;
 use super::raw::{RawAmbient, RawBackground, RawRender};
 use super::source::Source;
 use crate::Result;
-use crate::format::FileSettings;
 use crate::math::Vec3;
-use crate::render::MAX_DEPTH_LIMIT;
+use crate::options::RenderOptions;
 use crate::scene::Background;
+use crate::util::limits::{MAX_AA, MAX_DEPTH, MAX_SIDE, MAX_SPP};
 use glam::DVec3;
 use toml::Spanned;
 
-/// The renderer's own limits (`render::settings`, private there), checked here too so
-/// the error points at the key.
-const MAX_SIDE: u32 = 1 << 16;
-const MAX_AA: u32 = 16;
-const MAX_RAYS_PER_PIXEL: u32 = 1 << 16;
-
-/// The tone maps the film knows.
-pub const TONEMAPS: [&str; 3] = ["clamp", "reinhard", "aces"];
-
-pub fn render(source: &Source, raw: &RawRender) -> Result<FileSettings> {
+pub fn render(source: &Source, raw: &RawRender) -> Result<RenderOptions> {
     let range = |v: &Option<Spanned<u32>>, key: &str, lo: u32, hi: u32| -> Result<Option<u32>> {
         match v {
             Some(n) if !(lo..=hi).contains(n.get_ref()) => Err(source.error(
@@ -46,30 +37,18 @@ pub fn render(source: &Source, raw: &RawRender) -> Result<FileSettings> {
         }
         w => w.as_ref().map(|w| w.get_ref().f32()),
     };
-    let tonemap = match &raw.tonemap {
-        Some(t) if !TONEMAPS.contains(&t.get_ref().as_str()) => {
-            return Err(source.error(
-                t,
-                format!(
-                    "unknown tonemap \"{}\": expected clamp, reinhard or aces",
-                    t.get_ref()
-                ),
-            ));
-        }
-        t => t.as_ref().map(|t| t.get_ref().clone()),
-    };
-    Ok(FileSettings {
+    Ok(RenderOptions {
         width: range(&raw.width, "width", 1, MAX_SIDE)?,
         height: range(&raw.height, "height", 1, MAX_SIDE)?,
         aa: range(&raw.aa, "aa", 1, MAX_AA)?,
         filter: parsed(source, &raw.filter)?,
-        spp: range(&raw.spp, "spp", 1, MAX_RAYS_PER_PIXEL)?,
-        max_depth: range(&raw.max_depth, "max_depth", 0, MAX_DEPTH_LIMIT)?,
+        spp: range(&raw.spp, "spp", 1, MAX_SPP)?,
+        max_depth: range(&raw.max_depth, "max_depth", 0, MAX_DEPTH)?,
         min_weight,
         seed: raw.seed.as_ref().map(|s| *s.get_ref()),
         integrator: parsed(source, &raw.integrator)?,
         exposure: raw.exposure.as_ref().map(|e| e.get_ref().f32()),
-        tonemap,
+        tonemap: parsed(source, &raw.tonemap)?,
     })
 }
 

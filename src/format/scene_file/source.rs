@@ -81,7 +81,7 @@ pub fn refuse_foreign_keys(
                 span,
                 format!(
                     "{} does not apply to a {what}, which takes {}",
-                    crate::format::text::shown(name),
+                    crate::util::text::shown(name),
                     takes.join(", ")
                 ),
             ))

@@ -45,6 +45,7 @@ impl Casters {
         (clear_count > 0 && clear_count > n - clear_count).then_some(n - clear_count)
     }
 
+    /// The casters, in scene order, to build the shadow rays' intersector over.
     pub fn shapes(&self) -> &Shapes {
         &self.shapes
     }

@@ -59,30 +59,30 @@ fn a_cameras_aspect_ratio_sets_the_output_and_names_pick_cameras() {
         .push(json!({"camera": 1, "name": "top", "translation": [0.0, 0.0, 1.0]}));
     doc["scenes"][0]["nodes"] = json!([0, 1, 2]);
     let (_dir, path) = write(&doc);
-    let first = still::prepare(&path, &StillOptions::default()).unwrap();
+    let first = job::prepare(&path, &JobOptions::default()).unwrap();
     assert_eq!((first.camera.width, first.camera.height), (960, 480));
     let half = first.camera.retina_scale * first.camera.height as f32;
     assert!((half - 0.25f32.tan()).abs() < 1e-6, "{half}");
-    let by_name = StillOptions {
+    let by_name = JobOptions {
         camera_name: Some("top".into()),
-        ..StillOptions::default()
+        ..JobOptions::default()
     };
-    let top = still::prepare(&path, &by_name).unwrap();
+    let top = job::prepare(&path, &by_name).unwrap();
     assert_eq!(
         top.camera.projection,
         crate::scene::Projection::Orthographic
     );
     assert_eq!(top.camera.eye, Vec3::new(0.0, 0.0, 1.0));
-    let by_index = StillOptions {
+    let by_index = JobOptions {
         camera_index: Some(1),
-        ..StillOptions::default()
+        ..JobOptions::default()
     };
-    assert_eq!(still::prepare(&path, &by_index).unwrap().camera, top.camera);
-    let missing = StillOptions {
+    assert_eq!(job::prepare(&path, &by_index).unwrap().camera, top.camera);
+    let missing = JobOptions {
         camera_index: Some(2),
-        ..StillOptions::default()
+        ..JobOptions::default()
     };
-    let e = still::prepare(&path, &missing).err().unwrap().to_string();
+    let e = job::prepare(&path, &missing).err().unwrap().to_string();
     assert!(
         e.contains("no camera has index 2: the scene's cameras are 0: `view`, 1: `top`"),
         "{e}"

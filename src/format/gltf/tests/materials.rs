@@ -128,7 +128,7 @@ fn a_mirror_metal_reflects_its_colour_and_an_unlit_file_gets_default_lights() {
         "scenes": [{"nodes": [0, 1, 2]}],
     }));
     let (_dir, path) = write(&doc);
-    let s = still::prepare(&path, &sized(1, 1)).unwrap();
+    let s = job::prepare(&path, &sized(1, 1)).unwrap();
     // The emitter-free, light-free file got the key and fill.
     assert_eq!(s.scene.lights.len(), 2);
     let mut scene = s.scene.clone();

@@ -2,8 +2,8 @@
 
 use super::*;
 use crate::film::Image;
+use crate::job::{self, JobOptions};
 use crate::render::Renderer;
-use crate::still::{self, StillOptions};
 use base64::Engine as _;
 use serde_json::{Value, json};
 use std::f32::consts::PI;
@@ -129,8 +129,8 @@ fn write(doc: &Value) -> (tempfile::TempDir, PathBuf) {
     (dir, path)
 }
 
-fn render(path: &Path, options: &StillOptions) -> Image {
-    let s = still::prepare(path, options).unwrap();
+fn render(path: &Path, options: &JobOptions) -> Image {
+    let s = job::prepare(path, options).unwrap();
     Renderer::new(&s.scene, &s.camera, s.settings)
         .unwrap()
         .render(&|_| {})
@@ -138,12 +138,15 @@ fn render(path: &Path, options: &StillOptions) -> Image {
         .0
 }
 
-fn sized(w: u32, h: u32) -> StillOptions {
-    StillOptions {
-        width: Some(w),
-        height: Some(h),
-        aa: Some(1),
-        ..StillOptions::default()
+fn sized(w: u32, h: u32) -> JobOptions {
+    JobOptions {
+        render: crate::options::RenderOptions {
+            width: Some(w),
+            height: Some(h),
+            aa: Some(1),
+            ..Default::default()
+        },
+        ..JobOptions::default()
     }
 }
 

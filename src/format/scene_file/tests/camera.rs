@@ -11,12 +11,12 @@ fn the_camera_looks_at_with_a_lens_and_the_render_size() {
          min_weight = 0.01\nseed = 7\nintegrator = \"classic\"\nexposure = -1\ntonemap = \"aces\"\n",
     );
     let c = f.camera.unwrap();
-    assert_eq!(
-        (c.width, c.height, c.aa, c.rays_per_pixel),
-        (200, 100, 2, 8)
-    );
+    assert_eq!((c.width, c.height, c.aa, c.spp), (200, 100, 2, 8));
     assert_eq!((c.focal_length, c.aperture), (4.0, 0.1));
     assert!((c.retina_scale * 200.0 - 1.0).abs() < 1e-6);
+    // `spp` is the camera's key too; `lens_samples` (above) its older name.
+    let named = scene("[camera]\nfrom = [0, 0, 5]\nat = [0, 0, 0]\naperture = 0.1\nspp = 8\n");
+    assert_eq!(named.camera.unwrap().spp, 8);
     let s = f.settings;
     assert_eq!(
         (s.width, s.height, s.aa, s.spp, s.max_depth, s.seed),
@@ -25,8 +25,8 @@ fn the_camera_looks_at_with_a_lens_and_the_render_size() {
     assert_eq!(s.filter, Some(crate::film::resample::Filter::Lanczos));
     assert_eq!(s.integrator, Some(crate::render::IntegratorKind::Classic));
     assert_eq!(
-        (s.min_weight, s.exposure, s.tonemap.as_deref()),
-        (Some(0.01), Some(-1.0), Some("aces"))
+        (s.min_weight, s.exposure, s.tonemap),
+        (Some(0.01), Some(-1.0), Some(crate::options::ToneMap::Aces))
     );
     // Vertical 90 degrees at 2:1 is a horizontal half-width of 2; focus on an object.
     let g = scene(

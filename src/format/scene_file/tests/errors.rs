@@ -71,7 +71,7 @@ fn every_error_names_file_line_and_column() {
         ),
         (
             "[render]\ntonemap = \"filmic\"\n",
-            "DIR/scene.toml:2:11: unknown tonemap \"filmic\": expected clamp, reinhard or aces",
+            "DIR/scene.toml:2:11: unknown tone map `filmic`: expected clamp, reinhard or aces",
         ),
         (
             "[render]\nfilter = \"box\"\n",

@@ -108,7 +108,7 @@ fn hdr_environment_maps_are_read_as_linear_radiance() {
     let dir = Folder::new();
     // A 2 x 1 Radiance image: a bright texel (8 in red) and a dim one.
     let image = prism_film_image(vec![[8.0, 0.5, 0.25], [0.125, 0.0, 1.0]]);
-    crate::film::write_image_with(
+    crate::film::write_image(
         &image,
         &dir.path("sky.hdr"),
         &crate::film::OutputOptions::default(),

@@ -7,17 +7,14 @@
 //! 0, nor values beyond 2^126 (saturated) or pixels whose brightest channel is below
 //! 2^-120 (written as black): its shared exponent has 8 bits.
 
-use super::Image;
+use super::image::Image;
+use super::limits::MAX_LINEAR_PIXELS;
 use crate::{Error, Result};
 use exr::prelude::{self as exr_img, ReadChannels, ReadLayers, WritableImage};
 use std::fmt;
 use std::io::{BufRead, BufReader, Read, Seek, Write};
 use std::path::Path;
 use std::str::FromStr;
-
-/// The largest image `read_linear_image` decodes: 2^28 pixels (16384 × 16384), 3 GiB as
-/// f32 RGB. Checked against the header, before anything is allocated.
-pub const MAX_LINEAR_PIXELS: u64 = 1 << 28;
 
 /// Sample type of an OpenEXR file's channels.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -54,7 +51,7 @@ impl FromStr for ExrPrecision {
             "float" => Ok(ExrPrecision::Float),
             _ => Err(format!(
                 "unknown EXR precision {}: expected half or float",
-                crate::format::text::shown(s)
+                super::text::shown(s)
             )),
         }
     }
@@ -67,7 +64,7 @@ fn finite_or_zero(v: f32) -> f32 {
 
 /// Writes `image` as a single-part scan-line OpenEXR file with R, G and B channels,
 /// ZIP-compressed (lossless, readable by every OpenEXR reader).
-pub(super) fn write_exr(
+pub fn write_exr(
     image: &Image,
     precision: ExrPrecision,
     out: impl Write + Seek,
@@ -109,7 +106,7 @@ const RGBE_MAX: f32 = (1u128 << 126) as f32;
 const RGBE_MIN: f32 = 1.0 / (1u128 << 120) as f32;
 
 /// Writes `image` as a Radiance RGBE file (run-length encoded where the format allows).
-pub(super) fn write_hdr(image: &Image, out: impl Write) -> image::ImageResult<()> {
+pub fn write_hdr(image: &Image, out: impl Write) -> image::ImageResult<()> {
     let pixels: Vec<image::Rgb<f32>> = image.pixels.iter().map(|&p| rgbe_safe(p)).collect();
     let (w, h) = (image.width as usize, image.height as usize);
     image::codecs::hdr::HdrEncoder::new(out).encode(&pixels, w, h)
@@ -130,7 +127,7 @@ const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 /// its largest resolution level; its data window becomes the image.
 pub fn read_linear_image(path: &Path) -> Result<Image> {
     let cannot_read = |e: &dyn fmt::Display| Error::file(path, format!("cannot read: {e}"));
-    let file = crate::format::file::open_regular(path).map_err(|e| cannot_read(&e))?;
+    let file = super::file::open_regular(path).map_err(|e| cannot_read(&e))?;
     decode_linear_image(BufReader::new(file), path, MAX_LINEAR_PIXELS)
 }
 
@@ -323,7 +320,7 @@ mod tests {
         }
     }
 
-    use crate::film::{OutputOptions, write_image_with};
+    use crate::film::{OutputOptions, write_image};
 
     /// Radiance as the physically based model makes it: dim, bright, saturated, negative.
     fn radiance() -> Image {
@@ -342,7 +339,7 @@ mod tests {
             exr_precision: precision,
             ..OutputOptions::default()
         };
-        write_image_with(image, &p, &options).unwrap();
+        write_image(image, &p, &options).unwrap();
         read_linear_image(&p).unwrap()
     }
 
@@ -437,7 +434,7 @@ mod tests {
                 exr_precision: precision,
                 ..bright
             };
-            write_image_with(&image, &p, &options).unwrap();
+            write_image(&image, &p, &options).unwrap();
             let back = read_linear_image(&p).unwrap().pixels;
             assert_eq!(back[0], want[0], "{name}");
             // RGBE keeps 8 bits of the brightest channel; 0.5 is below its last step.
@@ -461,7 +458,7 @@ mod tests {
         assert!(err(&dir.path().join("none.exr")).contains("cannot read"));
 
         let png = dir.path().join("a.png");
-        crate::film::write_image(&radiance(), &png).unwrap();
+        crate::film::write_image(&radiance(), &png, &OutputOptions::classic()).unwrap();
         assert!(err(&png).contains("expected an OpenEXR or Radiance HDR file, found neither"));
 
         // A Radiance header announcing 20000 x 20000 pixels, and no pixels.
@@ -479,7 +476,7 @@ mod tests {
 
         // A real EXR whose data window is widened to 20000 x 20000 in the header.
         let exr = dir.path().join("a.exr");
-        write_image_with(&radiance(), &exr, &OutputOptions::default()).unwrap();
+        write_image(&radiance(), &exr, &OutputOptions::default()).unwrap();
         let mut bytes = std::fs::read(&exr).unwrap();
         let key = b"dataWindow\0box2i\0";
         let at = bytes.windows(key.len()).position(|w| w == key).unwrap() + key.len() + 4;
@@ -504,7 +501,7 @@ mod tests {
             );
         }
         let hdr = dir.path().join("a.hdr");
-        write_image_with(&radiance(), &hdr, &OutputOptions::default()).unwrap();
+        write_image(&radiance(), &hdr, &OutputOptions::default()).unwrap();
         let good = std::fs::read(&hdr).unwrap();
         std::fs::write(&hdr, &good[..good.len() - 3]).unwrap();
         assert!(

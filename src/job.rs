@@ -1,38 +1,50 @@
-//! One still image, from what a front end was told: a scene file, maybe a camera file
-//! or a look-at, and option overrides. The CLI, Python and the cluster runner all go
-//! through here, so a scene renders the same whichever way it is asked for.
+//! The one job: what a front end was told (a scene file, maybe a camera file or a
+//! look-at, option overrides), resolved once into everything a render is — the scene,
+//! the camera, the render settings, and how the image is developed and written. The
+//! CLI, Python, the cluster runner and animations all go through here, so a scene
+//! renders, develops and writes the same whichever way it is asked for.
 //!
 //! Precedence, highest first: the caller's options, the scene file's `[render]` and
 //! `[camera]`, the camera file, then defaults (for a model with no camera: a
 //! three-quarter view of its bounds with a key and a fill light).
 
-use crate::film::resample::Filter;
+use crate::accel::AccelKind;
+use crate::film::{ExrPrecision, Image, OutputOptions, PngBits};
 use crate::format::{self, SceneDialect, SceneFile};
 use crate::math::Vec3;
-use crate::render::{IntegratorKind, Region, RenderSettings};
+use crate::options::{Region, RenderOptions};
+use crate::render::{RenderSettings, RenderStats, Renderer};
 use crate::scene::framing::{self, DEFAULT_SIZE};
 use crate::scene::{Camera, Scene};
 use crate::{Error, Result};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// A look-at camera given on the command line (or from Python).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LookAt {
+    /// The eye; `None` keeps the camera's.
     pub from: Option<Vec3>,
+    /// The point looked at; `None` keeps the camera's direction.
     pub at: Option<Vec3>,
+    /// The image's vertical; `None` keeps the camera's, else the scene's up axis.
     pub up: Option<Vec3>,
+    /// Horizontal field of view in degrees; `None` keeps the camera's.
     pub fov: Option<f32>,
 }
 
 impl LookAt {
+    /// Whether nothing is given (the camera stays as it is).
     pub fn is_empty(&self) -> bool {
         *self == LookAt::default()
     }
 }
 
-/// Everything a caller may say about a still. `None` defers to the file.
+/// Everything a caller may say about a job. `None` defers to the file.
 #[derive(Clone, Debug, Default)]
-pub struct StillOptions {
+pub struct JobOptions {
+    /// Render and development settings, over the scene file's `[render]`.
+    pub render: RenderOptions,
+    /// Read the scene as this dialect, whatever its extension.
     pub dialect: Option<SceneDialect>,
     /// A 2014 `.cmr` camera, over the scene file's own.
     pub camera_file: Option<PathBuf>,
@@ -40,19 +52,14 @@ pub struct StillOptions {
     pub camera_name: Option<String>,
     /// The file's camera at this place among its cameras, from 0.
     pub camera_index: Option<usize>,
+    /// A look-at over the camera.
     pub look: LookAt,
-    pub integrator: Option<IntegratorKind>,
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub aa: Option<u32>,
-    pub filter: Option<Filter>,
-    pub dof_rays: Option<u32>,
+    /// Render only this window of the full frame.
     pub region: Option<Region>,
-    pub seed: Option<u64>,
+    /// Worker threads; `None`: every core. The image does not depend on it.
     pub threads: Option<usize>,
-    pub accel: crate::accel::AccelKind,
-    pub max_depth: Option<u32>,
-    pub min_weight: Option<f32>,
+    /// The intersector (every one gives the same image).
+    pub accel: AccelKind,
     /// Memory budget in bytes (`--max-memory`); `None`: half the machine's memory.
     pub max_memory: Option<u64>,
     /// Smooth vertex normals for the triangles that have none (`--smooth`).
@@ -60,24 +67,51 @@ pub struct StillOptions {
     /// The scene's vertical for the default view and look-at (`--up-axis z` for
     /// Blender's +z up exports); `None`: the dialect's (+y, +z for the 2014 files).
     pub up_axis: Option<Vec3>,
+    /// Bits per channel of a PNG.
+    pub png_bits: PngBits,
+    /// Sample type of an OpenEXR file.
+    pub exr_precision: ExrPrecision,
 }
 
-/// A scene ready to render: the scene (with default lights added if it needed them),
-/// the camera and the settings.
+/// A scene ready to render and write: the scene (with default lights added if it needed
+/// them), the camera, the render settings and the output's development.
 #[derive(Clone, Debug)]
-pub struct Still {
+pub struct Job {
+    /// The scene, lit by default if it had no light of its own.
     pub scene: Scene,
+    /// The camera, with the caller's look-at applied.
     pub camera: Camera,
+    /// What to render.
     pub settings: RenderSettings,
+    /// How the image becomes a file: exposure, tone map, the integrator's transfer
+    /// curve, PNG bits, EXR precision.
+    pub output: OutputOptions,
+    /// The dialect the scene was read as.
     pub dialect: SceneDialect,
-    /// The scene file's exposure and tone map, for the output stage.
-    pub exposure: Option<f32>,
-    pub tonemap: Option<String>,
+    /// What the readers found but did not understand (`file:line: message`).
     pub warnings: Vec<String>,
 }
 
-/// Loads `scene_path` and resolves the camera and settings.
-pub fn prepare(scene_path: &std::path::Path, options: &StillOptions) -> Result<Still> {
+impl Job {
+    /// The renderer of this job (settings checked against the camera).
+    pub fn renderer(&self) -> Result<Renderer<'_>> {
+        Renderer::new(&self.scene, &self.camera, self.settings.clone())
+    }
+
+    /// Renders the job's image (linear values) on the job's threads.
+    pub fn render(&self) -> Result<(Image, RenderStats)> {
+        self.renderer()?.render(&|_| {})
+    }
+
+    /// Writes `image` to `path` as this job develops it, in the format the extension
+    /// names.
+    pub fn write(&self, image: &Image, path: &Path) -> Result<()> {
+        crate::film::write_image(image, path, &self.output)
+    }
+}
+
+/// Loads `scene_path` and resolves the job.
+pub fn prepare(scene_path: &Path, options: &JobOptions) -> Result<Job> {
     let file = match options.dialect {
         Some(d) => format::load_as(scene_path, d)?,
         None => format::load(scene_path)?,
@@ -85,23 +119,18 @@ pub fn prepare(scene_path: &std::path::Path, options: &StillOptions) -> Result<S
     resolve(file, options)
 }
 
-/// Resolves the camera and settings of a loaded scene file.
-pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
+/// Resolves the camera, the settings and the development of a loaded scene file.
+pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
     let SceneFile {
         dialect,
         mut scene,
         camera: file_camera,
         cameras,
-        settings: fs,
+        settings: file_settings,
         warnings,
         ..
     } = file;
-    // A side the caller gives replaces the file's size: alone, the other side follows
-    // the camera's aspect ratio rather than the file's other side.
-    let (width, height) = match (options.width, options.height) {
-        (None, None) => (fs.width, fs.height),
-        given => given,
-    };
+    let o = options.render.over(&file_settings);
     // The vertical the files mean: z for the 2014 dialect, y for the rest, unless told.
     let default_up = options.up_axis.unwrap_or(match dialect {
         SceneDialect::Objx2014 => Vec3::Z,
@@ -125,7 +154,7 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
             c
         }
         (None, None) => {
-            let (w, h) = default_size(width, height);
+            let (w, h) = default_size(o.width, o.height);
             let up = options.look.up.unwrap_or(default_up);
             let c = framing::three_quarter_view(scene.bounds(), up, w, h);
             if scene.lights.is_empty() && !has_emission(&scene) {
@@ -137,47 +166,44 @@ pub fn resolve(file: SceneFile, options: &StillOptions) -> Result<Still> {
     if !options.look.is_empty() {
         camera = look_at_over(&camera, &options.look, default_up)?;
     }
+    let integrator = o.integrator.unwrap_or(dialect.default_integrator());
     let settings = RenderSettings {
-        width,
-        height,
-        aa: options.aa.or(fs.aa),
-        filter: options.filter.or(fs.filter).unwrap_or_default(),
-        dof_rays: options.dof_rays.or(fs.spp),
+        width: o.width,
+        height: o.height,
+        aa: o.aa,
+        filter: o.filter.unwrap_or_default(),
+        spp: o.spp,
         region: options.region,
-        seed: options.seed.or(fs.seed).unwrap_or(0),
+        seed: o.seed.unwrap_or(0),
         threads: options.threads,
         accel: options.accel,
-        integrator: options
-            .integrator
-            .or(fs.integrator)
-            .unwrap_or(dialect.default_integrator()),
-        max_depth: options
-            .max_depth
-            .or(fs.max_depth)
-            .unwrap_or(crate::render::DEFAULT_MAX_DEPTH),
-        min_weight: options
-            .min_weight
-            .or(fs.min_weight)
-            .unwrap_or(crate::render::DEFAULT_MIN_WEIGHT),
+        integrator,
+        max_depth: o.max_depth.unwrap_or(crate::render::DEFAULT_MAX_DEPTH),
+        min_weight: o.min_weight.unwrap_or(crate::render::DEFAULT_MIN_WEIGHT),
         max_memory: options.max_memory,
     };
-    Ok(Still {
+    let output = OutputOptions {
+        develop: crate::film::Develop {
+            exposure: o.exposure.unwrap_or(0.0),
+            tonemap: o.tonemap.unwrap_or_default(),
+            transfer: integrator.transfer(),
+        },
+        png_bits: options.png_bits,
+        exr_precision: options.exr_precision,
+    };
+    Ok(Job {
         scene,
         camera,
         settings,
+        output,
         dialect,
-        exposure: fs.exposure,
-        tonemap: fs.tonemap,
         warnings,
     })
 }
 
 /// The camera `--camera-name` or `--camera-index` picks among the file's, if either
 /// is given.
-fn chosen_camera(
-    cameras: &[format::NamedCamera],
-    options: &StillOptions,
-) -> Result<Option<Camera>> {
+fn chosen_camera(cameras: &[format::NamedCamera], options: &JobOptions) -> Result<Option<Camera>> {
     let listed = || {
         if cameras.is_empty() {
             "the scene has no cameras".to_string()
@@ -186,7 +212,7 @@ fn chosen_camera(
                 .iter()
                 .enumerate()
                 .map(|(i, c)| match &c.name {
-                    Some(n) => format!("{i}: {}", format::text::shown(n)),
+                    Some(n) => format!("{i}: {}", crate::util::text::shown(n)),
                     None => format!("{i}: (unnamed)"),
                 })
                 .collect();
@@ -204,7 +230,7 @@ fn chosen_camera(
             .ok_or_else(|| {
                 Error::Settings(format!(
                     "no camera is named {}: {}",
-                    format::text::shown(name),
+                    crate::util::text::shown(name),
                     listed()
                 ))
             }),
@@ -259,7 +285,7 @@ fn look_at_over(camera: &Camera, look: &LookAt, default_up: Vec3) -> Result<Came
     };
     let mut c = Camera::look_at(from, at, up, fov, camera.width, camera.height);
     c.aa = camera.aa;
-    c.rays_per_pixel = camera.rays_per_pixel;
+    c.spp = camera.spp;
     c.medium_ior = camera.medium_ior;
     Ok(c)
 }
@@ -267,7 +293,7 @@ fn look_at_over(camera: &Camera, look: &LookAt, default_up: Vec3) -> Result<Came
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::format::FileSettings;
+    use crate::options::{IntegratorKind, RenderOptions, ToneMap};
     use crate::scene::{Material, Shape, Sphere};
 
     fn ball_file(dialect: SceneDialect) -> SceneFile {
@@ -287,7 +313,7 @@ mod tests {
             scene,
             camera: None,
             cameras: Vec::new(),
-            settings: FileSettings::default(),
+            settings: RenderOptions::default(),
             warnings: vec![],
             counts: Default::default(),
         }
@@ -297,7 +323,7 @@ mod tests {
     fn a_model_without_camera_gets_the_default_view_and_lights() {
         let still = resolve(
             ball_file(SceneDialect::WavefrontObj),
-            &StillOptions::default(),
+            &JobOptions::default(),
         )
         .unwrap();
         assert_eq!((still.camera.width, still.camera.height), DEFAULT_SIZE);
@@ -305,9 +331,12 @@ mod tests {
         assert_eq!(still.scene.lights.len(), 2);
         assert_eq!(still.settings.integrator, IntegratorKind::Whitted);
         // --width alone keeps 16:9.
-        let o = StillOptions {
-            width: Some(320),
-            ..StillOptions::default()
+        let o = JobOptions {
+            render: crate::options::RenderOptions {
+                width: Some(320),
+                ..Default::default()
+            },
+            ..JobOptions::default()
         };
         let still = resolve(ball_file(SceneDialect::WavefrontObj), &o).unwrap();
         assert_eq!((still.camera.width, still.camera.height), (320, 180));
@@ -329,10 +358,10 @@ mod tests {
             }),
             0,
         );
-        let o = StillOptions {
+        let o = JobOptions {
             smooth: true,
             up_axis: Some(Vec3::Z),
-            ..StillOptions::default()
+            ..JobOptions::default()
         };
         let still = resolve(file.clone(), &o).unwrap();
         assert_eq!(still.camera.up, Some(Vec3::Z));
@@ -342,7 +371,7 @@ mod tests {
             (still.scene.meshes[0].first_shape, still.scene.meshes[0].len),
             (1, 2)
         );
-        let plain = resolve(file, &StillOptions::default()).unwrap();
+        let plain = resolve(file, &JobOptions::default()).unwrap();
         assert!(plain.scene.meshes.is_empty());
         assert_eq!(plain.camera.up, Some(Vec3::Y));
     }
@@ -352,9 +381,12 @@ mod tests {
         let mut file = ball_file(SceneDialect::Objx2014);
         file.settings.seed = Some(5);
         file.settings.max_depth = Some(3);
-        let o = StillOptions {
-            seed: Some(9),
-            ..StillOptions::default()
+        let o = JobOptions {
+            render: crate::options::RenderOptions {
+                seed: Some(9),
+                ..Default::default()
+            },
+            ..JobOptions::default()
         };
         let still = resolve(file, &o).unwrap();
         assert_eq!(still.settings.seed, 9);
@@ -363,16 +395,57 @@ mod tests {
         assert_eq!(still.camera.up, Some(Vec3::Z));
     }
 
+    /// The job carries the development: the integrator's transfer curve, the file's
+    /// exposure and tone map unless the caller gives theirs, and the writers' formats.
+    #[test]
+    fn the_job_develops_as_its_integrator_and_the_layers_say() {
+        let whitted = resolve(
+            ball_file(SceneDialect::WavefrontObj),
+            &JobOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(whitted.output.develop, crate::film::Develop::display());
+        let mut file = ball_file(SceneDialect::WavefrontObj);
+        file.settings.exposure = Some(-1.0);
+        file.settings.tonemap = Some(ToneMap::Reinhard);
+        let o = JobOptions {
+            render: RenderOptions {
+                integrator: Some(IntegratorKind::Classic),
+                tonemap: Some(ToneMap::Aces),
+                ..Default::default()
+            },
+            png_bits: PngBits::Sixteen,
+            ..JobOptions::default()
+        };
+        let job = resolve(file, &o).unwrap();
+        let d = job.output.develop;
+        assert_eq!(
+            (d.exposure, d.tonemap, d.transfer),
+            (-1.0, ToneMap::Aces, crate::film::Transfer::Classic)
+        );
+        assert_eq!(job.output.png_bits, PngBits::Sixteen);
+        // A classic job writes the 2014 program's values: a grey of 0.5 one stop down
+        // is 0.25, stored as 64 (the sRGB curve would make it 137).
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("grey.png");
+        let mut plain = job.clone();
+        plain.output.develop.tonemap = ToneMap::Clamp;
+        plain.output.png_bits = PngBits::Eight;
+        plain.write(&Image::new(1, 1, vec![[0.5; 3]]), &p).unwrap();
+        let img = image::open(&p).unwrap().to_rgb8();
+        assert_eq!(img.get_pixel(0, 0).0, [64; 3]);
+    }
+
     #[test]
     fn look_at_options_aim_the_camera() {
-        let o = StillOptions {
+        let o = JobOptions {
             look: LookAt {
                 from: Some(Vec3::new(0.0, 1.0, 10.0)),
                 at: Some(Vec3::new(0.0, 1.0, 0.0)),
                 fov: Some(90.0),
                 up: None,
             },
-            ..StillOptions::default()
+            ..JobOptions::default()
         };
         let still = resolve(ball_file(SceneDialect::WavefrontObj), &o).unwrap();
         let f = still.camera.frame();
@@ -380,13 +453,13 @@ mod tests {
         assert!((f.right - Vec3::X).length() < 1e-6);
         let half = still.camera.retina_scale * still.camera.width as f32;
         assert!((half - 1.0).abs() < 1e-5);
-        let bad = StillOptions {
+        let bad = JobOptions {
             look: LookAt {
                 from: Some(Vec3::ONE),
                 at: Some(Vec3::ONE),
                 ..LookAt::default()
             },
-            ..StillOptions::default()
+            ..JobOptions::default()
         };
         assert!(resolve(ball_file(SceneDialect::WavefrontObj), &bad).is_err());
     }

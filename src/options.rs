@@ -1,0 +1,250 @@
+//! The settings a user names, wherever they name them: a scene file's `[render]`, an
+//! animation file, the command line, Python. [`RenderOptions`] holds them all as
+//! optional values; the job resolves layers of them (caller over file over defaults)
+//! once. The names here are the ones every front end accepts, and every stage may read
+//! them: the readers check them where a file writes them, the renderer and the film act
+//! on them.
+
+use crate::util::text::shown;
+use std::fmt;
+use std::str::FromStr;
+
+/// What a user may state about a render and its development; `None` leaves it to the
+/// layer below (the scene file, the camera, the defaults).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderOptions {
+    /// Image width in pixels; given alone, the height follows the camera's aspect.
+    pub width: Option<u32>,
+    /// Image height in pixels; given alone, the width follows the camera's aspect.
+    pub height: Option<u32>,
+    /// Anti-aliasing: `K × K` supersamples per pixel, resampled down with `filter`.
+    pub aa: Option<u32>,
+    /// The resampling filter of anti-aliasing.
+    pub filter: Option<Filter>,
+    /// Samples (camera rays) per supersampled pixel: more than 1 turns on depth of field
+    /// for a camera with an aperture.
+    pub spp: Option<u32>,
+    /// Seed of every random sample (lens, lights): the same seed, the same image.
+    pub seed: Option<u64>,
+    /// The shading model.
+    pub integrator: Option<IntegratorKind>,
+    /// Deepest reflection and refraction recursion of the whitted model.
+    pub max_depth: Option<u32>,
+    /// Rays whose weight falls below this are not traced (whitted model), in 0..1.
+    pub min_weight: Option<f32>,
+    /// Exposure in stops for display formats (+1 doubles the light).
+    pub exposure: Option<f32>,
+    /// How display formats bring radiance above 1 into range.
+    pub tonemap: Option<ToneMap>,
+}
+
+impl RenderOptions {
+    /// These options over `lower`: each value given here wins. The image size goes as
+    /// one: a side given here replaces both of `lower`'s, so that a width alone keeps
+    /// the camera's aspect rather than pairing with the file's height.
+    pub fn over(&self, lower: &RenderOptions) -> RenderOptions {
+        let (width, height) = match (self.width, self.height) {
+            (None, None) => (lower.width, lower.height),
+            given => given,
+        };
+        RenderOptions {
+            width,
+            height,
+            aa: self.aa.or(lower.aa),
+            filter: self.filter.or(lower.filter),
+            spp: self.spp.or(lower.spp),
+            seed: self.seed.or(lower.seed),
+            integrator: self.integrator.or(lower.integrator),
+            max_depth: self.max_depth.or(lower.max_depth),
+            min_weight: self.min_weight.or(lower.min_weight),
+            exposure: self.exposure.or(lower.exposure),
+            tonemap: self.tonemap.or(lower.tonemap),
+        }
+    }
+}
+
+/// The shading models (SPEC 3.2 and 4.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// The 2014 program's weighted-mean colours: the 2014 files' model, frozen.
+    #[default]
+    Classic,
+    /// Physically based Whitted: linear radiance, Fresnel, Beer, area lights.
+    Whitted,
+}
+
+impl IntegratorKind {
+    /// Every shading model, in the order messages list them.
+    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::Classic, IntegratorKind::Whitted];
+
+    /// The curve a display format stores this model's values with: none for the classic
+    /// model (the 2014 program wrote its 0..1 values as they are), sRGB for the whitted
+    /// model's linear radiance.
+    pub fn transfer(self) -> Transfer {
+        match self {
+            IntegratorKind::Classic => Transfer::Classic,
+            IntegratorKind::Whitted => Transfer::Srgb,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::Classic => "classic",
+            IntegratorKind::Whitted => "whitted",
+        }
+    }
+}
+
+impl std::str::FromStr for IntegratorKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        IntegratorKind::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| {
+                let s = shown(s);
+                format!("unknown integrator {s}: expected classic or whitted")
+            })
+    }
+}
+
+/// A window `x, y, width, height` of the final frame, in output pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Region {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl std::str::FromStr for Region {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Region, String> {
+        let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+        let nums: Option<Vec<u32>> = parts.iter().map(|p| p.parse().ok()).collect();
+        match nums.as_deref() {
+            Some(&[x, y, width, height]) => Ok(Region {
+                x,
+                y,
+                width,
+                height,
+            }),
+            _ => Err(format!(
+                "expected X,Y,W,H (four non-negative integers), found {}",
+                shown(s)
+            )),
+        }
+    }
+}
+
+/// Reconstruction filter used to shrink the supersampled frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Filter {
+    Nearest,
+    Bilinear,
+    /// Box filter: mean of each `k x k` block.
+    #[default]
+    Area,
+    Bicubic,
+    Lanczos,
+}
+
+impl Filter {
+    pub const ALL: [Filter; 5] = [
+        Filter::Nearest,
+        Filter::Bilinear,
+        Filter::Area,
+        Filter::Bicubic,
+        Filter::Lanczos,
+    ];
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Filter::Nearest => "nearest",
+            Filter::Bilinear => "bilinear",
+            Filter::Area => "area",
+            Filter::Bicubic => "bicubic",
+            Filter::Lanczos => "lanczos",
+        }
+    }
+}
+
+impl fmt::Display for Filter {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Filter {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Filter, String> {
+        Filter::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| {
+                format!(
+                    "unknown filter {}: expected nearest, bilinear, area, bicubic or lanczos",
+                    shown(s)
+                )
+            })
+    }
+}
+
+/// How radiance above 1 (after exposure) is brought into 0..1.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ToneMap {
+    /// `min(x, 1)`: what the classic model has always done.
+    #[default]
+    Clamp,
+    /// `x / (1 + x)` on each channel: never reaches 1, so highlights keep some detail and
+    /// saturated colours fade towards white as they brighten (luminance-based Reinhard
+    /// keeps the hue but pushes channels past 1, to be clipped again).
+    Reinhard,
+    /// Narkowicz's fit of the ACES filmic curve, on each channel:
+    /// `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, clamped to 0..1. Applied to
+    /// radiance as is (no 0.6 pre-scale; `--exposure -0.737` gives it).
+    Aces,
+}
+
+impl ToneMap {
+    pub const ALL: [ToneMap; 3] = [ToneMap::Clamp, ToneMap::Reinhard, ToneMap::Aces];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ToneMap::Clamp => "clamp",
+            ToneMap::Reinhard => "reinhard",
+            ToneMap::Aces => "aces",
+        }
+    }
+}
+
+impl fmt::Display for ToneMap {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for ToneMap {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<ToneMap, String> {
+        ToneMap::ALL
+            .into_iter()
+            .find(|t| t.name() == s)
+            .ok_or_else(|| {
+                let s = shown(s);
+                format!("unknown tone map {s}: expected clamp, reinhard or aces")
+            })
+    }
+}
+
+/// The curve from tone-mapped values (0..1, linear) to the values stored in the file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Transfer {
+    /// IEC 61966-2-1: `12.92 v` up to `v = 0.0031308`, `1.055 v^(1/2.4) - 0.055` above.
+    /// What every viewer assumes of an untagged 8-bit image.
+    #[default]
+    Srgb,
+    /// No curve: values are stored as they are, as the 2014 program stored them.
+    Classic,
+}

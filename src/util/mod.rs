@@ -1,0 +1,10 @@
+//! What every stage may read, at the bottom of the flow: the bounds on inputs
+//! ([`limits`]), the one opener of files ([`file`]), text as files are decoded and
+//! messages quote it ([`text`]), and linear images with their codecs ([`image`],
+//! [`hdr`]: the readers of textures and the writers of renders share them).
+
+pub mod file;
+pub mod hdr;
+pub mod image;
+pub mod limits;
+pub mod text;
