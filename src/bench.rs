@@ -12,10 +12,10 @@ use rayon::prelude::*;
 use std::hint::black_box;
 
 use crate::accel::{Accel, AccelKind, Hit, PACKET_RAYS};
+use crate::error::{Error, Result};
 use crate::math::{Ray, Vec3};
 use crate::render::{CameraRays, RenderSettings, Renderer, TILE_COLUMNS, TILE_ROWS};
 use crate::scene::{Camera, Scene};
-use crate::{Error, Result};
 
 mod dump;
 
@@ -28,6 +28,7 @@ pub const MAX_BENCH_PIXELS: u64 = 1 << 24;
 /// What to measure and how.
 #[derive(Clone, Debug)]
 pub struct BenchOptions {
+    /// The intersector to build and measure.
     pub accel: AccelKind,
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
@@ -54,22 +55,30 @@ impl Default for BenchOptions {
 /// The figures of one benchmark run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BenchReport {
+    /// The intersector measured.
     pub accel: AccelKind,
+    /// Worker threads the ray passes ran on.
     pub threads: usize,
+    /// Width in pixels of the frame the primary rays cover (one ray per pixel).
     pub width: u32,
+    /// Height in pixels of that frame.
     pub height: u32,
     /// Seconds to build the intersector.
     pub build_s: f64,
+    /// Shapes in the scene (triangles, spheres, rectangles).
     pub primitives: usize,
     /// Bytes of the shapes, their material indices and the intersector.
     pub bytes: usize,
     /// Of `bytes`, those of the intersector (nodes and leaves).
     pub accel_bytes: usize,
+    /// Million primary rays per second, one closest-hit query at a time.
     pub primary_mrays: f64,
+    /// Million shadow rays per second, one any-hit query at a time.
     pub shadow_mrays: f64,
     /// The same rays traced as packets of [`PACKET_RAYS`] (4 x 4 pixel tiles; the
     /// shadow rays of a tile's hits together).
     pub primary_packet_mrays: f64,
+    /// [`BenchReport::shadow_mrays`] for the shadow rays traced as packets.
     pub shadow_packet_mrays: f64,
     /// The instructions the BVH ran on (`avx2` or `sse2`).
     pub simd: &'static str,
@@ -82,6 +91,7 @@ pub struct BenchReport {
 }
 
 impl BenchReport {
+    /// `bytes` over `primitives`: the scene's memory per shape, intersector included.
     pub fn bytes_per_primitive(&self) -> f64 {
         self.bytes as f64 / self.primitives.max(1) as f64
     }

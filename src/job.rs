@@ -9,6 +9,7 @@
 //! three-quarter view of its bounds with a key and a fill light).
 
 use crate::accel::AccelKind;
+use crate::error::{Error, Result};
 use crate::film::{ExrPrecision, Image, OutputOptions, PngBits};
 use crate::format::{self, SceneDialect, SceneFile};
 use crate::math::Vec3;
@@ -16,7 +17,6 @@ use crate::options::{Region, RenderOptions};
 use crate::render::{RenderSettings, RenderStats, Renderer};
 use crate::scene::framing::{self, DEFAULT_SIZE};
 use crate::scene::{Camera, Scene};
-use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// A look-at camera given on the command line (or from Python).

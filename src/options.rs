@@ -87,6 +87,8 @@ impl IntegratorKind {
         }
     }
 
+    /// The name front ends accept and print (`classic`, `whitted`); parsed back by
+    /// `FromStr`.
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::Classic => "classic",
@@ -111,9 +113,13 @@ impl std::str::FromStr for IntegratorKind {
 /// A window `x, y, width, height` of the final frame, in output pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Region {
+    /// Column of the window's left edge, counted from the frame's left.
     pub x: u32,
+    /// Row of the window's top edge, counted from the frame's top.
     pub y: u32,
+    /// Window width in pixels, at least 1; `x + width` stays within the frame.
     pub width: u32,
+    /// Window height in pixels, at least 1; `y + height` stays within the frame.
     pub height: u32,
 }
 
@@ -140,16 +146,23 @@ impl std::str::FromStr for Region {
 /// Reconstruction filter used to shrink the supersampled frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Filter {
+    /// One supersample per pixel, the one at (or just past) its centre: no averaging,
+    /// so edges stay aliased.
     Nearest,
+    /// Triangle (tent) kernel, radius 1 output pixel.
     Bilinear,
     /// Box filter: mean of each `k x k` block.
     #[default]
     Area,
+    /// Catmull-Rom cubic (`a = -0.5`), radius 2 output pixels; its negative lobes
+    /// sharpen and may ring.
     Bicubic,
+    /// Lanczos-3 windowed sinc, radius 3 output pixels: sharpest, rings most.
     Lanczos,
 }
 
 impl Filter {
+    /// Every filter, in the order messages list them.
     pub const ALL: [Filter; 5] = [
         Filter::Nearest,
         Filter::Bilinear,
@@ -158,6 +171,8 @@ impl Filter {
         Filter::Lanczos,
     ];
 
+    /// The name front ends accept and print (`nearest`, `area`, ...); parsed back by
+    /// `FromStr`.
     pub fn name(&self) -> &'static str {
         match self {
             Filter::Nearest => "nearest",
@@ -207,8 +222,11 @@ pub enum ToneMap {
 }
 
 impl ToneMap {
+    /// Every tone map, in the order messages list them.
     pub const ALL: [ToneMap; 3] = [ToneMap::Clamp, ToneMap::Reinhard, ToneMap::Aces];
 
+    /// The name front ends accept and print (`clamp`, `reinhard`, `aces`); parsed back
+    /// by `FromStr`.
     pub fn name(self) -> &'static str {
         match self {
             ToneMap::Clamp => "clamp",

@@ -20,7 +20,9 @@ use std::str::FromStr;
 /// The closest intersection found: distance along the (unit) ray and the shape index.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Ray parameter of the hit: world-space distance from the origin.
     pub t: f32,
+    /// Index of the shape hit, in the [`Shapes`] the intersector was built over.
     pub shape: u32,
 }
 
@@ -60,6 +62,7 @@ pub enum AccelKind {
 }
 
 impl AccelKind {
+    /// Every intersector, in the order messages list them (the default first).
     pub const ALL: [AccelKind; 4] = [
         AccelKind::Bvh,
         AccelKind::BvhCopied,
@@ -67,6 +70,7 @@ impl AccelKind {
         AccelKind::List,
     ];
 
+    /// The name front ends accept and print (`--accel bvh`); parsed back by `FromStr`.
     pub fn name(self) -> &'static str {
         match self {
             AccelKind::List => "list",
@@ -98,12 +102,16 @@ impl FromStr for AccelKind {
 
 /// An intersector built over a slice of shapes.
 pub enum Accel<'s> {
+    /// [`AccelKind::List`]: the brute-force reference.
     List(ListAccel<'s>),
+    /// [`AccelKind::Octree`].
     Octree(Octree<'s>),
+    /// [`AccelKind::Bvh`] or [`AccelKind::BvhCopied`], as its [`Leaves`] say.
     Bvh(Bvh<'s>),
 }
 
 impl<'s> Accel<'s> {
+    /// Builds the `kind` intersector over `shapes`, which it borrows for its lifetime.
     pub fn build(kind: AccelKind, shapes: &'s Shapes) -> Accel<'s> {
         match kind {
             AccelKind::List => Accel::List(ListAccel::new(shapes)),

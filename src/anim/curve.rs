@@ -10,8 +10,10 @@ use glam::DVec3;
 /// How a curve moves between two keys.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Interpolation {
+    /// Constant speed from key to key: weight `u`.
     #[default]
     Linear,
+    /// Ease in and out, weight `3u² − 2u³`: zero speed at every key.
     Smooth,
 }
 
@@ -41,6 +43,7 @@ impl std::str::FromStr for Interpolation {
 
 /// A value that keys can hold: blended linearly, component by component.
 pub trait Blend: Copy {
+    /// `a + (b − a) w`, exactly `a` at `w = 0` and exactly `b` at `w = 1`.
     fn blend(a: Self, b: Self, w: f64) -> Self;
 }
 

@@ -4,10 +4,10 @@
 use super::curve::{Curve, Interpolation};
 use super::motion::{Aim, Motion, Selection, Target, Track};
 use super::{Animation, FNV_OFFSET, MAX_FPS, MAX_FRAMES, MIN_FPS, fnv1a};
+use crate::error::{Error, Result};
 use crate::options::{Filter, RenderOptions};
 use crate::render::Renderer;
 use crate::scene::{Camera, Scene};
-use crate::{Error, Result};
 use glam::DVec3;
 use serde::Deserialize;
 use std::path::Path;

@@ -4,9 +4,9 @@
 use super::Animation;
 use super::output::{FramePattern, Output};
 use super::video::{self, VideoInfo};
+use crate::error::{Error, Result};
 use crate::film::OutputFile;
 use crate::film::output::write_atomically;
-use crate::{Error, Result};
 use std::io::Write;
 use std::ops::Range;
 use std::path::Path;
@@ -16,18 +16,25 @@ use std::time::Instant;
 /// finish (from any thread), a frame is done (rendered, or skipped because its file
 /// exists).
 pub struct Observer<'a> {
+    /// Frame `k` starts rendering, with the supersampled rows it will trace (its
+    /// progress units).
     pub frame_start: &'a dyn Fn(u32, u64),
+    /// That many more supersampled rows of the current frame are done (any thread).
     pub rows: &'a (dyn Fn(u64) + Sync),
+    /// Frame `k` is done: `true` when it was skipped because its file existed.
     pub frame_done: &'a dyn Fn(u32, bool),
 }
 
 /// What rendering the frames did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FramesReport {
+    /// Frames rendered and written by this run.
     pub rendered: u32,
     /// Frames whose file was already there (an earlier, interrupted run).
     pub skipped: u32,
+    /// Rays traced over the rendered frames.
     pub rays: u64,
+    /// Wall-clock seconds of the whole run, skipped frames included.
     pub seconds: f64,
 }
 

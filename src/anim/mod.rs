@@ -1,7 +1,7 @@
 //! Scene motion: an animation file poses a [`Scene`] and [`Camera`] per frame; the
 //! renderer is unchanged, and [`video`] joins the frames into a film.
 //!
-//! - [`file`]: the TOML animation file (`docs/animation.md`), parsed and checked;
+//! - [`file`](mod@file): the TOML animation file (`docs/animation.md`), parsed and checked;
 //! - [`curve`]: keyframes and interpolation;
 //! - [`motion`]: targets, motions and the rigid transforms they amount to;
 //! - [`pose`]: the scene and camera at one instant;
@@ -21,10 +21,10 @@ pub mod pose;
 pub mod video;
 
 use crate::accel::Accel;
+use crate::error::{Error, Result};
 use crate::film::Image;
 use crate::render::{RenderSettings, RenderStats, Renderer, RowSink};
 use crate::scene::{Camera, Scene};
-use crate::{Error, Result};
 use motion::{Target, Track};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -41,13 +41,19 @@ pub const MAX_FPS: f64 = 1000.0;
 pub struct Animation {
     /// The animation file, for messages.
     pub path: PathBuf,
+    /// The scene as its file states it, before any track moves it; every frame is
+    /// posed from this.
     pub scene: Scene,
     /// The camera file's camera with the file's `[start]` overrides.
     pub camera: Camera,
+    /// Length in frames, 1 to [`MAX_FRAMES`]: frames `0..frames` (from the file's
+    /// `frames`, or its `duration` times `fps`, rounded).
     pub frames: u32,
+    /// Frames per second, [`MIN_FPS`] to [`MAX_FPS`] (24 unless the file says).
     pub fps: f64,
     /// The file's `[render]` overrides; a caller may set threads and intersector.
     pub settings: RenderSettings,
+    /// The file's `[[track]]`s in file order, each moving one target over time.
     pub tracks: Vec<Track>,
     /// How the frames are developed and stored: the job's output (the scene file's
     /// exposure and tone map, the integrator's transfer curve).

@@ -14,8 +14,8 @@
 //! in `OUTPUT.frames/` beside the video until the video is written, so an interrupted
 //! video render resumes too.
 
+use crate::error::{Error, Result};
 use crate::film::OutputFormat;
-use crate::{Error, Result};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 

@@ -4,9 +4,9 @@
 
 use super::{BenchOptions, bench_light, prepare, primary_rays, shadow_ray};
 use crate::accel::{Accel, AccelKind};
+use crate::error::{Error, Result};
 use crate::math::Ray;
 use crate::scene::{Camera, Scene, Shape};
-use crate::{Error, Result};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -25,11 +25,17 @@ pub fn write_ray_dump(dir: &Path, scene: &Scene, rays: &[Ray], accel: &Accel) ->
 /// What [`write_bench_dump`] wrote.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DumpSummary {
+    /// The intersector whose answers `hits.bin` and `occluded.u8` hold.
     pub accel: AccelKind,
+    /// Image width in pixels: primary rays per row of `rays.f32`.
     pub width: u32,
+    /// Image height in pixels: rows of primary rays.
     pub height: u32,
+    /// Triangles in `triangles.f32`, in shape order.
     pub triangles: usize,
+    /// Primary rays in `rays.f32`: one per pixel, `width x height`.
     pub rays: usize,
+    /// Shadow rays in `shadow.f32`: one per primary hit (none for a hit on the light).
     pub shadow_rays: usize,
     /// Share of primary rays that hit something.
     pub hit_fraction: f64,

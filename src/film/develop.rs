@@ -58,7 +58,9 @@ fn srgb_encode(v: f32) -> f32 {
 pub struct Develop {
     /// In stops: radiance is multiplied by `2^exposure` first.
     pub exposure: f32,
+    /// Brings exposed radiance into 0..1, after exposure.
     pub tonemap: ToneMap,
+    /// Curve from tone-mapped values to stored ones, last before rounding.
     pub transfer: Transfer,
 }
 

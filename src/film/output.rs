@@ -4,8 +4,8 @@
 use super::Image;
 use super::develop::Develop;
 use super::stream::PngStream;
+use crate::error::{Error, Result};
 use crate::util::hdr::{ExrPrecision, write_exr, write_hdr};
-use crate::{Error, Result};
 use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
 use image::{ExtendedColorType, ImageEncoder, ImageFormat};
 use rayon::prelude::*;
@@ -14,12 +14,19 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
+/// An image file format, chosen by the output path's extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OutputFormat {
+    /// PNG: developed RGB, 8 or 16 bits per channel ([`PngBits`]); compressed band by
+    /// band while the render runs.
     Png,
+    /// BMP: developed 8-bit RGB.
     Bmp,
+    /// JPEG: developed 8-bit RGB, lossy.
     Jpeg,
+    /// Binary PPM (`P6`): developed 8-bit RGB.
     Ppm,
+    /// TGA: developed 8-bit RGB.
     Tga,
     /// OpenEXR: linear radiance, half or float.
     Exr,
@@ -28,6 +35,7 @@ pub enum OutputFormat {
 }
 
 impl OutputFormat {
+    /// The extensions [`OutputFormat::from_path`] knows, listed for messages.
     pub const EXTENSIONS: &'static str = "png, bmp, jpg/jpeg, ppm, tga, exr, hdr";
 
     /// The format named by `path`'s extension (case-insensitive).
@@ -66,6 +74,7 @@ impl OutputFormat {
 /// Bits per channel of a PNG file; the other display formats always have 8.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum PngBits {
+    /// 256 levels, as every viewer reads.
     #[default]
     Eight,
     /// 65536 levels: no banding in smooth gradients, and room for later grading.
@@ -100,8 +109,11 @@ impl FromStr for PngBits {
 /// (`OutputFormat::is_linear`) ignore `develop` and store radiance.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct OutputOptions {
+    /// Exposure, tone map and transfer curve from radiance to display values.
     pub develop: Develop,
+    /// Bits per channel of a PNG file.
     pub png_bits: PngBits,
+    /// Sample type of an OpenEXR file's channels.
     pub exr_precision: ExrPrecision,
 }
 

@@ -15,7 +15,7 @@
 
 use super::develop::Developer;
 use super::output::{OutputFormat, OutputOptions, PngBits, write_atomically};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -21,7 +21,7 @@
 use std::path::Path;
 
 use super::text::{At, data_lines, last_line, read_text, shown};
-use crate::Result;
+use crate::error::Result;
 use crate::math::Vec3;
 use crate::scene::Camera;
 

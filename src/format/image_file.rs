@@ -2,7 +2,7 @@
 //! TGA, PPM) and linear HDR images (Radiance `.hdr`, OpenEXR), refused from their
 //! header when they are too large, never read unless they are regular files.
 
-use crate::Error;
+use crate::error::Error;
 use crate::scene::{ImageTexture, Texels};
 use crate::util::hdr::decode_linear_image;
 use std::io::Cursor;

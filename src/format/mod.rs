@@ -4,9 +4,9 @@
 //! `mtllib`) and [`cmr`] (camera). Each has a `load(path)` that reads files and a
 //! `parse(text, path, ...)` that works on text in memory, for tests and fuzzing.
 //!
-//! Every error is a [`crate::Error`] naming the file and the 1-based line, and saying
+//! Every error is a [`crate::error::Error`] naming the file and the 1-based line, and saying
 //! what was expected and what was found (`scene.objx:12: expected a number for the
-//! radius, found `abc``). A file that cannot be read is an [`crate::Error::File`].
+//! radius, found `abc``). A file that cannot be read is an [`crate::error::Error::File`].
 //! No input makes a parser panic, overflow or hang.
 //!
 //! Relative paths inside a file (`mtllib`, textures) are resolved against the folder of
@@ -33,7 +33,7 @@ pub mod wavefront;
 
 use std::path::Path;
 
-use crate::Result;
+use crate::error::Result;
 use crate::options::{IntegratorKind, RenderOptions};
 use crate::scene::{Camera, Scene};
 
@@ -42,12 +42,18 @@ use crate::scene::{Camera, Scene};
 /// `settings` and fall back to a default camera when there is none.
 #[derive(Clone, Debug)]
 pub struct SceneFile {
+    /// The dialect the file was read as: by its extension, or as `--dialect` said.
     pub dialect: SceneDialect,
+    /// The scene the file describes, its materials, lights and background included.
     pub scene: Scene,
+    /// The file's own camera (Prism scene files, glTF); `None` when it has none, and
+    /// front ends frame the scene from a default three-quarter view.
     pub camera: Option<Camera>,
     /// Every camera the file holds, in its order (`camera` is the first): glTF's
     /// camera nodes, which `--camera-name` and `--camera-index` choose from.
     pub cameras: Vec<NamedCamera>,
+    /// The render options the file states (a Prism scene file's `[render]`, glTF's
+    /// exposure for Blender's light units); all `None` where it states none.
     pub settings: RenderOptions,
     /// What was read but not understood or not found (`file:line: message`): the peers
     /// are lenient with these, and so is Prism, but it says so.
@@ -59,7 +65,10 @@ pub struct SceneFile {
 /// A camera of a scene file, with the name the file gave it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NamedCamera {
+    /// The name the file gives it (glTF: the node's, else the camera's); `None` when
+    /// it has none.
     pub name: Option<String>,
+    /// The camera, placed in world space (a glTF node's world transform applied).
     pub camera: Camera,
 }
 
@@ -68,8 +77,12 @@ pub struct NamedCamera {
 /// has none or the reader does not count them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SourceCounts {
+    /// Vertex positions: an OBJ's `v` lines, a PLY's or glTF mesh's vertices.
     pub vertices: usize,
+    /// Normals: `vn` lines, or the PLY or glTF vertices that carry one.
     pub normals: usize,
+    /// Texture coordinates: `vt` lines, or the PLY or glTF vertices that carry them
+    /// (glTF's first set).
     pub texcoords: usize,
 }
 
@@ -136,7 +149,7 @@ impl SceneDialect {
                     .flat_map(|d| d.extensions())
                     .map(|x| format!(".{x}"))
                     .collect();
-                crate::Error::file(
+                crate::error::Error::file(
                     path,
                     format!(
                         "cannot tell the scene format from the extension {}: Prism reads {}; \

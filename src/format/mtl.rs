@@ -14,8 +14,8 @@ use super::obj::{
     Line, Lines, Token, Tokens, Warning, decode_name, number, parse_f64, parse_integer, read_file,
     shown, without_bom,
 };
+use crate::error::{Error, Result};
 use crate::math::Vec3;
-use crate::{Error, Result};
 
 /// One `newmtl` and what follows it. `None` means the key was not given.
 #[derive(Clone, Debug, Default, PartialEq)]

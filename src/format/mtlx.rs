@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use super::text::{At, data_lines, index_u32, read_text, shown};
-use crate::Result;
+use crate::error::Result;
 use crate::math::Vec3;
 use crate::scene::{FillMode, Material, Texture};
 
@@ -232,7 +232,7 @@ impl MaterialLibrary {
     }
 }
 
-fn cannot_load(at: At, file: &Path, why: &dyn std::fmt::Display) -> crate::Error {
+fn cannot_load(at: At, file: &Path, why: &dyn std::fmt::Display) -> crate::error::Error {
     at.error(format!("cannot load texture {}: {why}", file.display()))
 }
 

@@ -25,11 +25,11 @@ use glam::DVec3;
 use super::mtlx::{self, MaterialLibrary};
 use super::obj::Mesh;
 use super::text::{At, data_lines, read_text, shown};
+use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::scene::{
     Group, Light, Material, Rectangle, Scene, SceneBuilder, Shape, Sphere, Triangle,
 };
-use crate::{Error, Result};
 
 /// Reads a scene file and the material files and textures it names.
 pub fn load(path: &Path) -> Result<Scene> {

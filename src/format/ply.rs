@@ -23,8 +23,8 @@ use body::{Field, Values};
 use header::{Element, Encoding, Header, PropertyKind, Scalar};
 
 use super::text::shown;
+use crate::error::{Error, Result};
 use crate::math::Vec3;
-use crate::{Error, Result};
 
 /// Larger files are refused before they are read: the biggest public scans are a few
 /// hundred megabytes, and this keeps a stray multi-gigabyte file from filling memory.
@@ -34,11 +34,15 @@ pub const MAX_FILE_BYTES: u64 = 2 << 30;
 /// attribute is an empty array) and triangles whose indices are all checked.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PlyMesh {
+    /// Vertex positions (`x y z`), in the file's own frame and units.
     pub positions: Vec<Vec3>,
+    /// Per-vertex normals (`nx ny nz`) as stored, not normalised.
     pub normals: Vec<Vec3>,
     /// Red, green, blue in 0..1 for integer types; float colours as stored.
     pub colors: Vec<Vec3>,
+    /// Per-vertex texture coordinates (`u v` or a synonym) as stored.
     pub texcoords: Vec<[f32; 2]>,
+    /// Indices into `positions`, each polygon fanned into `(1, k, k+1)` in file order.
     pub triangles: Vec<[u32; 3]>,
     /// What was read past or dropped, for the user: one line each.
     pub warnings: Vec<String>,

@@ -3,7 +3,7 @@
 
 use super::ply::{self, PlyMesh};
 use super::{SceneDialect, SceneFile, SourceCounts};
-use crate::Result;
+use crate::error::Result;
 use crate::scene::{Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface};
 use std::path::Path;
 

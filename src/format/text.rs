@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
+use crate::error::{Error, Result};
 pub(crate) use crate::util::text::{read_text, shown};
-use crate::{Error, Result};
 
 /// One line that holds data: its 1-based number and its whitespace-separated tokens.
 pub(super) struct Line<'a> {

@@ -6,13 +6,13 @@ use super::image_file::{Encoding, read_texture};
 use super::mtl::{MtlMaterial, TextureMap};
 use super::obj::{ObjFile, load_obj};
 use super::{SceneDialect, SceneFile, SourceCounts};
+use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::scene::{
     Albedo, Group, ImageTexture, Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface,
     TextureSlot,
 };
 use crate::util::text::{shown, shown_path};
-use crate::{Error, Result};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

@@ -7,8 +7,8 @@
 //! smaller image, the BVH instead of the octree, or a larger budget.
 
 use crate::accel::AccelKind;
+use crate::error::{Error, Result};
 use crate::scene::{Scene, Texels};
-use crate::{Error, Result};
 
 /// Peak bytes per shape while the BVH is built (bounds, centres, the binary tree and
 /// the final eight-wide nodes and leaf indices live together for a moment); measured at
@@ -30,13 +30,20 @@ pub const FALLBACK_BUDGET: u64 = 8 << 30;
 /// The big allocations of one render, in bytes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MemoryEstimate {
+    /// Shapes, their material indices and mesh attributes (and any caster copy).
     pub shapes: u64,
+    /// The intersector at its build's peak: a set number of bytes a shape for each
+    /// [`AccelKind`].
     pub accel: u64,
+    /// Texels of every image and 2014 texture.
     pub images: u64,
+    /// Output pixels (film, developed image, encoder copy) and each thread's band of
+    /// supersampled rows.
     pub film: u64,
 }
 
 impl MemoryEstimate {
+    /// The sum of the four parts, saturating: what is checked against the budget.
     pub fn total(&self) -> u64 {
         self.shapes
             .saturating_add(self.accel)

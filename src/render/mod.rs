@@ -18,8 +18,8 @@ use settings::Plan;
 pub use settings::{DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, RenderSettings, check_threads};
 pub use whitted::{Casters, Whitted};
 
-use crate::Result;
 use crate::accel::{Accel, Hit, PACKET_RAYS};
+use crate::error::Result;
 use crate::film::Image;
 use crate::film::resample::{AxisWeights, resample_window_into};
 use crate::math::{Ray, Vec3};
@@ -32,11 +32,15 @@ use std::time::{Duration, Instant};
 /// use it: the classic one with its own weights, an unweighted one with weight 1 per ray.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WeightedColor {
+    /// Sum of each added colour times its weight.
     pub sum: Vec3,
+    /// Sum of the weights added: what `sum` is divided by.
     pub weight: f32,
 }
 
 impl WeightedColor {
+    /// Adds `color` with `weight`; a weight that is not positive and finite is dropped
+    /// (one NaN or infinity would spoil the whole pixel).
     #[inline]
     pub fn add(&mut self, color: Vec3, weight: f32) {
         // Guard: a NaN or infinite weight would turn the whole pixel into NaN.
@@ -61,6 +65,7 @@ impl WeightedColor {
 /// Rays traced, counted per thread and summed.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RayCount {
+    /// Rays traced so far: camera, reflected, refracted and shadow rays alike.
     pub rays: u64,
 }
 
@@ -74,6 +79,8 @@ pub trait Integrator: Sync {
     /// shading either way.)
     fn lens_packets(&self) -> bool;
 
+    /// Traces camera ray `ray` and every ray it spawns, adding its colour to `acc` and
+    /// the rays traced to `count`.
     fn trace_camera_ray(
         &self,
         ray: Ray,
@@ -116,11 +123,15 @@ pub type RowSink<'a> = dyn Fn(u32, &[[f32; 3]]) + Sync + 'a;
 /// Figures of one render.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderStats {
+    /// Rays traced: camera, reflected, refracted and shadow rays alike.
     pub rays: u64,
+    /// Wall-clock time of the render, the intersector's build included when the
+    /// render built it.
     pub elapsed: Duration,
 }
 
 impl RenderStats {
+    /// Throughput in millions of rays per second of `elapsed`.
     pub fn mrays_per_second(&self) -> f64 {
         self.rays as f64 / self.elapsed.as_secs_f64().max(1e-9) / 1e6
     }
@@ -152,7 +163,7 @@ impl<'a> Renderer<'a> {
     ) -> Result<Renderer<'a>> {
         let plan = settings.resolve(camera)?;
         if scene.shapes.len() > crate::scene::MAX_SHAPES {
-            return Err(crate::Error::Settings(format!(
+            return Err(crate::error::Error::Settings(format!(
                 "the scene has {} shapes, more than the {} Prism renders",
                 scene.shapes.len(),
                 crate::scene::MAX_SHAPES
@@ -175,7 +186,7 @@ impl<'a> Renderer<'a> {
     }
 
     /// Stops the render soon after `flag` is set: rows not yet started are skipped
-    /// and the render returns [`crate::Error::Interrupted`].
+    /// and the render returns [`crate::error::Error::Interrupted`].
     pub fn cancel_on(mut self, flag: &'a AtomicBool) -> Renderer<'a> {
         self.cancel = Some(flag);
         self
@@ -188,7 +199,7 @@ impl<'a> Renderer<'a> {
     /// The result of a render, unless it was cancelled while running.
     fn finished(&self, out: (Image, RenderStats)) -> Result<(Image, RenderStats)> {
         if self.cancelled() {
-            Err(crate::Error::Interrupted)
+            Err(crate::error::Error::Interrupted)
         } else {
             Ok(out)
         }
@@ -271,7 +282,7 @@ impl<'a> Renderer<'a> {
         if let Some(accel) = accel
             && accel.shape_count() != self.scene.shapes.len()
         {
-            return Err(crate::Error::Settings(format!(
+            return Err(crate::error::Error::Settings(format!(
                 "the intersector was built over {} shapes, the scene has {}",
                 accel.shape_count(),
                 self.scene.shapes.len()
@@ -292,7 +303,7 @@ impl<'a> Renderer<'a> {
         rayon::ThreadPoolBuilder::new()
             .num_threads(self.plan.threads.unwrap_or(0))
             .build()
-            .map_err(|e| crate::Error::Settings(format!("cannot start threads: {e}")))
+            .map_err(|e| crate::error::Error::Settings(format!("cannot start threads: {e}")))
     }
 
     fn render_in_pool(

@@ -1,12 +1,12 @@
 //! What a user may override from the camera file, checked before anything is traced.
 
 use crate::accel::AccelKind;
+use crate::error::{Error, Result};
 use crate::options::{Filter, IntegratorKind, Region};
 use crate::scene::Camera;
 use crate::util::limits::{
     MAX_AA, MAX_CAMERA_RAYS, MAX_DEPTH, MAX_SIDE, MAX_SPP, MAX_THREADS_PER_CORE, max_threads,
 };
-use crate::{Error, Result};
 
 /// Render options. `None` keeps the camera file's value.
 #[derive(Clone, Debug)]
@@ -14,22 +14,27 @@ pub struct RenderSettings {
     /// Output width; alone, the height follows the camera's aspect ratio. The
     /// horizontal field of view is kept: the retina scale follows the width.
     pub width: Option<u32>,
+    /// Output height; alone, the width follows the camera's aspect ratio.
     pub height: Option<u32>,
     /// Supersampling factor per axis.
     pub aa: Option<u32>,
+    /// Filter that shrinks the supersampled frame to the output pixels.
     pub filter: Filter,
     /// Camera rays per pixel (1 = pinhole, more = depth of field).
     pub spp: Option<u32>,
     /// Render only this window of the frame.
     pub region: Option<Region>,
+    /// Seed of every random sample (lens, area lights): same seed, same image.
     pub seed: u64,
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
+    /// The intersector to build over the scene's shapes.
     pub accel: AccelKind,
     /// The shading model.
     pub integrator: IntegratorKind,
     /// Limits of the whitted model's recursion.
     pub max_depth: u32,
+    /// Rays whose weight falls below this, in 0..1, are not traced (whitted model).
     pub min_weight: f32,
     /// Memory budget in bytes for the render's big allocations; `None` uses
     /// [`super::memory::default_budget`].

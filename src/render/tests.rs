@@ -32,7 +32,7 @@ mod cancel_tests {
             rows.fetch_add(n, Ordering::Relaxed);
             flag.store(true, Ordering::Relaxed);
         });
-        assert!(matches!(result, Err(crate::Error::Interrupted)));
+        assert!(matches!(result, Err(crate::error::Error::Interrupted)));
         // Strips of rows already running when the flag went up finish; no new one
         // starts.
         let threads = rayon::current_num_threads() as u64;
@@ -125,7 +125,7 @@ mod cancel_tests {
             );
             assert!(matches!(
                 renderer.finished(out),
-                Err(crate::Error::Interrupted)
+                Err(crate::error::Error::Interrupted)
             ));
             // Each thread finishes the tile or pixel it is in.
             let calls = cancelling.calls.into_inner();

@@ -53,6 +53,7 @@ pub enum MeshMaterials<'a> {
 }
 
 impl SceneBuilder {
+    /// An empty scene: no shapes, black background, no ambient light.
     pub fn new() -> SceneBuilder {
         SceneBuilder::default()
     }
@@ -81,6 +82,7 @@ impl SceneBuilder {
         self.scene.materials.len() as u32 - 1
     }
 
+    /// Materials added so far; the next one added gets this index.
     pub fn material_count(&self) -> u32 {
         self.scene.materials.len() as u32
     }
@@ -178,10 +180,12 @@ impl SceneBuilder {
         self.scene.groups.push(group);
     }
 
+    /// Sets La, the linear RGB ambient light the whitted model multiplies each Ka by.
     pub fn set_ambient(&mut self, ambient: Vec3) {
         self.scene.ambient = ambient;
     }
 
+    /// Sets what escaping rays see (the whitted model; classic rays see black).
     pub fn set_background(&mut self, background: Background) {
         self.scene.background = background;
     }

@@ -6,14 +6,20 @@ use crate::math::{Vec3, cross};
 /// +z (z is up), `phi` the azimuth from +x.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
+    /// World-space eye position: the centre of projection (an orthographic camera's
+    /// ray plane passes through it).
     pub eye: Vec3,
+    /// Polar angle of the view direction from +z, in degrees (90: in the xy plane).
     pub theta_deg: f32,
+    /// Azimuth of the view direction from +x towards +y, in degrees.
     pub phi_deg: f32,
     /// Refractive index of the medium the camera sits in.
     pub medium_ior: f32,
     /// Distance from the eye to the screen.
     pub screen_distance: f32,
+    /// Image width in pixels, before supersampling.
     pub width: u32,
+    /// Image height in pixels, before supersampling.
     pub height: u32,
     /// Half the screen extent of one pixel: the screen spans `2 width s` by `2 height s`.
     pub retina_scale: f32,
@@ -48,8 +54,11 @@ pub enum Projection {
 /// Orthonormal camera frame: `forward` (w), image right (r), image down (u).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {
+    /// Unit view direction, from the eye through the screen centre.
     pub forward: Vec3,
+    /// Unit world direction in which pixel columns (x) increase.
     pub right: Vec3,
+    /// Unit world direction in which pixel rows (y) increase.
     pub down: Vec3,
 }
 

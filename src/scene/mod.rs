@@ -29,6 +29,7 @@ use crate::math::{Aabb, Vec3};
 /// animation track can move as one.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Group {
+    /// The file's name for it: what [`Scene::group`] and animation tracks look up.
     pub name: String,
     /// Indices into [`Scene::shapes`], ascending.
     pub shapes: Vec<u32>,
@@ -39,30 +40,40 @@ pub struct Group {
 /// What a ray that hits nothing sees (the whitted model; classic rays see black).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum Background {
+    /// Zero radiance.
     #[default]
     Black,
+    /// The same linear RGB radiance in every direction.
     Color(Vec3),
     /// An equirectangular image (`Scene::images[image]`) whose top row looks along `up`
     /// and whose centre looks along `forward`, scaled by `intensity`.
     Environment {
+        /// Index into [`Scene::images`].
         image: u32,
+        /// Unit world-space direction the image's top row looks along.
         up: Vec3,
+        /// Unit world-space direction of the image's centre, perpendicular to `up`.
         forward: Vec3,
+        /// Factor on the image's linear radiance.
         intensity: f32,
     },
 }
 
-/// Everything that can be seen. `shapes[i]` wears `materials[material_of[i]]`; the two
-/// arrays are parallel so the intersection loop touches geometry only.
 pub use crate::util::limits::MAX_SHAPES;
 
+/// Everything that can be seen. `shapes[i]` wears `materials[material_of[i]]`; the two
+/// arrays are parallel so the intersection loop touches geometry only.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
+    /// Every triangle, sphere and rectangle, in world space; a shape is its index here.
     pub shapes: Shapes,
+    /// Index into `materials` of the material each shape wears, parallel to `shapes`.
     pub material_of: Vec<u32>,
+    /// The classic (2014) terms of every material; shapes refer to them by index.
     pub materials: Vec<Material>,
     /// The 2014 textures, read with the 2014 mappings.
     pub textures: Vec<Texture>,
+    /// Every light, area lights from emissive materials included.
     pub lights: Vec<Light>,
     /// Named groups, in order of first appearance; rendering ignores them.
     pub groups: Vec<Group>,
@@ -76,15 +87,18 @@ pub struct Scene {
     pub images: Vec<ImageTexture>,
     /// La: the ambient light the whitted model multiplies by each surface's Ka.
     pub ambient: Vec3,
+    /// What rays that escape the scene see (whitted model only).
     pub background: Background,
 }
 
 impl Scene {
+    /// Appends `shape` wearing `materials[material]`, keeping the two arrays parallel.
     pub fn push_shape(&mut self, shape: Shape, material: u32) {
         self.shapes.push(shape);
         self.material_of.push(material);
     }
 
+    /// The classic material shape `shape` wears.
     pub fn material(&self, shape: u32) -> &Material {
         &self.materials[self.material_of[shape as usize] as usize]
     }
@@ -118,6 +132,7 @@ impl Scene {
         self.groups.iter().find(|g| g.name == name)
     }
 
+    /// World-space box around every shape; [`Aabb::EMPTY`] when there are none.
     pub fn bounds(&self) -> Aabb {
         self.shapes.bounds()
     }

@@ -9,7 +9,7 @@
 
 use super::image::Image;
 use super::limits::MAX_LINEAR_PIXELS;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use exr::prelude::{self as exr_img, ReadChannels, ReadLayers, WritableImage};
 use std::fmt;
 use std::io::{BufRead, BufReader, Read, Seek, Write};
@@ -28,6 +28,7 @@ pub enum ExrPrecision {
 }
 
 impl ExrPrecision {
+    /// The name front ends accept and print (`half`, `float`); parsed back by `FromStr`.
     pub fn name(self) -> &'static str {
         match self {
             ExrPrecision::Half => "half",

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::limits::MAX_TEXT_BYTES;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Reads a whole file as UTF-8 text, of at most [`MAX_TEXT_BYTES`]. Only regular files
 /// are read: a path naming a directory, a FIFO or a device such as `/dev/stdin` would

@@ -315,6 +315,8 @@ impl BoxTest for Boxes8 {
     }
 }
 
+/// The eight-wide BVH over a scene's shapes, which it borrows: built once, then read
+/// by any number of threads.
 pub struct Bvh<'s> {
     shapes: &'s Shapes,
     /// Where every ray starts: node 0, or for a scene of a few shapes one leaf of them
@@ -378,10 +380,12 @@ impl<'s> Bvh<'s> {
         bvh
     }
 
+    /// Eight-wide inner nodes; 0 when the scene is empty or small enough to be one leaf.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
+    /// Number of shapes the tree was built over.
     pub fn shape_count(&self) -> usize {
         self.shape_count
     }
@@ -398,6 +402,7 @@ impl<'s> Bvh<'s> {
             + self.stored.capacity() * size_of::<Leaf4>()
     }
 
+    /// The nearest hit with `0 < t < t_max`; of equally near ones, the lowest index.
     #[inline]
     pub fn closest(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         if self.root.count > 0 {
@@ -459,6 +464,8 @@ impl<'s> Bvh<'s> {
         best
     }
 
+    /// Whether a shape for which `blocks(shape)` holds is hit with `0 < t < t_max`: the
+    /// traversal stops at the first such.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
         if self.root.count > 0 {

@@ -2,7 +2,7 @@
 //! APNG show the first frame.
 
 use super::{Encoder, write_error};
-use crate::Result;
+use crate::error::Result;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

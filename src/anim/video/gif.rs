@@ -7,7 +7,7 @@
 //! 2 hundredths, which browsers do not honour (they show such frames for about 1/10 s).
 
 use super::{Encoder, write_error};
-use crate::Result;
+use crate::error::Result;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

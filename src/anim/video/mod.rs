@@ -10,8 +10,8 @@ mod gif;
 mod mp4;
 
 use super::output::VideoFormat;
+use crate::error::{Error, Result};
 use crate::film::output::write_atomically;
-use crate::{Error, Result};
 use std::io::Write;
 use std::path::Path;
 

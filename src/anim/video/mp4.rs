@@ -9,7 +9,7 @@
 //! builds every dependency, and so `cc`, at opt-level 3 (see `Cargo.toml`).
 
 use super::{Encoder, write_error};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use ::mp4::{AvcConfig, MediaConfig, Mp4Config, Mp4Sample, Mp4Writer, TrackConfig, TrackType};
 use openh264::OpenH264API;
 use openh264::encoder::{

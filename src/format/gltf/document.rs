@@ -2,8 +2,8 @@
 //! GLB's binary chunk, base64 `data:` URIs and files beside it, every file read through
 //! [`crate::util::file`].
 
-use crate::Error;
-use crate::Result;
+use crate::error::Error;
+use crate::error::Result;
 use base64::Engine as _;
 use gltf::Document;
 use std::path::{Path, PathBuf};
@@ -31,6 +31,7 @@ pub const SUPPORTED: &[&str] = &[
 /// A parsed glTF file with its buffers loaded.
 #[derive(Debug)]
 pub struct Loaded {
+    /// The file's JSON, parsed and validated against the glTF 2.0 schema.
     pub document: Document,
     /// `buffers[i]` holds buffer `i`'s bytes, at least its stated `byteLength`.
     pub buffers: Vec<Vec<u8>>,

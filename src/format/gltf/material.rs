@@ -17,8 +17,13 @@ use std::path::Path;
 /// material `i` (the scene adds Prism's default after them where a primitive names
 /// none).
 pub struct Materials {
+    /// Classic placeholders: matte white under the glTF material's name (or
+    /// `material i`), for the shapes to refer to.
     pub materials: Vec<Material>,
+    /// The whitted terms each glTF material maps to: what is rendered.
     pub surfaces: Vec<Surface>,
+    /// The decoded images the surfaces' texture slots index, each image once per
+    /// encoding (sRGB colour, linear data).
     pub images: Vec<ImageTexture>,
     /// The texture-coordinate set (0 or 1) each material's textures read.
     pub texcoord_set: Vec<usize>,

@@ -9,14 +9,19 @@ use gltf::mesh::Mode;
 /// One primitive of a mesh, triangulated.
 #[derive(Clone, Debug, Default)]
 pub struct Primitive {
+    /// POSITION, in the mesh's frame; only the vertices some triangle uses.
     pub positions: Vec<Vec3>,
+    /// NORMAL, in the mesh's frame, one per position as stored; empty when absent.
     pub normals: Vec<Vec3>,
     /// TEXCOORD_0 and TEXCOORD_1 with v turned upward (`1 - v`), as Prism's images are
     /// read (glTF's v runs down the image).
     pub texcoords: [Vec<[f32; 2]>; 2],
     /// COLOR_0, linear RGB (its alpha is not used).
     pub colors: Vec<Vec3>,
+    /// Indices into `positions`, strips and fans unrolled, wound as glTF winds them
+    /// (counter-clockwise front faces).
     pub triangles: Vec<[u32; 3]>,
+    /// Index into the file's `materials`; `None` for glTF's default material.
     pub material: Option<usize>,
 }
 

@@ -19,12 +19,12 @@ pub mod mesh;
 
 use super::scene_file::lights::DEFAULT_AREA_SAMPLES;
 use super::{NamedCamera, SceneDialect, SceneFile, SourceCounts};
+use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::options::RenderOptions;
 use crate::scene::{
     Group, MAX_SHAPES, Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface,
 };
-use crate::{Error, Result};
 use glam::{DMat3, DMat4, DQuat, DVec3};
 use std::collections::HashMap;
 use std::path::Path;

@@ -9,7 +9,7 @@ use std::borrow::Cow;
 use std::ops::Range;
 use std::path::Path;
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The largest OBJ or MTL file read: 2 GiB. Every index then fits in a `u32` with room
 /// to spare, and a mistaken path to a disk image fails at once instead of filling memory.

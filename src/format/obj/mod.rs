@@ -33,7 +33,7 @@ pub(super) use lines::{
 pub(super) use reader::number;
 pub use triangulate::MAX_EAR_CLIPPED_CORNERS;
 
-use crate::Result;
+use crate::error::Result;
 use crate::math::Vec3;
 use crate::scene::{Material, Scene};
 

@@ -16,8 +16,8 @@ use super::lines::{self, Line, Lines, Token, Tokens};
 use super::smooth::smooth_normals;
 use super::triangulate::{Method, Triangulator};
 use super::{GroupKind, ObjFile, ObjGroup, ObjTriangle, Warning};
+use crate::error::{Error, Result};
 use crate::math::Vec3;
-use crate::{Error, Result};
 use messages::{
     error_at, fan_fallback_message, few_corners_message, missing_attribute_message,
     missing_relative, missing_vertex, mixed_face_message, push_warning, too_many_triangles_message,

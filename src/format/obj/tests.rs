@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use proptest::prelude::*;
 
 use super::*;
-use crate::Error;
+use crate::error::Error;
 
 fn parse_str(text: &str) -> Result<Scene> {
     parse(text, Path::new("mesh.obj"))

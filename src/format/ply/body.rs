@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use super::header::{Encoding, Scalar};
+use crate::error::{Error, Result};
 use crate::util::text::shown;
-use crate::{Error, Result};
 
 /// What is being read, for messages: `property y of vertex 3`.
 #[derive(Clone, Copy)]

@@ -6,8 +6,8 @@
 
 use std::path::Path;
 
+use crate::error::{Error, Result};
 use crate::util::text::shown;
-use crate::{Error, Result};
 
 /// Longer headers are refused: real ones are a few hundred bytes, and the bound keeps a
 /// file of random bytes from being scanned line by line for an `end_header`.

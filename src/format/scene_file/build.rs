@@ -10,7 +10,7 @@ use super::raw::{MaterialRef, RawObject, RawTrack};
 use super::source::{Source, regular_file};
 use super::transform::Transform;
 use super::{camera, lights, settings, tracks};
-use crate::Result;
+use crate::error::Result;
 use crate::math::{Aabb, Vec3, cross};
 use crate::options::RenderOptions;
 use crate::scene::{

@@ -2,7 +2,7 @@
 
 use super::raw::RawCamera;
 use super::source::{Source, regular_file};
-use crate::Result;
+use crate::error::Result;
 use crate::math::Vec3;
 use crate::options::RenderOptions;
 use crate::scene::Camera;

@@ -2,9 +2,9 @@
 //! schema, as a JSON-like value, with mesh objects that carry their arrays.
 
 use super::{SceneFile, parse_with_meshes};
+use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::scene::{Material, MeshAttributes, MeshMaterials, Scene, SceneBuilder, Surface};
-use crate::{Error, Result};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -12,9 +12,15 @@ use std::path::Path;
 /// vertex indices each), and optionally a normal and a texture coordinate per vertex.
 #[derive(Clone, Debug, Default)]
 pub struct ArrayMesh {
+    /// Vertex positions in the mesh's own frame (the object's transform places them);
+    /// every coordinate finite.
     pub vertices: Vec<[f32; 3]>,
+    /// Triangles as indices into `vertices`, each below its length.
     pub faces: Vec<[u32; 3]>,
+    /// One normal per vertex, interpolated across faces; `None` for flat faces.
     pub normals: Option<Vec<[f32; 3]>>,
+    /// One texture coordinate per vertex, v running up the image (as OBJ's do);
+    /// `None` when the mesh has none.
     pub uvs: Option<Vec<[f32; 2]>>,
 }
 

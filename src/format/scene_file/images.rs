@@ -2,7 +2,7 @@
 //! the header before any pixel is.
 
 use super::source::{Source, regular_file};
-use crate::Result;
+use crate::error::Result;
 use crate::format::image_file::{Encoding, read_texture};
 use crate::scene::ImageTexture;
 use std::collections::HashMap;

@@ -3,7 +3,7 @@
 
 use super::raw::RawFile;
 use super::source::{Source, regular_file};
-use crate::Result;
+use crate::error::Result;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 

@@ -4,7 +4,7 @@ use super::objects::unit;
 use super::raw::RawLight;
 use super::source::Source;
 use super::values::{Num, Vector};
-use crate::Result;
+use crate::error::Result;
 use crate::math::Vec3;
 use crate::scene::{Falloff, Light, LightKind};
 use glam::DVec3;

@@ -5,7 +5,7 @@ use super::images::ImageCache;
 use super::raw::{RawMaterial, RawTexture};
 use super::source::Source;
 use super::values::Color;
-use crate::Result;
+use crate::error::Result;
 use crate::math::Vec3;
 use crate::scene::{Albedo, Highlight, Material, Surface, TextureSlot};
 use toml::Spanned;

@@ -36,7 +36,7 @@ pub use lights::{DEFAULT_AREA_SAMPLES, MAX_AREA_SAMPLES};
 pub use primitives::SEGMENTS;
 
 use super::{SceneDialect, SceneFile};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use std::path::Path;
 
 /// Reads the scene file at `path` and everything it names.

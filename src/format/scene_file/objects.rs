@@ -6,9 +6,9 @@ use super::raw::RawObject;
 use super::source::Source;
 use super::transform::Transform;
 use super::values::{Num, Vector};
+use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::scene::{MeshAttributes, Rectangle, Shape, Sphere, Triangle};
-use crate::{Error, Result};
 use glam::DVec3;
 use toml::Spanned;
 

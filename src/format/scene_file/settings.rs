@@ -4,7 +4,7 @@ use super::images::ImageCache;
 use super::objects::unit;
 use super::raw::{RawAmbient, RawBackground, RawRender};
 use super::source::Source;
-use crate::Result;
+use crate::error::Result;
 use crate::math::Vec3;
 use crate::options::RenderOptions;
 use crate::scene::Background;

@@ -1,7 +1,7 @@
 //! One scene file's text and path: byte offsets from TOML spans become the
 //! `file:line:column` every message starts with.
 
-use crate::Error;
+use crate::error::Error;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -51,7 +51,11 @@ impl Source {
 
 /// Checks that `path` names a regular file (not a directory, FIFO or device, which
 /// could block or never end), with an error at the key that names it.
-pub fn regular_file(source: &Source, at: &Spanned<String>, path: &Path) -> crate::Result<()> {
+pub fn regular_file(
+    source: &Source,
+    at: &Spanned<String>,
+    path: &Path,
+) -> crate::error::Result<()> {
     match std::fs::metadata(path) {
         Ok(m) if m.is_file() => Ok(()),
         Ok(_) => Err(source.error(
@@ -72,7 +76,7 @@ pub fn refuse_foreign_keys(
     given: Vec<(&'static str, std::ops::Range<usize>)>,
     allowed: &[&str],
     what: &str,
-) -> crate::Result<()> {
+) -> crate::error::Result<()> {
     match given.into_iter().find(|(n, _)| !allowed.contains(n)) {
         None => Ok(()),
         Some((name, span)) => {

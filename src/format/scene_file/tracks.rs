@@ -4,7 +4,7 @@
 
 use super::raw::RawTrack;
 use super::source::Source;
-use crate::Result;
+use crate::error::Result;
 use toml::Spanned;
 
 pub const MOTIONS: [&str; 4] = ["translate", "rotate", "orbit", "look_at"];

@@ -3,7 +3,7 @@
 
 use super::raw::RawObject;
 use super::source::Source;
-use crate::Result;
+use crate::error::Result;
 use crate::math::Vec3;
 use glam::{DMat3, DMat4, DVec3, DVec4};
 use toml::Spanned;

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use super::Reader;
 use super::messages::{NAMELESS_USEMTL, push_warning};
-use crate::Result;
+use crate::error::Result;
 use crate::format::mtl;
 use crate::format::obj::lines::{self, decode_name, shown};
 

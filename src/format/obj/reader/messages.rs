@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use super::{Kind, triangle_limit};
-use crate::Error;
+use crate::error::Error;
 use crate::format::obj::Warning;
 use crate::format::obj::lines::{Line, shown};
 

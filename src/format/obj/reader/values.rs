@@ -5,9 +5,9 @@ use std::path::Path;
 
 use super::Kind;
 use super::messages::error_at;
+use crate::error::{Error, Result};
 use crate::format::obj::lines::{self, Line, Token, Tokens, decode_name, parse_integer, shown};
 use crate::math::Vec3;
-use crate::{Error, Result};
 
 /// `v x y z [w]` or `v x y z r g b`: the values and how many there are (3, 4 or 6).
 // Both readers call the statement parsers once a line; inlined, their results stay in

@@ -5,6 +5,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 use super::faces::{Faces, HAS_VN, HAS_VT, LOCAL, RawCorner};
+use crate::error::{Error, Result};
 use crate::format::obj::GroupKind;
 use crate::format::obj::lines::{Line, Lines, Token, Tokens, decode_name};
 use crate::format::obj::reader::Kind;
@@ -15,7 +16,6 @@ use crate::format::obj::reader::values::{
     positive_index, push_position, run_name, short_index,
 };
 use crate::math::Vec3;
-use crate::{Error, Result};
 
 /// Something that happened at a statement, in file order. `face` is the number of the
 /// piece's faces read before it (events of a face carry that face's own number), which

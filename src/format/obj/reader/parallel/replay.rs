@@ -3,12 +3,12 @@
 use super::link::Link;
 use super::piece::{Piece, What};
 use super::triangles::Built;
+use crate::error::{Error, Result};
 use crate::format::obj::reader::Reader;
 use crate::format::obj::reader::messages::{
     NAMELESS_USEMTL, fan_fallback_message, few_corners_message, missing_relative,
     mixed_face_message, too_many_triangles_message, unknown_message,
 };
-use crate::{Error, Result};
 
 /// The events of every piece in file order, with the warnings found building triangles
 /// in their place: warnings, runs, material libraries and the first error, as the

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use proptest::prelude::*;
 
 use super::super::{Options, ReadLibrary, read_in_one_piece, read_in_pieces};
-use crate::Error;
+use crate::error::Error;
 use crate::format::obj::ObjFile;
 
 const LIBRARIES: &[(&str, &str)] = &[
