@@ -90,7 +90,7 @@ fn intersectors(c: &mut Criterion) {
             ..RenderSettings::default()
         };
         let renderer = Renderer::new(&scene, &camera, settings).expect("settings");
-        group.bench_function(kind.name(), |b| b.iter(|| renderer.render(&|_| {})));
+        group.bench_function(kind.name(), |b| b.iter(|| renderer.render(&())));
     }
     group.finish();
 }

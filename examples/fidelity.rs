@@ -229,7 +229,7 @@ fn render(scene: &Scene, camera: &Camera, width: u32, job: Job, region: Option<R
         ..Default::default()
     };
     let renderer = Renderer::new(scene, &cam, settings).expect("valid render settings");
-    let (img, _) = renderer.render(&|_| {}).expect("render");
+    let (img, _) = renderer.render(&()).expect("render");
     Rgb {
         width: img.width,
         height: img.height,

@@ -233,7 +233,7 @@ pub fn run(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Result<Ben
     let mut report = pool.install(|| measure_rays(scene, renderer.camera(), options));
     if options.frame {
         let start = Instant::now();
-        renderer.render(&|_| {})?;
+        renderer.render(&())?;
         report.frame_s = Some(start.elapsed().as_secs_f64());
     }
     Ok(report)

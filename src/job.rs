@@ -100,7 +100,7 @@ impl Job {
 
     /// Renders the job's image (linear values) on the job's threads.
     pub fn render(&self) -> Result<(Image, RenderStats)> {
-        self.renderer()?.render(&|_| {})
+        self.renderer()?.render(&())
     }
 
     /// Writes `image` to `path` as this job develops it, in the format the extension

@@ -55,7 +55,7 @@ fn check(scene: &Scene, camera: &Camera, reference: &Path, e: &Expect) {
     };
     let (img, _) = Renderer::new(scene, &cam, settings)
         .unwrap()
-        .render(&|_| {})
+        .render(&())
         .unwrap();
     let data = img.to_rgb8();
     let view = RgbImage::new(img.width, img.height, &data);

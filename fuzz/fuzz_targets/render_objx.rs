@@ -45,7 +45,7 @@ fuzz_target!(|data: &[u8]| {
             ..settings.clone()
         };
         let renderer = Renderer::new(&scene, &camera, settings).unwrap();
-        renderer.render(&|_| {}).unwrap().0
+        renderer.render(&()).unwrap().0
     };
     let image = render(AccelKind::Bvh);
     assert_eq!((image.width, image.height), (8, 8));

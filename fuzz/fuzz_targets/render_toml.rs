@@ -61,7 +61,7 @@ fuzz_target!(|data: &[u8]| {
             ..still.settings.clone()
         };
         let renderer = Renderer::new(&still.scene, &still.camera, settings).ok()?;
-        Some(renderer.render(&|_| {}).ok()?.0)
+        Some(renderer.render(&()).ok()?.0)
     };
     let Some(image) = render(AccelKind::Bvh) else {
         return;

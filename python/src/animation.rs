@@ -7,10 +7,10 @@
 use crate::errors::{IntoPy, to_py};
 use crate::image::file_bytes;
 use crate::watch::{self, Counter};
-use prism::anim::job::{self, Observer};
+use prism::anim::job::{self, FrameObserver};
 use prism::anim::output::{Output, parse_frame_range};
 use prism::film::{Image, write_image};
-use prism::render::Renderer;
+use prism::render::{CancelOn, Renderer};
 use prism::scene::Scene;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -37,10 +37,10 @@ fn render_one(
     cancel: &AtomicBool,
 ) -> prism::Result<Image> {
     let camera = anim.pose_into(k, posed)?;
-    let renderer = Renderer::new(posed, &camera, anim.settings.clone())?.cancel_on(cancel);
+    let renderer = Renderer::new(posed, &camera, anim.settings.clone())?;
     let (image, _) = match still {
-        Some(accel) => renderer.render_with(accel, &|_| {})?,
-        None => renderer.render(&|_| {})?,
+        Some(accel) => renderer.render_with(accel, &CancelOn(cancel))?,
+        None => renderer.render(&CancelOn(cancel))?,
     };
     Ok(image)
 }
@@ -118,7 +118,7 @@ impl Animation {
         py.detach(|| {
             job::check(anim, start..end, &out)?;
             // An empty range: the folder is made ready and nothing is rendered.
-            let nothing = Observer {
+            let nothing = FrameObserver {
                 frame_start: &|_, _| {},
                 rows: &|_| {},
                 frame_done: &|_, _| {},

@@ -8,6 +8,7 @@ use crate::scene::Scene;
 use crate::watch::{self, Counter};
 use prism::film::Transfer;
 use prism::job::Job;
+use prism::render::{CancelOn, Progress};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict};
 use std::sync::atomic::AtomicBool;
@@ -37,10 +38,10 @@ pub fn render<'py>(
 ) -> PyResult<(Bound<'py, PyByteArray>, u32, u32, &'static str)> {
     let job = resolve(py, scene, camera, options)?;
     let cancel = AtomicBool::new(false);
-    let renderer = job.renderer().py_err(py)?.cancel_on(&cancel);
+    let renderer = job.renderer().py_err(py)?;
     let counter = Counter::new(renderer.rows_to_trace());
     let result = watch::run(py, &cancel, &counter, progress.as_ref(), || {
-        renderer.render(&|n| counter.add(n))
+        renderer.render(&(CancelOn(&cancel), Progress(|n| counter.add(n))))
     })?;
     let (image, _stats) = result.map_err(|e| to_py(py, e))?;
     let (w, h) = (image.width, image.height);

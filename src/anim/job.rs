@@ -15,14 +15,34 @@ use std::time::Instant;
 /// Progress callbacks: a frame starts (with its number of progress units), units
 /// finish (from any thread), a frame is done (rendered, or skipped because its file
 /// exists).
-pub struct Observer<'a> {
+pub struct FrameObserver<'a> {
     /// Frame `k` starts rendering, with the supersampled rows it will trace (its
     /// progress units).
-    pub frame_start: &'a dyn Fn(u32, u64),
+    pub frame_start: &'a (dyn Fn(u32, u64) + Sync),
     /// That many more supersampled rows of the current frame are done (any thread).
     pub rows: &'a (dyn Fn(u64) + Sync),
     /// Frame `k` is done: `true` when it was skipped because its file existed.
-    pub frame_done: &'a dyn Fn(u32, bool),
+    pub frame_done: &'a (dyn Fn(u32, bool) + Sync),
+}
+
+/// A frame's render as the frame observer and the frame's file see it.
+struct FrameWatch<'a> {
+    frame: u32,
+    observer: &'a FrameObserver<'a>,
+    file: &'a OutputFile,
+}
+
+impl crate::render::Observer for FrameWatch<'_> {
+    fn begin(&self, _region: crate::render::Region, units: u64) {
+        (self.observer.frame_start)(self.frame, units)
+    }
+    fn progress(&self, units: u64) {
+        (self.observer.rows)(units)
+    }
+    fn rows(&self, first_row: u32, pixels: &[[f32; 3]]) {
+        // A PNG frame is compressed while the frame renders.
+        self.file.rows(first_row, pixels)
+    }
 }
 
 /// What rendering the frames did.
@@ -135,7 +155,7 @@ pub fn render_frames(
     anim: &Animation,
     frames: Range<u32>,
     pattern: &FramePattern,
-    observer: &Observer,
+    observer: &FrameObserver,
 ) -> Result<FramesReport> {
     prepare_folder(anim, &pattern.dir)?;
     let start = Instant::now();
@@ -162,13 +182,16 @@ pub fn render_frames(
         let size = anim.frame_size()?;
         // A PNG frame is compressed while the frame renders.
         let file = OutputFile::create(&path, size.0, size.1, &anim.output)?;
+        let watch = FrameWatch {
+            frame: k,
+            observer,
+            file: &file,
+        };
         let (image, stats) = anim.render_frame_in(
             k,
             &mut posed,
             still.as_ref().and_then(Option::as_ref),
-            &|rows| (observer.frame_start)(k, rows),
-            observer.rows,
-            &|y, rows| file.rows(y, rows),
+            &watch,
         )?;
         if anim.cancelled() {
             return Err(Error::Interrupted);

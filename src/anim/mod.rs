@@ -23,11 +23,12 @@ pub mod video;
 use crate::accel::Accel;
 use crate::error::{Error, Result};
 use crate::film::Image;
-use crate::render::{RenderSettings, RenderStats, Renderer, RowSink};
+use crate::render::{CancelOn, Observer, RenderSettings, RenderStats, Renderer};
 use crate::scene::{Camera, Scene};
 use motion::{Target, Track};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 /// Most frames an animation may have (a typo guard: about 11 hours at 24 fps).
 pub const MAX_FRAMES: u32 = 1_000_000;
@@ -134,39 +135,36 @@ impl Animation {
         Ok((r.region().width, r.region().height))
     }
 
-    /// Renders frame `k`. `start` is told the number of progress units (supersampled
-    /// rows) once; `progress` is called as they finish, from any thread.
+    /// Renders frame `k`, reporting to `observer` as a still's render does.
     pub fn render_frame(
         &self,
         frame: u32,
-        start: &dyn Fn(u64),
-        progress: &(dyn Fn(u64) + Sync),
+        observer: &dyn Observer,
     ) -> Result<(Image, RenderStats)> {
         let mut posed = self.scene.clone();
-        self.render_frame_in(frame, &mut posed, None, start, progress, &|_, _| {})
+        self.render_frame_in(frame, &mut posed, None, observer)
     }
 
     /// [`Animation::render_frame`] posing the scene in `posed` (see
     /// [`Animation::pose_into`]), so a run of frames copies the scene once. With
     /// `still`, an intersector from [`Animation::still_geometry`], no intersector is
-    /// built for the frame. Finished rows go to `rows` as they come (see
-    /// [`Renderer::render_streaming`]).
+    /// built for the frame. The render stops when `observer` or [`Animation::cancel`]
+    /// asks.
     pub fn render_frame_in(
         &self,
         frame: u32,
         posed: &mut Scene,
         still: Option<&Accel>,
-        start: &dyn Fn(u64),
-        progress: &(dyn Fn(u64) + Sync),
-        rows: &RowSink<'_>,
+        observer: &dyn Observer,
     ) -> Result<(Image, RenderStats)> {
         let camera = self.pose_into(frame, posed)?;
-        let mut renderer = Renderer::new(posed, &camera, self.settings.clone())?;
-        if let Some(flag) = &self.cancel {
-            renderer = renderer.cancel_on(flag);
+        let renderer = Renderer::new(posed, &camera, self.settings.clone())?;
+        let never = AtomicBool::new(false);
+        let watch = (CancelOn(self.cancel.as_deref().unwrap_or(&never)), observer);
+        match still {
+            Some(accel) => renderer.render_with(accel, &watch),
+            None => renderer.render(&watch),
         }
-        start(renderer.rows_to_trace());
-        renderer.render_streaming(still, progress, rows)
     }
 
     /// The intersector every frame can share when no track moves a shape (the camera

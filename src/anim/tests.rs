@@ -362,16 +362,16 @@ fn frame_k_is_the_still_render_of_the_posed_scene_for_any_thread_count() {
     let (scene, camera) = a.pose(2).unwrap();
     let still = Renderer::new(&scene, &camera, a.settings.clone())
         .unwrap()
-        .render(&|_| {})
+        .render(&())
         .unwrap()
         .0;
     assert_eq!((still.width, still.height), (32, 18));
     for threads in [1, 2, 3] {
         a.settings.threads = Some(threads);
-        let (frame, _) = a.render_frame(2, &|_| {}, &|_| {}).unwrap();
+        let (frame, _) = a.render_frame(2, &()).unwrap();
         assert_eq!(frame, still, "{threads} threads");
     }
-    let (frame0, _) = a.render_frame(0, &|_| {}, &|_| {}).unwrap();
+    let (frame0, _) = a.render_frame(0, &()).unwrap();
     assert_ne!(frame0, still, "the ball moved");
     assert_eq!(a.frame_size().unwrap(), (32, 18));
 }
@@ -432,10 +432,8 @@ fn a_camera_only_animation_shares_one_intersector_and_renders_the_same_frames() 
     assert_eq!(still.shape_count(), a.scene.shapes.len());
     let mut posed = a.scene.clone();
     for k in 0..3 {
-        let (fresh, _) = a.render_frame(k, &|_| {}, &|_| {}).unwrap();
-        let (shared, _) = a
-            .render_frame_in(k, &mut posed, Some(&still), &|_| {}, &|_| {}, &|_, _| {})
-            .unwrap();
+        let (fresh, _) = a.render_frame(k, &()).unwrap();
+        let (shared, _) = a.render_frame_in(k, &mut posed, Some(&still), &()).unwrap();
         assert_eq!(shared, fresh, "frame {k}");
     }
     // A track that moves shapes gets an intersector per frame.
@@ -453,10 +451,7 @@ fn an_intersector_over_other_shapes_is_refused() {
     let empty = crate::scene::Shapes::new();
     let accel = crate::accel::Accel::build(crate::accel::AccelKind::Bvh, &empty);
     let renderer = Renderer::new(&a.scene, &a.camera, a.settings.clone()).unwrap();
-    let e = renderer
-        .render_with(&accel, &|_| {})
-        .unwrap_err()
-        .to_string();
+    let e = renderer.render_with(&accel, &()).unwrap_err().to_string();
     assert!(e.contains("built over 0 shapes"), "{e}");
 }
 

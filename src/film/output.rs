@@ -234,7 +234,7 @@ impl OutputFile {
     }
 
     /// Whole rows of the image from `first_row` on, as the render finishes them (the
-    /// sink of [`crate::render::Renderer::render_streaming`]).
+    /// rows a render's [`crate::render::Observer`] is handed).
     pub fn rows(&self, first_row: u32, pixels: &[[f32; 3]]) {
         if let Some(png) = &self.png {
             png.rows(first_row, pixels);

@@ -4,6 +4,7 @@
 pub mod camera;
 pub mod classic;
 pub mod memory;
+pub mod observer;
 pub mod optics;
 pub mod sampler;
 mod settings;
@@ -13,6 +14,7 @@ pub mod whitted;
 pub use crate::options::{IntegratorKind, Region};
 pub use camera::CameraRays;
 pub use classic::Classic;
+pub use observer::{CancelOn, Observer, Progress, Rows};
 pub use sampler::PixelSampler;
 use settings::Plan;
 pub use settings::{DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, RenderSettings, check_threads};
@@ -25,7 +27,7 @@ use crate::film::resample::{AxisWeights, resample_window_into};
 use crate::math::{Ray, Vec3};
 use crate::scene::{Camera, Scene};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// Sum of weighted colours: the colour of a pixel is `sum / weight`. Both shading models
@@ -117,9 +119,6 @@ pub(crate) const NO_RAY: Ray = Ray {
     dir: Vec3::Z,
 };
 
-/// Where [`Renderer::render_streaming`] sends finished rows: first row, pixels.
-pub type RowSink<'a> = dyn Fn(u32, &[[f32; 3]]) + Sync + 'a;
-
 /// Figures of one render.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderStats {
@@ -150,8 +149,6 @@ pub const TILE_ROWS: usize = PACKET_RAYS / TILE_COLUMNS;
 pub struct Renderer<'a> {
     scene: &'a Scene,
     plan: Plan,
-    /// Set from any thread (a signal handler, Python's Ctrl-C) to stop the render.
-    cancel: Option<&'a AtomicBool>,
 }
 
 impl<'a> Renderer<'a> {
@@ -178,31 +175,7 @@ impl<'a> Renderer<'a> {
             estimate = estimate.with_casters(scene, plan.accel, casters);
         }
         estimate.check(plan.max_memory, plan.accel)?;
-        Ok(Renderer {
-            scene,
-            plan,
-            cancel: None,
-        })
-    }
-
-    /// Stops the render soon after `flag` is set: rows not yet started are skipped
-    /// and the render returns [`crate::error::Error::Interrupted`].
-    pub fn cancel_on(mut self, flag: &'a AtomicBool) -> Renderer<'a> {
-        self.cancel = Some(flag);
-        self
-    }
-
-    fn cancelled(&self) -> bool {
-        self.cancel.is_some_and(|f| f.load(Ordering::Relaxed))
-    }
-
-    /// The result of a render, unless it was cancelled while running.
-    fn finished(&self, out: (Image, RenderStats)) -> Result<(Image, RenderStats)> {
-        if self.cancelled() {
-            Err(crate::error::Error::Interrupted)
-        } else {
-            Ok(out)
-        }
+        Ok(Renderer { scene, plan })
     }
 
     /// The camera after the settings' overrides.
@@ -245,10 +218,11 @@ impl<'a> Renderer<'a> {
         })
     }
 
-    /// Renders the image (the region, if one is set). `progress` is called with the
-    /// number of supersampled rows finished, from any thread.
-    pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> Result<(Image, RenderStats)> {
-        self.render_streaming(None, progress, &|_, _| {})
+    /// Renders the image (the region, if one is set), reporting to `observer` as it
+    /// goes: the one render driver. Returns [`crate::error::Error::Interrupted`] if the
+    /// observer cancelled it.
+    pub fn render(&self, observer: &dyn Observer) -> Result<(Image, RenderStats)> {
+        self.drive(None, observer)
     }
 
     /// Builds the intersector [`Renderer::render`] would, on the renderer's threads.
@@ -258,26 +232,21 @@ impl<'a> Renderer<'a> {
             .install(|| Accel::build(self.plan.accel, &self.scene.shapes)))
     }
 
-    /// Renders with an intersector built earlier over shapes equal to this scene's (an
-    /// animation whose geometry stays still builds it once for every frame). An
-    /// intersector over a different number of shapes is refused.
+    /// [`Renderer::render`] with an intersector built earlier over shapes equal to this
+    /// scene's (an animation whose geometry stays still builds it once for every
+    /// frame). An intersector over a different number of shapes is refused.
     pub fn render_with(
         &self,
         accel: &Accel,
-        progress: &(dyn Fn(u64) + Sync),
+        observer: &dyn Observer,
     ) -> Result<(Image, RenderStats)> {
-        self.render_streaming(Some(accel), progress, &|_, _| {})
+        self.drive(Some(accel), observer)
     }
 
-    /// [`Renderer::render`] (with `accel`, [`Renderer::render_with`]), handing each run
-    /// of finished output rows to `rows` (its first row in the image, and its pixels)
-    /// as soon as it is done, from the thread that did it and in no set order, so that
-    /// they can be stored while the rest renders (see [`crate::film::OutputFile`]).
-    pub fn render_streaming(
+    fn drive(
         &self,
         accel: Option<&Accel>,
-        progress: &(dyn Fn(u64) + Sync),
-        rows: &RowSink<'_>,
+        observer: &dyn Observer,
     ) -> Result<(Image, RenderStats)> {
         if let Some(accel) = accel
             && accel.shape_count() != self.scene.shapes.len()
@@ -289,14 +258,19 @@ impl<'a> Renderer<'a> {
             )));
         }
         let start = Instant::now();
+        observer.begin(self.plan.region, self.rows_to_trace());
         let out = self.pool()?.install(|| match accel {
-            Some(accel) => self.render_in_pool(accel, start, progress, rows),
+            Some(accel) => self.render_in_pool(accel, start, observer),
             None => {
                 let accel = Accel::build(self.plan.accel, &self.scene.shapes);
-                self.render_in_pool(&accel, start, progress, rows)
+                self.render_in_pool(&accel, start, observer)
             }
         });
-        self.finished(out)
+        if observer.cancelled() {
+            return Err(crate::error::Error::Interrupted);
+        }
+        observer.finished(&out.1);
+        Ok(out)
     }
 
     fn pool(&self) -> Result<rayon::ThreadPool> {
@@ -310,14 +284,13 @@ impl<'a> Renderer<'a> {
         &self,
         accel: &Accel,
         start: Instant,
-        progress: &(dyn Fn(u64) + Sync),
-        rows: &RowSink<'_>,
+        observer: &dyn Observer,
     ) -> (Image, RenderStats) {
         let plan = &self.plan;
         match plan.integrator {
             IntegratorKind::Classic => {
                 let classic = Classic::new(self.scene, accel, plan.camera.medium_ior);
-                self.render_frame(&classic, accel, start, progress, rows)
+                self.render_frame(&classic, accel, start, observer)
             }
             IntegratorKind::Whitted => {
                 let surfaces = self.scene.resolved_surfaces();
@@ -336,7 +309,7 @@ impl<'a> Renderer<'a> {
                     (Some(casters), Some(accel)) => whitted.with_casters(accel, casters),
                     _ => whitted,
                 };
-                self.render_frame(&whitted, accel, start, progress, rows)
+                self.render_frame(&whitted, accel, start, observer)
             }
         }
     }
@@ -347,8 +320,7 @@ impl<'a> Renderer<'a> {
         integrator: &I,
         accel: &Accel,
         start: Instant,
-        progress: &(dyn Fn(u64) + Sync),
-        rows: &RowSink<'_>,
+        observer: &dyn Observer,
     ) -> (Image, RenderStats) {
         let plan = &self.plan;
         let rays = CameraRays::new(&plan.camera, plan.aa, plan.spp);
@@ -361,7 +333,7 @@ impl<'a> Renderer<'a> {
         // of square tiles (a row of sixteen pixels traced 1.25x slower on the bunny).
         let row_len = row_len.max(1);
         let trace_strip = |y0: u32, strip: &mut [[f32; 3]]| {
-            if self.cancelled() {
+            if observer.cancelled() {
                 return;
             }
             let mut count = RayCount::default();
@@ -374,11 +346,12 @@ impl<'a> Renderer<'a> {
                     row_len,
                     strip,
                     &mut count,
+                    observer,
                 );
             } else {
                 for (k, out) in strip.iter_mut().enumerate() {
                     // A pixel of many rays is a long wait: Ctrl-C should not last a strip.
-                    if self.cancelled() {
+                    if observer.cancelled() {
                         return;
                     }
                     let x = x_lo + (k % row_len) as u32;
@@ -396,8 +369,8 @@ impl<'a> Renderer<'a> {
                 }
             }
             total_rays.fetch_add(count.rays, Ordering::Relaxed);
-            if !self.cancelled() {
-                progress((strip.len() / row_len) as u64);
+            if !observer.cancelled() {
+                observer.progress((strip.len() / row_len) as u64);
             }
         };
         if plan.aa == 1 {
@@ -410,8 +383,8 @@ impl<'a> Renderer<'a> {
                 .for_each(|(i, strip)| {
                     let y = (i * TILE_ROWS) as u32;
                     trace_strip(region.y + y, strip);
-                    if !self.cancelled() {
-                        rows(y, strip);
+                    if !observer.cancelled() {
+                        observer.rows(y, strip);
                     }
                 });
             let stats = RenderStats {
@@ -438,7 +411,7 @@ impl<'a> Renderer<'a> {
                 // A cancelled render's bands are neither traced nor resampled: at 4K
                 // with anti-aliasing, resampling the rest of the frame took half a second
                 // after Ctrl-C.
-                if self.cancelled() {
+                if observer.cancelled() {
                     return;
                 }
                 let mut band = vec![[0.0f32; 3]; row_len * (hi - lo) as usize];
@@ -446,7 +419,7 @@ impl<'a> Renderer<'a> {
                     .enumerate()
                     .with_max_len(1)
                     .for_each(|(i, strip)| trace_strip(lo + (i * TILE_ROWS) as u32, strip));
-                if self.cancelled() {
+                if observer.cancelled() {
                     return;
                 }
                 resample_window_into(
@@ -463,7 +436,7 @@ impl<'a> Renderer<'a> {
                     y1 - y0,
                     out,
                 );
-                rows(y0 - region.y, out);
+                observer.rows(y0 - region.y, out);
             });
         let stats = RenderStats {
             rays: total_rays.into_inner(),
@@ -527,6 +500,7 @@ impl<'a> Renderer<'a> {
         row_len: usize,
         strip: &mut [[f32; 3]],
         count: &mut RayCount,
+        observer: &dyn Observer,
     ) {
         let rows = strip.len() / row_len;
         let mut batch = [NO_RAY; PACKET_RAYS];
@@ -540,7 +514,7 @@ impl<'a> Renderer<'a> {
         };
         for x0 in (0..row_len).step_by(TILE_COLUMNS) {
             // Checked tile by tile: a strip of a wide frame takes a while.
-            if self.cancelled() {
+            if observer.cancelled() {
                 return;
             }
             let mut n = 0;

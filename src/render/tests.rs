@@ -14,6 +14,7 @@ fn with_unit_ball(mut scene: crate::scene::Scene) -> crate::scene::Scene {
 mod cancel_tests {
     use crate::render::*;
     use crate::scene::Material;
+    use std::sync::atomic::AtomicBool;
 
     #[test]
     fn a_cancelled_render_stops_and_says_so() {
@@ -24,14 +25,15 @@ mod cancel_tests {
         let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 64, 64);
         let flag = AtomicBool::new(false);
         let rows = AtomicU64::new(0);
-        let renderer = Renderer::new(&scene, &camera, RenderSettings::default())
-            .unwrap()
-            .cancel_on(&flag);
+        let renderer = Renderer::new(&scene, &camera, RenderSettings::default()).unwrap();
         // Cancelled after the first row: the rest are skipped.
-        let result = renderer.render(&|n| {
-            rows.fetch_add(n, Ordering::Relaxed);
-            flag.store(true, Ordering::Relaxed);
-        });
+        let result = renderer.render(&(
+            CancelOn(&flag),
+            Progress(|n| {
+                rows.fetch_add(n, Ordering::Relaxed);
+                flag.store(true, Ordering::Relaxed);
+            }),
+        ));
         assert!(matches!(result, Err(crate::error::Error::Interrupted)));
         // Strips of rows already running when the flag went up finish; no new one
         // starts.
@@ -40,7 +42,62 @@ mod cancel_tests {
         assert!(rows <= (2 * threads + 2) * TILE_ROWS as u64, "{rows} rows");
         // Not cancelled: the same renderer's output.
         flag.store(false, Ordering::Relaxed);
-        assert!(renderer.render(&|_| {}).is_ok());
+        assert!(renderer.render(&()).is_ok());
+    }
+
+    /// The driver tells its observer where it starts (the window and the units of
+    /// work), counts every unit, and says it finished once, with the stats it returns;
+    /// a cancelled render is never said to have finished.
+    #[test]
+    fn the_observer_sees_begin_progress_and_finish() {
+        struct Log {
+            begun: std::sync::Mutex<Option<(Region, u64)>>,
+            units: AtomicU64,
+            finished: std::sync::Mutex<Vec<u64>>,
+            stop_after: Option<u64>,
+        }
+        impl Observer for Log {
+            fn begin(&self, region: Region, units: u64) {
+                *self.begun.lock().unwrap() = Some((region, units));
+            }
+            fn progress(&self, units: u64) {
+                self.units.fetch_add(units, Ordering::Relaxed);
+            }
+            fn cancelled(&self) -> bool {
+                self.stop_after
+                    .is_some_and(|n| self.units.load(Ordering::Relaxed) >= n)
+            }
+            fn finished(&self, stats: &RenderStats) {
+                self.finished.lock().unwrap().push(stats.rays);
+            }
+        }
+        let scene = super::with_unit_ball(Scene {
+            materials: vec![Material::default_white()],
+            ..Scene::default()
+        });
+        let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 40, 30);
+        let settings = RenderSettings {
+            aa: Some(2),
+            ..RenderSettings::default()
+        };
+        let renderer = Renderer::new(&scene, &camera, settings).unwrap();
+        let log = |stop_after| Log {
+            begun: Default::default(),
+            units: AtomicU64::new(0),
+            finished: Default::default(),
+            stop_after,
+        };
+        let whole = log(None);
+        let (_, stats) = renderer.render(&whole).unwrap();
+        let (region, units) = whole.begun.into_inner().unwrap().unwrap();
+        assert_eq!((region.width, region.height), (40, 30));
+        assert_eq!(units, renderer.rows_to_trace());
+        assert_eq!(whole.units.into_inner(), units);
+        assert_eq!(whole.finished.into_inner().unwrap(), vec![stats.rays]);
+        let stopped = log(Some(1));
+        let e = renderer.render(&stopped).unwrap_err();
+        assert!(matches!(e, crate::error::Error::Interrupted));
+        assert!(stopped.finished.into_inner().unwrap().is_empty());
     }
 
     /// A shading model that raises the cancel flag on its first call and counts its
@@ -104,29 +161,25 @@ mod cancel_tests {
                 aa: Some(aa),
                 ..RenderSettings::default()
             };
-            let renderer = Renderer::new(&scene, &camera, settings)
-                .unwrap()
-                .cancel_on(&flag);
+            let renderer = Renderer::new(&scene, &camera, settings).unwrap();
             let cancelling = Cancelling {
                 flag: &flag,
                 calls: AtomicU64::new(0),
             };
             let (progressed, written) = (AtomicU64::new(0), AtomicU64::new(0));
-            let out = renderer.render_frame(
-                &cancelling,
-                &accel,
-                Instant::now(),
-                &|n| {
-                    progressed.fetch_add(n, Ordering::Relaxed);
-                },
-                &|_, _| {
-                    written.fetch_add(1, Ordering::Relaxed);
-                },
+            let watch = (
+                CancelOn(&flag),
+                (
+                    Progress(|n| {
+                        progressed.fetch_add(n, Ordering::Relaxed);
+                    }),
+                    Rows(|_, _: &[[f32; 3]]| {
+                        written.fetch_add(1, Ordering::Relaxed);
+                    }),
+                ),
             );
-            assert!(matches!(
-                renderer.finished(out),
-                Err(crate::error::Error::Interrupted)
-            ));
+            renderer.render_frame(&cancelling, &accel, Instant::now(), &watch);
+            assert!(watch.cancelled());
             // Each thread finishes the tile or pixel it is in.
             let calls = cancelling.calls.into_inner();
             let case = format!("{spp:?} lens rays, AA {aa}");
@@ -269,9 +322,9 @@ mod band_tests {
             let renderer = Renderer::new(&scene, &camera, settings).unwrap();
             let rows = AtomicU64::new(0);
             renderer
-                .render(&|n| {
+                .render(&Progress(|n| {
                     rows.fetch_add(n, Ordering::Relaxed);
-                })
+                }))
                 .unwrap();
             assert_eq!(rows.into_inner(), renderer.rows_to_trace(), "aa {aa}");
             assert!(renderer.rows_to_trace() >= u64::from(23 * aa));
@@ -304,14 +357,14 @@ mod band_tests {
             let streamed = std::sync::Mutex::new(vec![[f32::NAN; 3]; (w * h) as usize]);
             let times = std::sync::Mutex::new(vec![0u32; h as usize]);
             let (image, _) = renderer
-                .render_streaming(None, &|_| {}, &|y, rows| {
+                .render(&Rows(|y, rows: &[[f32; 3]]| {
                     assert_eq!(rows.len() % w as usize, 0);
                     let start = y as usize * w as usize;
                     streamed.lock().unwrap()[start..start + rows.len()].copy_from_slice(rows);
                     for row in y..y + rows.len() as u32 / w {
                         times.lock().unwrap()[row as usize] += 1;
                     }
-                })
+                }))
                 .unwrap();
             assert!(
                 times.into_inner().unwrap().iter().all(|&n| n == 1),
@@ -354,7 +407,7 @@ mod band_tests {
                     ..RenderSettings::default()
                 };
                 let renderer = Renderer::new(&scene, &camera, settings).unwrap();
-                let (image, _) = renderer.render(&|_| {}).unwrap();
+                let (image, _) = renderer.render(&()).unwrap();
                 // What the band loop gives: traced pixels through the resampler.
                 let r = renderer.region();
                 let plan = &renderer.plan;

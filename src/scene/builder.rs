@@ -31,7 +31,7 @@ use std::ops::Range;
 /// use prism::scene::Camera;
 /// let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 16, 16);
 /// let settings = RenderSettings { integrator: IntegratorKind::Whitted, ..Default::default() };
-/// let (image, _) = Renderer::new(&scene, &camera, settings)?.render(&|_| {})?;
+/// let (image, _) = Renderer::new(&scene, &camera, settings)?.render(&())?;
 /// let [r, g, _] = image.pixels[8 * 16 + 8];
 /// assert!(r > 0.1 && g < r / 4.0);
 /// # Ok::<(), prism::Error>(())

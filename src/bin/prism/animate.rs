@@ -4,7 +4,7 @@ use clap::Args;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use prism::accel::AccelKind;
 use prism::anim::Animation;
-use prism::anim::job::{self, Observer};
+use prism::anim::job::{self, FrameObserver};
 use prism::anim::output::{Output, VideoFormat, parse_frame_range};
 use prism::anim::video;
 use std::io::IsTerminal;
@@ -77,7 +77,7 @@ pub fn run(args: &AnimateArgs, interrupt: &crate::Interrupt) -> prism::Result<()
         .filter(|&k| !pattern.path_of(k).is_file())
         .count();
     let bars = Bars::new(to_render as u64, args.quiet);
-    let observer = Observer {
+    let observer = FrameObserver {
         frame_start: &|k, rows| bars.frame_start(k, rows),
         rows: &|n| bars.frame.inc(n),
         frame_done: &|_, skipped| {

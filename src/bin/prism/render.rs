@@ -9,6 +9,7 @@ use prism::format::SceneDialect;
 use prism::job::{JobOptions, LookAt};
 use prism::math::Vec3;
 use prism::options::{Filter, IntegratorKind, Region, RenderOptions, ToneMap};
+use prism::render::Observer;
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -196,12 +197,16 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
             eprintln!("warning: {w}");
         }
     }
-    let renderer = job.renderer()?.cancel_on(&interrupt.stop);
+    let renderer = job.renderer()?;
     let region = renderer.region();
     let file = OutputFile::create(output, region.width, region.height, &job.output)?;
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
-    let (image, stats) =
-        renderer.render_streaming(None, &|n| bar.inc(n), &|y, rows| file.rows(y, rows))?;
+    let watch = Watch {
+        bar: &bar,
+        file: &file,
+        stop: &interrupt.stop,
+    };
+    let (image, stats) = renderer.render(&watch)?;
     bar.finish_and_clear();
     if interrupt.stop.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(prism::Error::Interrupted);
@@ -223,6 +228,26 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         );
     }
     Ok(())
+}
+
+/// What the command watches of its render: the progress bar, the file (a PNG is
+/// encoded as its rows finish) and Ctrl-C.
+struct Watch<'a> {
+    bar: &'a indicatif::ProgressBar,
+    file: &'a OutputFile,
+    stop: &'a std::sync::atomic::AtomicBool,
+}
+
+impl Observer for Watch<'_> {
+    fn progress(&self, rows: u64) {
+        self.bar.inc(rows)
+    }
+    fn rows(&self, first_row: u32, pixels: &[[f32; 3]]) {
+        self.file.rows(first_row, pixels)
+    }
+    fn cancelled(&self) -> bool {
+        self.stop.load(std::sync::atomic::Ordering::Relaxed)
+    }
 }
 
 /// What a finished render prints: the file, its size, the time and the ray rate.

@@ -193,7 +193,7 @@ mod tests {
             let s = crate::job::resolve(f, &crate::job::JobOptions::default()).unwrap();
             crate::render::Renderer::new(&s.scene, &s.camera, s.settings)
                 .unwrap()
-                .render(&|_| {})
+                .render(&())
                 .unwrap()
                 .0
                 .pixels

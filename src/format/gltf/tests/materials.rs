@@ -135,7 +135,7 @@ fn a_mirror_metal_reflects_its_colour_and_an_unlit_file_gets_default_lights() {
     scene.lights.clear();
     let image = Renderer::new(&scene, &s.camera, s.settings.clone())
         .unwrap()
-        .render(&|_| {})
+        .render(&())
         .unwrap()
         .0;
     let got = Vec3::from_array(image.pixels[0]);

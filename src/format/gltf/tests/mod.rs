@@ -133,7 +133,7 @@ fn render(path: &Path, options: &JobOptions) -> Image {
     let s = job::prepare(path, options).unwrap();
     Renderer::new(&s.scene, &s.camera, s.settings)
         .unwrap()
-        .render(&|_| {})
+        .render(&())
         .unwrap()
         .0
 }

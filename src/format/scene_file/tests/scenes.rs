@@ -30,7 +30,7 @@ fn the_showcase_renders_a_mirror_glass_and_checker() {
         ..RenderSettings::default()
     };
     let renderer = Renderer::new(&f.scene, &camera, settings).unwrap();
-    let (image, _) = renderer.render(&|_| {}).unwrap();
+    let (image, _) = renderer.render(&()).unwrap();
     let frame = camera.frame();
     // The pixel a world point projects to (the screen at distance 1, pixels 2 s wide).
     let pixel = |p: Vec3| {
