@@ -9,6 +9,25 @@ use crate::util::text::shown;
 use std::fmt;
 use std::str::FromStr;
 
+/// The one of `all` that `name` calls `s`, or a message naming the setting (`what`) and
+/// listing every name: how each setting's name is read, in files and flags alike.
+pub fn by_name<T: Copy>(
+    s: &str,
+    all: &[T],
+    name: impl Fn(T) -> &'static str,
+    what: &str,
+) -> Result<T, String> {
+    all.iter().copied().find(|&k| name(k) == s).ok_or_else(|| {
+        let names: Vec<&str> = all.iter().map(|&k| name(k)).collect();
+        let listed = match names.split_last() {
+            Some((last, [])) => last.to_string(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+            None => String::new(),
+        };
+        format!("unknown {what} {}: expected {listed}", shown(s))
+    })
+}
+
 /// What a user may state about a render and its development; `None` leaves it to the
 /// layer below (the scene file, the camera, the defaults).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -100,13 +119,7 @@ impl IntegratorKind {
 impl std::str::FromStr for IntegratorKind {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        IntegratorKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let s = shown(s);
-                format!("unknown integrator {s}: expected classic or whitted")
-            })
+        by_name(s, &IntegratorKind::ALL, IntegratorKind::name, "integrator")
     }
 }
 
@@ -193,15 +206,7 @@ impl fmt::Display for Filter {
 impl FromStr for Filter {
     type Err = String;
     fn from_str(s: &str) -> Result<Filter, String> {
-        Filter::ALL
-            .into_iter()
-            .find(|f| f.name() == s)
-            .ok_or_else(|| {
-                format!(
-                    "unknown filter {}: expected nearest, bilinear, area, bicubic or lanczos",
-                    shown(s)
-                )
-            })
+        by_name(s, &Filter::ALL, |f| f.name(), "filter")
     }
 }
 
@@ -246,13 +251,7 @@ impl FromStr for ToneMap {
     type Err = String;
 
     fn from_str(s: &str) -> Result<ToneMap, String> {
-        ToneMap::ALL
-            .into_iter()
-            .find(|t| t.name() == s)
-            .ok_or_else(|| {
-                let s = shown(s);
-                format!("unknown tone map {s}: expected clamp, reinhard or aces")
-            })
+        by_name(s, &ToneMap::ALL, ToneMap::name, "tone map")
     }
 }
 
@@ -265,4 +264,50 @@ pub enum Transfer {
     Srgb,
     /// No curve: values are stored as they are, as the 2014 program stored them.
     Classic,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_read_back_and_unknown_ones_list_every_name() {
+        for t in ToneMap::ALL {
+            assert_eq!(t.name().parse::<ToneMap>(), Ok(t));
+        }
+        assert_eq!("lanczos".parse::<Filter>(), Ok(Filter::Lanczos));
+        assert_eq!(
+            "Whitted".parse::<IntegratorKind>(),
+            Err("unknown integrator `Whitted`: expected classic or whitted".into())
+        );
+        assert_eq!(
+            "gauss".parse::<Filter>(),
+            Err(
+                "unknown filter `gauss`: expected nearest, bilinear, area, bicubic or \
+                 lanczos"
+                    .into()
+            )
+        );
+        assert_eq!(
+            by_name("x", &[1u8], |_| "one", "thing"),
+            Err("unknown thing `x`: expected one".into())
+        );
+    }
+
+    #[test]
+    fn a_side_given_replaces_both_sides_below() {
+        let file = RenderOptions {
+            width: Some(640),
+            height: Some(360),
+            spp: Some(4),
+            ..Default::default()
+        };
+        let width = RenderOptions {
+            width: Some(320),
+            ..Default::default()
+        };
+        let o = width.over(&file);
+        assert_eq!((o.width, o.height, o.spp), (Some(320), None, Some(4)));
+        assert_eq!(RenderOptions::default().over(&file), file);
+    }
 }

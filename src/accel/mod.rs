@@ -90,13 +90,7 @@ impl fmt::Display for AccelKind {
 impl FromStr for AccelKind {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        AccelKind::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let s = crate::util::text::shown(s);
-                format!("unknown intersector {s}: expected bvh, bvh-copied, octree or list")
-            })
+        crate::options::by_name(s, &AccelKind::ALL, AccelKind::name, "intersector")
     }
 }
 
