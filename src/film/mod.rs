@@ -6,6 +6,7 @@ pub mod develop;
 pub mod output;
 pub mod resample;
 pub mod stream;
+pub mod tev;
 
 pub use crate::util::hdr::{ExrPrecision, read_linear_image};
 pub use crate::util::image::{Image, quantize};

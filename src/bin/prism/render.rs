@@ -4,6 +4,7 @@
 use clap::Args;
 use prism::accel::AccelKind;
 use prism::film::output::check_output_path;
+use prism::film::tev::TevStream;
 use prism::film::{ExrPrecision, OutputFile, PngBits};
 use prism::format::SceneDialect;
 use prism::job::{JobOptions, LookAt};
@@ -105,6 +106,10 @@ pub struct RenderArgs {
     /// Seed of the lens and light samples; the same seed gives the same image.
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Show the image as it forms in the tev viewer listening at HOST:PORT (tev's
+    /// default port is 14158), as well as writing it.
+    #[arg(long, value_name = "HOST:PORT")]
+    pub display: Option<String>,
     /// No progress bar and no warnings.
     #[arg(long, short)]
     pub quiet: bool,
@@ -200,13 +205,35 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     let renderer = job.renderer()?;
     let region = renderer.region();
     let file = OutputFile::create(output, region.width, region.height, &job.output)?;
+    let tev = match &args.display {
+        Some(address) => {
+            let name = output.file_name().map_or_else(
+                || output.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            Some(TevStream::connect(
+                address,
+                &name,
+                region.width,
+                region.height,
+            )?)
+        }
+        None => None,
+    };
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
     let watch = Watch {
         bar: &bar,
         file: &file,
+        tev: tev.as_ref(),
         stop: &interrupt.stop,
     };
     let (image, stats) = renderer.render(&watch)?;
+    if let Some(tev) = tev
+        && let Err(why) = tev.finish()
+        && !args.quiet
+    {
+        eprintln!("warning: {why}");
+    }
     bar.finish_and_clear();
     if interrupt.stop.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(prism::Error::Interrupted);
@@ -231,10 +258,11 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
 }
 
 /// What the command watches of its render: the progress bar, the file (a PNG is
-/// encoded as its rows finish) and Ctrl-C.
+/// encoded as its rows finish), tev (`--display`) and Ctrl-C.
 struct Watch<'a> {
     bar: &'a indicatif::ProgressBar,
     file: &'a OutputFile,
+    tev: Option<&'a TevStream>,
     stop: &'a std::sync::atomic::AtomicBool,
 }
 
@@ -243,7 +271,10 @@ impl Observer for Watch<'_> {
         self.bar.inc(rows)
     }
     fn rows(&self, first_row: u32, pixels: &[[f32; 3]]) {
-        self.file.rows(first_row, pixels)
+        self.file.rows(first_row, pixels);
+        if let Some(tev) = self.tev {
+            tev.rows(first_row, pixels);
+        }
     }
     fn cancelled(&self) -> bool {
         self.stop.load(std::sync::atomic::Ordering::Relaxed)
