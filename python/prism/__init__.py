@@ -184,6 +184,7 @@ def render(
     integrator: Optional[str] = None,
     progress: Progress = None,
     srgb: bool = False,
+    show: bool = False,
     **options: Any,
 ) -> np.ndarray:
     """Renders ``scene`` and returns the image as a NumPy array.
@@ -205,6 +206,10 @@ def render(
     ``prism render`` writes to a PNG (the scene file's exposure and tone map; the sRGB
     curve for whitted, the 2014 program's values for classic).
 
+    ``show=True`` in a notebook (IPython) shows the image in the cell as it forms,
+    refreshed a few times a second until the render ends (rows not rendered yet are
+    black; developed as ``srgb=True`` would be).
+
     ``progress`` is a callable ``(done, total)`` (called from this thread) or ``True``
     for a tqdm bar. The GIL is released while rendering; Ctrl-C raises
     ``KeyboardInterrupt`` promptly.
@@ -222,10 +227,29 @@ def render(
     )
     callback, close = _progress_callback(progress, "rows")
     try:
-        data, w, h, dtype = _prism.render(scene, camera, opts, callback, srgb)
+        preview = _cell_preview() if show else None
+        data, w, h, dtype = _prism.render(scene, camera, opts, callback, srgb, preview)
     finally:
         close()
     return np.frombuffer(data, dtype=np.dtype(dtype)).reshape(h, w, 3)
+
+
+def _cell_preview() -> Callable[[bytes, int, int], None]:
+    """A callable showing 8-bit frames in the notebook cell: one image, updated."""
+    try:
+        from IPython.display import Image, display
+    except ImportError as err:
+        raise ImportError("show=True shows the image in a notebook: it needs IPython") from err
+    handle: list = []
+
+    def preview(rgb8: bytes, width: int, height: int) -> None:
+        image = Image(data=_prism.encode_png(rgb8, width, height), format="png")
+        if handle:
+            handle[0].update(image)
+        else:
+            handle.append(display(image, display_id=True))
+
+    return preview
 
 
 def plan(scene: Scene, camera: Optional[Camera] = None, **options: Any) -> Dict[str, Any]:

@@ -74,6 +74,7 @@ def render(
     options: Optional[Dict[str, Any]] = None,
     progress: _Callback = None,
     srgb: bool = False,
+    preview: Optional[Callable[[bytes, int, int], None]] = None,
 ) -> Tuple[bytearray, int, int, str]: ...
 def plan(
     scene: Scene, camera: Optional[Camera] = None, options: Optional[Dict[str, Any]] = None

@@ -61,6 +61,19 @@ pub fn run<T: Send>(
     callback: Option<&Bound<'_, PyAny>>,
     job: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
+    run_ticking(py, cancel, counter, callback, &mut || Ok(()), job)
+}
+
+/// [`run`], calling `tick` (with the GIL) at each poll while the job runs: a live
+/// preview's refresh.
+pub fn run_ticking<T: Send>(
+    py: Python<'_>,
+    cancel: &AtomicBool,
+    counter: &Counter,
+    callback: Option<&Bound<'_, PyAny>>,
+    tick: &mut dyn FnMut() -> PyResult<()>,
+    job: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
     std::thread::scope(|s| {
         let (tx, rx) = channel();
         s.spawn(move || {
@@ -88,7 +101,8 @@ pub fn run<T: Send>(
             }
             let served = py
                 .check_signals()
-                .and_then(|()| report(callback, counter.done(), counter.total, &mut last));
+                .and_then(|()| report(callback, counter.done(), counter.total, &mut last))
+                .and_then(|()| tick());
             if let Err(e) = served {
                 cancel.store(true, Ordering::Relaxed);
                 // Rows already started finish; the rest are skipped.

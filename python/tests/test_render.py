@@ -199,3 +199,48 @@ def test_the_plan_carries_the_development_given(example):
     assert plan["png_bits"] == "16"
     with pytest.raises(ValueError, match="tone map"):
         prism.plan(scene, None, tonemap="filmic")
+
+
+def test_a_preview_sees_the_image_form_and_ends_on_the_final_one(example):
+    scene, camera = example
+    frames = []
+    options = dict(width=160, aa=2, spp=8)
+    data, w, h, dtype = prism._prism.render(
+        scene, camera, options, None, True,
+        lambda rgb8, width, height: frames.append((bytes(rgb8), width, height)))
+    assert dtype == "u1" and frames
+    assert all((fw, fh) == (w, h) and len(f) == w * h * 3 for f, fw, fh in frames)
+    # The last frame shown is the image returned, which is what srgb=True gives.
+    assert frames[-1][0] == bytes(data)
+    final = prism.render(scene, camera, srgb=True, **options)
+    assert frames[-1][0] == final.tobytes()
+    # A frame shown before the end is part of the way there (rows still black), or the
+    # whole image if the last rows landed just before it.
+    for f, _, _ in frames[:-1]:
+        rows = np.frombuffer(f, np.uint8).reshape(h, w * 3)
+        assert f == frames[-1][0] or (rows.max(axis=1) == 0).any()
+
+
+def test_show_updates_one_image_in_the_notebook_cell(example, monkeypatch):
+    import sys
+    import types
+
+    shown = []
+
+    class Handle:
+        def update(self, image):
+            shown.append(image)
+
+    display_module = types.ModuleType("IPython.display")
+    display_module.Image = lambda data, format: (format, data)
+    display_module.display = lambda image, display_id: shown.append(image) or Handle()
+    monkeypatch.setitem(sys.modules, "IPython", types.ModuleType("IPython"))
+    monkeypatch.setitem(sys.modules, "IPython.display", display_module)
+    scene, camera = example
+    pixels = prism.render(scene, camera, width=64, show=True)
+    assert pixels.dtype == np.float32
+    assert shown and all(fmt == "png" and png[:8] == b"\x89PNG\r\n\x1a\n" for fmt, png in shown)
+    monkeypatch.delitem(sys.modules, "IPython.display")
+    monkeypatch.setitem(sys.modules, "IPython", None)
+    with pytest.raises(ImportError, match="IPython"):
+        prism.render(scene, camera, width=16, show=True)
