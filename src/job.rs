@@ -108,6 +108,39 @@ impl Job {
     pub fn write(&self, image: &Image, path: &Path) -> Result<()> {
         crate::film::write_image(image, path, &self.output)
     }
+
+    /// The job's camera as a look-at: the eye, a point ahead at the distance of the
+    /// scene's centre, the image's vertical and the horizontal field of view.
+    pub fn look(&self) -> LookAt {
+        let c = &self.camera;
+        let f = c.frame();
+        let centre = self.scene.bounds().center();
+        let ahead = (centre - c.eye).dot(f.forward);
+        let dist = if ahead.is_finite() && ahead > 1e-3 {
+            ahead
+        } else {
+            1.0
+        };
+        LookAt {
+            from: Some(c.eye),
+            at: Some(c.eye + f.forward * dist),
+            up: Some(c.up.unwrap_or(-f.down)),
+            fov: Some(horizontal_fov(c)),
+        }
+    }
+
+    /// The job's camera with `look` laid over it, as `--look-from`, `--look-at`, `--up`
+    /// and `--fov` lay it (a preview's camera in hand).
+    pub fn camera_looking(&self, look: &LookAt) -> Result<Camera> {
+        let up = self.camera.up.unwrap_or(Vec3::Y);
+        look_at_over(&self.camera, look, up)
+    }
+}
+
+/// A camera's horizontal field of view in degrees.
+fn horizontal_fov(camera: &Camera) -> f32 {
+    let half = camera.retina_scale * camera.width as f32 / camera.screen_distance;
+    2.0 * half.atan().to_degrees()
 }
 
 /// Loads `scene_path` and resolves the job.
@@ -278,10 +311,7 @@ fn look_at_over(camera: &Camera, look: &LookAt, default_up: Vec3) -> Result<Came
                 "field of view must be between 0 and 180 degrees, found {fov}"
             )));
         }
-        None => {
-            let half = camera.retina_scale * camera.width as f32 / camera.screen_distance;
-            2.0 * half.atan().to_degrees()
-        }
+        None => horizontal_fov(camera),
     };
     let mut c = Camera::look_at(from, at, up, fov, camera.width, camera.height);
     c.aa = camera.aa;

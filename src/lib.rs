@@ -49,6 +49,7 @@ pub mod info;
 pub mod job;
 pub mod math;
 pub mod options;
+pub mod preview;
 pub mod render;
 pub mod scene;
 pub mod util;

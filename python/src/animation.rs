@@ -5,10 +5,10 @@
 //! one front end is resumed by another.
 
 use crate::errors::{IntoPy, to_py};
-use crate::image::file_bytes;
 use crate::watch::{self, Counter};
 use prism::anim::job::{self, FrameObserver};
 use prism::anim::output::{Output, parse_frame_range};
+use prism::film::file_bytes;
 use prism::film::{Image, write_image};
 use prism::render::{CancelOn, Renderer};
 use prism::scene::Scene;

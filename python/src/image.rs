@@ -6,7 +6,7 @@ use prism::film::{Develop, ExrPrecision, Image, OutputOptions, PngBits, ToneMap,
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Row-major RGB samples as the library's image. `u1` samples become `v / 255`, which
 /// classic development turns back into `v` exactly.
@@ -94,15 +94,6 @@ pub fn encode_png<'py>(
     height: u32,
 ) -> PyResult<Bound<'py, PyBytes>> {
     let image = image_of(data, width, height, "u1")?;
-    let bytes = file_bytes(&image, "png", &OutputOptions::classic()).py_err(py)?;
+    let bytes = prism::film::file_bytes(&image, "png", &OutputOptions::classic()).py_err(py)?;
     Ok(PyBytes::new(py, &bytes))
-}
-
-/// The bytes of the file `image` would be written as, with extension `ext`: written in
-/// a private temporary folder, read back.
-pub fn file_bytes(image: &Image, ext: &str, options: &OutputOptions) -> prism::Result<Vec<u8>> {
-    let dir = tempfile::tempdir().map_err(|e| prism::Error::file(Path::new("."), e))?;
-    let path = dir.path().join(format!("image.{ext}"));
-    prism::film::write_image(image, &path, options)?;
-    std::fs::read(&path).map_err(|e| prism::Error::file(&path, e))
 }

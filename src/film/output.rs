@@ -209,6 +209,16 @@ pub fn write_image(image: &Image, path: &Path, options: &OutputOptions) -> Resul
     })
 }
 
+/// The bytes of the file `image` would be written as with extension `ext`: written
+/// in a private temporary folder by [`write_image`] and read back, so they are the
+/// bytes a file of that name gets.
+pub fn file_bytes(image: &Image, ext: &str, options: &OutputOptions) -> Result<Vec<u8>> {
+    let dir = tempfile::tempdir().map_err(|e| Error::file(Path::new("."), e))?;
+    let path = dir.path().join(format!("image.{ext}"));
+    write_image(image, &path, options)?;
+    std::fs::read(&path).map_err(|e| Error::file(&path, e))
+}
+
 /// An image file a render writes as it goes: a PNG is developed and compressed band by
 /// band while the render runs ([`PngStream`]), any other format is written from the
 /// finished image. Nothing is on disk before [`OutputFile::finish`].

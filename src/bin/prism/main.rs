@@ -4,6 +4,7 @@ mod animate;
 mod bench;
 mod convert;
 mod info;
+mod preview;
 mod render;
 
 use bench::BenchArgs;
@@ -50,6 +51,8 @@ enum Command {
     Animate(animate::AnimateArgs),
     /// Print what Prism reads in a scene file: dialect, counts, bounds, warnings.
     Info(info::InfoArgs),
+    /// Render a scene in the browser as it forms: camera in hand, re-rendered on save.
+    Preview(Box<preview::PreviewArgs>),
 }
 
 /// What `prism` alone prints: the commands, a line each.
@@ -60,6 +63,7 @@ Usage: prism <COMMAND> [ARGS]...   (prism <COMMAND> --help for its options)
 
 Commands:
   render    Render a scene (.gltf, .glb, .obj, .ply, .toml or .objx) to an image
+  preview   Render a scene in the browser as it forms, re-rendered on save
   animate   Render every frame of an animation to images or a video
   info      Print what Prism reads in a scene file: counts, bounds, warnings
   bench     Measure intersector build time, memory and rays per second
@@ -114,6 +118,7 @@ fn main() -> ExitCode {
         Some(Command::Convert(args)) => convert::run(&args),
         Some(Command::Animate(args)) => animate::run(&args, &interrupt),
         Some(Command::Info(args)) => info::run(&args),
+        Some(Command::Preview(args)) => preview::run(&args, &interrupt),
         None => render::run(&cli.render, &interrupt),
     };
     match outcome {

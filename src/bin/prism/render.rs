@@ -23,6 +23,26 @@ pub struct RenderArgs {
     /// the extension picks the format.
     #[arg(required = true, num_args = 1..=2, value_name = "[CAMERA] OUTPUT")]
     pub paths: Vec<PathBuf>,
+    #[command(flatten)]
+    pub job: JobArgs,
+    /// Show the image as it forms in the tev viewer listening at HOST:PORT (tev's
+    /// default port is 14158), as well as writing it.
+    #[arg(long, value_name = "HOST:PORT")]
+    pub display: Option<String>,
+    /// No progress bar and no warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Print one line of figures: rays traced, seconds, million rays per second.
+    #[arg(long)]
+    pub stats: bool,
+    #[command(flatten)]
+    pub limits: crate::ReadLimits,
+}
+
+/// How a scene is rendered and developed: the options `prism render` and `prism
+/// preview` share, resolved into the library's `JobOptions`.
+#[derive(Args)]
+pub struct JobArgs {
     /// Camera file (.cmr), over the scene's own camera.
     #[arg(long, value_name = "FILE")]
     pub camera: Option<PathBuf>,
@@ -106,22 +126,70 @@ pub struct RenderArgs {
     /// Seed of the lens and light samples; the same seed gives the same image.
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Show the image as it forms in the tev viewer listening at HOST:PORT (tev's
-    /// default port is 14158), as well as writing it.
-    #[arg(long, value_name = "HOST:PORT")]
-    pub display: Option<String>,
-    /// No progress bar and no warnings.
-    #[arg(long, short)]
-    pub quiet: bool,
-    /// Print one line of figures: rays traced, seconds, million rays per second.
-    #[arg(long)]
-    pub stats: bool,
     /// Memory budget (e.g. 512M, 4G): a render whose estimate is larger is refused
     /// before it starts. Default: half of the machine's memory.
     #[arg(long, value_name = "SIZE", value_parser = crate::parse_memory)]
     pub max_memory: Option<u64>,
-    #[command(flatten)]
-    pub limits: crate::ReadLimits,
+}
+
+impl JobArgs {
+    /// The job options these flags say, with `camera_file` (a path or `--camera`).
+    pub fn options(&self, camera_file: Option<PathBuf>) -> prism::Result<JobOptions> {
+        let settings_error = prism::Error::Settings;
+        Ok(JobOptions {
+            render: RenderOptions {
+                width: self.width,
+                height: self.height,
+                aa: self.aa,
+                filter: self.filter,
+                spp: self.spp,
+                seed: self.seed,
+                integrator: self.integrator,
+                max_depth: self.max_depth,
+                min_weight: self.min_weight,
+                exposure: self.exposure,
+                tonemap: self.tonemap,
+            },
+            dialect: self.dialect.as_deref().map(dialect_of),
+            camera_file,
+            camera_name: self.camera_name.clone(),
+            camera_index: self.camera_index,
+            look: LookAt {
+                from: self.look_from,
+                at: self.look_at,
+                up: self.up,
+                fov: self.fov,
+            },
+            region: self.region,
+            threads: self.threads,
+            accel: self.accel,
+            max_memory: self.max_memory,
+            smooth: self.smooth,
+            up_axis: match self.up_axis.as_deref() {
+                Some("z") => Some(Vec3::Z),
+                Some(_) => Some(Vec3::Y),
+                None => None,
+            },
+            png_bits: self.png_bits.parse::<PngBits>().map_err(settings_error)?,
+            exr_precision: self
+                .exr_precision
+                .parse::<ExrPrecision>()
+                .map_err(settings_error)?,
+        })
+    }
+
+    /// A pool of `--threads` threads, checked before any starts; `None`: every core.
+    pub fn pool(&self) -> prism::Result<Option<rayon::ThreadPool>> {
+        prism::render::check_threads(self.threads)?;
+        self.threads
+            .map(|n| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .map_err(|e| prism::Error::Settings(format!("cannot start threads: {e}")))
+            })
+            .transpose()
+    }
 }
 
 pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()> {
@@ -129,9 +197,9 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
         unreachable!("clap requires the scene");
     };
     let (camera_file, output) = match args.paths.as_slice() {
-        [output] => (args.camera.clone(), output),
+        [output] => (args.job.camera.clone(), output),
         [camera, output] => {
-            if args.camera.is_some() {
+            if args.job.camera.is_some() {
                 return Err(prism::Error::Settings(
                     "a camera file is given twice: as a path and with --camera".into(),
                 ));
@@ -143,59 +211,10 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     args.limits.apply()?;
     // Refuse a bad output path before spending time on the render.
     check_output_path(output)?;
-    let settings_error = prism::Error::Settings;
-    let options = JobOptions {
-        render: RenderOptions {
-            width: args.width,
-            height: args.height,
-            aa: args.aa,
-            filter: args.filter,
-            spp: args.spp,
-            seed: args.seed,
-            integrator: args.integrator,
-            max_depth: args.max_depth,
-            min_weight: args.min_weight,
-            exposure: args.exposure,
-            tonemap: args.tonemap,
-        },
-        dialect: args.dialect.as_deref().map(dialect_of),
-        camera_file,
-        camera_name: args.camera_name.clone(),
-        camera_index: args.camera_index,
-        look: LookAt {
-            from: args.look_from,
-            at: args.look_at,
-            up: args.up,
-            fov: args.fov,
-        },
-        region: args.region,
-        threads: args.threads,
-        accel: args.accel,
-        max_memory: args.max_memory,
-        smooth: args.smooth,
-        up_axis: match args.up_axis.as_deref() {
-            Some("z") => Some(Vec3::Z),
-            Some(_) => Some(Vec3::Y),
-            None => None,
-        },
-        png_bits: args.png_bits.parse::<PngBits>().map_err(settings_error)?,
-        exr_precision: args
-            .exr_precision
-            .parse::<ExrPrecision>()
-            .map_err(settings_error)?,
-    };
+    let options = args.job.options(camera_file)?;
     // Loading (texture images decode in parallel) and development run on the threads
     // the render is given, so `--threads 1` is one thread throughout.
-    prism::render::check_threads(args.threads)?;
-    let pool = match args.threads {
-        Some(n) => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| prism::Error::Settings(format!("cannot start threads: {e}")))?,
-        ),
-        None => None,
-    };
+    let pool = args.job.pool()?;
     let job = on_threads(pool.as_ref(), || prism::job::prepare(scene_path, &options))?;
     if !args.quiet {
         for w in &job.warnings {
