@@ -58,7 +58,7 @@ fn skipped(why: &str) {
 }
 
 /// The tools the suite needs, installed into `venv` from the package index.
-const TOOLS: [&str; 4] = ["maturin", "numpy", "pytest", "tqdm"];
+const TOOLS: [&str; 5] = ["maturin", "numpy", "pytest", "tqdm", "selenium"];
 
 #[test]
 fn python_suite() {
@@ -118,7 +118,7 @@ fn python_suite() {
     assert!(built.success(), "maturin develop failed");
     let mut pytest = in_venv(&venv, "python");
     pytest
-        .args(["-m", "pytest", "-q", "python/tests"])
+        .args(["-m", "pytest", "-q", "-rs", "python/tests"])
         .env("PRISM_BIN", env!("CARGO_BIN_EXE_prism"));
     if let Ok(marks) = std::env::var("PRISM_PY_TESTS") {
         pytest.args(["-m", &marks]);
