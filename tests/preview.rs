@@ -252,3 +252,44 @@ fn a_hundred_quick_camera_moves_leave_one_render_and_no_more_threads() {
     assert!(after <= before, "{before} threads before, {after} after");
     preview.stop();
 }
+
+#[test]
+fn an_animation_previews_one_frame_at_a_time_as_prism_animate_renders_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bounce.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nfrom = [0, 1, 5]\nat = [0, 0.5, 0]\nfov = 50\n\
+         [render]\nwidth = 48\nheight = 32\n\
+         [animation]\nframes = 3\nfps = 2\n\
+         [[material]]\nname = \"red\"\ncolor = [0.8, 0.1, 0.1]\n\
+         [[object]]\nname = \"ball\"\ntype = \"sphere\"\ncenter = [0, 0.5, 0]\nradius = 0.5\n\
+         material = \"red\"\n\
+         [[object]]\ntype = \"plane\"\n\
+         [[light]]\nname = \"sun\"\ntype = \"directional\"\ndirection = [-1, -2, -1]\n\
+         [[track]]\ntarget = \"object:ball\"\nmotion = \"translate\"\n\
+         keys = [[0, [0, 0, 0]], [1, [1, 0, 0]]]\n",
+    )
+    .unwrap();
+    let frames = dir.path().join("frames");
+    let o = run(prism()
+        .arg("animate")
+        .arg(&scene)
+        .arg(&frames)
+        .arg("--quiet"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let preview = Preview::start(&scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
+    let url = preview.url().to_string();
+    let s = final_after(&url, 0, Duration::from_secs(30));
+    assert_eq!(s["animation"]["frames"].as_u64(), Some(3), "{s}");
+    let (_, png) = http(&url, "GET", "/frame.png", &[], "");
+    assert_eq!(png, std::fs::read(frames.join("frame_0000.png")).unwrap());
+    let generation = s["frame"]["generation"].as_u64().unwrap();
+    assert_eq!(http(&url, "POST", "/frame", &[], "2").0, 200);
+    let s = final_after(&url, generation, Duration::from_secs(30));
+    assert_eq!(s["animation"]["frame"].as_u64(), Some(2));
+    let (_, png) = http(&url, "GET", "/frame.png", &[], "");
+    assert_eq!(png, std::fs::read(frames.join("frame_0002.png")).unwrap());
+    assert_eq!(http(&url, "POST", "/frame", &[], "two").0, 400);
+    preview.stop();
+}

@@ -211,6 +211,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         mut camera,
         settings,
         output,
+        dialect,
         ..
     } = job;
     let mut fingerprint = fnv1a(FNV_OFFSET, text.as_bytes());
@@ -246,6 +247,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         settings,
         tracks,
         output,
+        dialect,
         cancel: None,
         fingerprint,
     })
@@ -304,6 +306,7 @@ fn parse_scene_file(text: &str, path: &Path) -> Result<Animation> {
         settings: job.settings,
         tracks,
         output: job.output,
+        dialect: job.dialect,
         cancel: None,
         fingerprint: fnv1a(FNV_OFFSET, text.as_bytes()),
     })

@@ -59,6 +59,8 @@ pub struct Animation {
     /// How the frames are developed and stored: the job's output (the scene file's
     /// exposure and tone map, the integrator's transfer curve).
     pub output: crate::film::OutputOptions,
+    /// The dialect its scene was read as.
+    pub dialect: crate::format::SceneDialect,
     /// Set from any thread (a signal handler) to stop: the frame being rendered is
     /// abandoned, none after it starts, and a video being encoded is not written.
     pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
@@ -133,6 +135,20 @@ impl Animation {
     pub fn frame_size(&self) -> Result<(u32, u32)> {
         let r = Renderer::new(&self.scene, &self.camera, self.settings.clone())?;
         Ok((r.region().width, r.region().height))
+    }
+
+    /// Frame `k` as a still's job: the posed scene and camera, the animation's
+    /// settings and development (a preview's frame of an animation).
+    pub fn frame_job(&self, frame: u32) -> Result<crate::job::Job> {
+        let (scene, camera) = self.pose(frame)?;
+        Ok(crate::job::Job {
+            scene,
+            camera,
+            settings: self.settings.clone(),
+            output: self.output,
+            dialect: self.dialect,
+            warnings: Vec::new(),
+        })
     }
 
     /// Renders frame `k`, reporting to `observer` as a still's render does.

@@ -100,6 +100,17 @@ pub fn handle(session: &Arc<Session>, names: &Names, mut request: Request) {
             },
             Err(why) => text(400, &why),
         },
+        (Method::Post, "/frame") => match body(&mut request).and_then(|b| {
+            b.trim()
+                .parse::<u32>()
+                .map_err(|_| format!("expected a frame number, found {:?}", b.trim()))
+        }) {
+            Ok(k) => match session.set_frame(k) {
+                Ok(()) => text(200, "ok"),
+                Err(e) => text(400, &e.to_string()),
+            },
+            Err(why) => text(400, &why),
+        },
         (Method::Post, "/camera/reset") => match session.set_look(None) {
             Ok(()) => text(200, "ok"),
             Err(e) => text(400, &e.to_string()),
@@ -225,6 +236,11 @@ fn status(session: &Session, after: Option<u64>) -> Value {
             "fov": l.fov,
         })),
         "camera_in_hand": state.look.is_some(),
+        "animation": state.animation.map(|t| json!({
+            "frames": t.frames,
+            "fps": t.fps,
+            "frame": t.frame,
+        })),
     })
 }
 

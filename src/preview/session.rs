@@ -66,6 +66,19 @@ pub struct State {
     pub error: Option<String>,
     /// The latest frame.
     pub frame: Option<Frame>,
+    /// For an animation file: its frame count, frame rate and the frame shown.
+    pub animation: Option<Timeline>,
+}
+
+/// Where in an animation the preview is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Timeline {
+    /// Frames of the animation.
+    pub frames: u32,
+    /// Frames a second.
+    pub fps: f64,
+    /// The frame shown, from 0.
+    pub frame: u32,
 }
 
 /// The preview's shared state, its render loop and its reloads.
@@ -85,7 +98,7 @@ impl Session {
     /// A session of the scene at `scene_path` read with `options`; the first reading's
     /// error is returned (the preview does not start on a scene that does not read).
     pub fn new(scene_path: &Path, options: JobOptions) -> Result<Arc<Session>> {
-        let job = crate::job::prepare(scene_path, &options)?;
+        let (job, animation) = read(scene_path, &options, 0)?;
         let session = Session {
             scene_path: scene_path.to_path_buf(),
             options,
@@ -96,6 +109,7 @@ impl Session {
                 look: None,
                 error: None,
                 frame: None,
+                animation,
             }),
             published: Condvar::new(),
             work: Condvar::new(),
@@ -144,10 +158,12 @@ impl Session {
     /// unless the file's own camera moved. A file that no longer reads keeps the last
     /// image and shows its error.
     pub fn reload(&self) {
-        let read = crate::job::prepare(&self.scene_path, &self.options);
+        let at = self.state().animation.map_or(0, |t| t.frame);
+        let read = read(&self.scene_path, &self.options, at);
         let mut state = self.state();
         match read {
-            Ok(job) => {
+            Ok((job, animation)) => {
+                state.animation = animation;
                 if state.file_camera.as_ref() != Some(&job.camera) {
                     state.look = None;
                 }
@@ -162,6 +178,25 @@ impl Session {
                 self.published.notify_all();
             }
         }
+    }
+
+    /// Shows frame `frame` of an animation (clamped to its frames).
+    pub fn set_frame(&self, frame: u32) -> Result<()> {
+        let Some(timeline) = self.state().animation else {
+            return Err(crate::error::Error::Settings(
+                "the scene is not an animation".into(),
+            ));
+        };
+        let frame = frame.min(timeline.frames.saturating_sub(1));
+        let (job, animation) = read(&self.scene_path, &self.options, frame)?;
+        let mut state = self.state();
+        state.animation = animation;
+        // The frame's own camera is the file's now: a later save keeps the camera in
+        // hand unless it moves it.
+        state.file_camera = Some(job.camera.clone());
+        state.job = Some(Arc::new(job));
+        self.bump(&mut state);
+        Ok(())
     }
 
     /// Waits until the state is newer than `version`, or `timeout` has passed; returns
@@ -332,4 +367,35 @@ impl Observer for Current<'_> {
     fn cancelled(&self) -> bool {
         self.session.generation() != self.generation || self.session.stopped()
     }
+}
+
+/// Whether `path` is an animation: an animation file (it names a `scene`) or a Prism
+/// scene file with an `[animation]` table.
+fn is_animation(path: &Path) -> bool {
+    let toml = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    toml && crate::util::text::read_text(path)
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .is_some_and(|t| t.contains_key("scene") || t.contains_key("animation"))
+}
+
+/// The job to render: the scene file's, or frame `frame` of an animation (its own
+/// settings, with the caller's threads, intersector and memory budget).
+fn read(path: &Path, options: &JobOptions, frame: u32) -> Result<(Job, Option<Timeline>)> {
+    if !is_animation(path) {
+        return Ok((crate::job::prepare(path, options)?, None));
+    }
+    let mut anim = crate::anim::Animation::load(path)?;
+    anim.settings.threads = options.threads;
+    anim.settings.accel = options.accel;
+    anim.settings.max_memory = options.max_memory;
+    let frame = frame.min(anim.frames.saturating_sub(1));
+    let timeline = Timeline {
+        frames: anim.frames,
+        fps: anim.fps,
+        frame,
+    };
+    Ok((anim.frame_job(frame)?, Some(timeline)))
 }
