@@ -293,3 +293,32 @@ fn an_animation_previews_one_frame_at_a_time_as_prism_animate_renders_it() {
     assert_eq!(http(&url, "POST", "/frame", &[], "two").0, 400);
     preview.stop();
 }
+
+/// A mesh the scene reads from outside its folder is watched too.
+#[test]
+fn a_mesh_saved_outside_the_scene_folder_re_renders() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("scene")).unwrap();
+    let mesh = dir.path().join("tri.obj");
+    std::fs::write(&mesh, "v -1 0 0\nv 1 0 0\nv 0 1.5 0\nf 1 2 3\n").unwrap();
+    let scene = dir.path().join("scene/scene.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nfrom = [0, 0.7, 4]\nat = [0, 0.7, 0]\nfov = 50\n\
+         [render]\nwidth = 48\nheight = 32\n\
+         [[light]]\ntype = \"point\"\nposition = [0, 2, 4]\nintensity = 20\n\
+         [[object]]\ntype = \"mesh\"\nfile = \"../tri.obj\"\n",
+    )
+    .unwrap();
+    let preview = Preview::start(&scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
+    let url = preview.url().to_string();
+    let s = final_after(&url, 0, Duration::from_secs(30));
+    let (_, before) = http(&url, "GET", "/frame.png", &[], "");
+    std::fs::write(&mesh, "v -1 0 0\nv 1 0 0\nv 0 0.5 0\nf 1 2 3\n").unwrap();
+    let generation = s["frame"]["generation"].as_u64().unwrap();
+    final_after(&url, generation, Duration::from_secs(10));
+    let (_, after) = http(&url, "GET", "/frame.png", &[], "");
+    assert_ne!(before, after);
+    assert_eq!(after, rendered(&[scene.to_str().unwrap()]));
+    preview.stop();
+}

@@ -117,10 +117,11 @@ fn watch_files(session: &Session) {
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."))
         .to_path_buf();
-    let mut seen = watch::Snapshot::of(&dir);
+    let reads = || session.state().reads.clone();
+    let mut seen = watch::Snapshot::of(&dir, &reads());
     while !session.stopped() {
         std::thread::sleep(WATCH_EVERY);
-        let mut now = watch::Snapshot::of(&dir);
+        let mut now = watch::Snapshot::of(&dir, &reads());
         if now == seen {
             continue;
         }
@@ -128,13 +129,14 @@ fn watch_files(session: &Session) {
         // then filled) would otherwise be read as it stood.
         loop {
             std::thread::sleep(SETTLE);
-            let again = watch::Snapshot::of(&dir);
+            let again = watch::Snapshot::of(&dir, &reads());
             if again == now || session.stopped() {
                 break;
             }
             now = again;
         }
-        seen = now;
         session.reload();
+        // What the new reading read is the new baseline.
+        seen = watch::Snapshot::of(&dir, &reads());
     }
 }

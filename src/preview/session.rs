@@ -68,6 +68,8 @@ pub struct State {
     pub frame: Option<Frame>,
     /// For an animation file: its frame count, frame rate and the frame shown.
     pub animation: Option<Timeline>,
+    /// Every file the last reading asked for: what the watch looks at.
+    pub reads: Vec<PathBuf>,
 }
 
 /// Where in an animation the preview is.
@@ -98,7 +100,8 @@ impl Session {
     /// A session of the scene at `scene_path` read with `options`; the first reading's
     /// error is returned (the preview does not start on a scene that does not read).
     pub fn new(scene_path: &Path, options: JobOptions) -> Result<Arc<Session>> {
-        let (job, animation) = read(scene_path, &options, 0)?;
+        let (read, reads) = crate::util::file::recording_reads(|| read(scene_path, &options, 0));
+        let (job, animation) = read?;
         let session = Session {
             scene_path: scene_path.to_path_buf(),
             options,
@@ -110,6 +113,7 @@ impl Session {
                 error: None,
                 frame: None,
                 animation,
+                reads,
             }),
             published: Condvar::new(),
             work: Condvar::new(),
@@ -159,8 +163,11 @@ impl Session {
     /// image and shows its error.
     pub fn reload(&self) {
         let at = self.state().animation.map_or(0, |t| t.frame);
-        let read = read(&self.scene_path, &self.options, at);
+        let (read, reads) =
+            crate::util::file::recording_reads(|| read(&self.scene_path, &self.options, at));
         let mut state = self.state();
+        // A reading that fails still says which files to watch (the one to fix).
+        state.reads = reads;
         match read {
             Ok((job, animation)) => {
                 state.animation = animation;

@@ -1,6 +1,7 @@
-//! Noticing a saved file: the scene file's folder (where its includes, meshes,
-//! materials and textures live) is looked at a few times a second, and a change in any
-//! file's size or time of change reads the scene again. Polling needs no watcher
+//! Noticing a saved file: every file the scene read (its includes, meshes, material
+//! libraries, textures, wherever they are) and the scene file's folder are looked at a
+//! few times a second, and a change in any file's size or time of change reads the
+//! scene again. Polling needs no watcher
 //! service and sees files on every file system alike; the look is bounded in files and
 //! depth, so a scene beside a huge tree costs no more than a glance.
 
@@ -17,10 +18,20 @@ const MAX_DEPTH: usize = 3;
 pub struct Snapshot(Vec<(PathBuf, u64, Option<SystemTime>)>);
 
 impl Snapshot {
-    /// The files under `dir` now (hidden ones and build folders left out).
-    pub fn of(dir: &Path) -> Snapshot {
+    /// The files under `dir` now (hidden ones and build folders left out), and the
+    /// files `reads` names wherever they are (a mesh beside the repository; a file
+    /// missing now is noted as missing, so its return is a change).
+    pub fn of(dir: &Path, reads: &[PathBuf]) -> Snapshot {
         let mut files = Vec::new();
         visit(dir, 0, &mut files);
+        for path in reads.iter().take(MAX_FILES) {
+            let meta = std::fs::metadata(path).ok();
+            files.push((
+                path.clone(),
+                meta.as_ref().map_or(u64::MAX, |m| m.len()),
+                meta.and_then(|m| m.modified().ok()),
+            ));
+        }
         Snapshot(files)
     }
 }
@@ -63,11 +74,11 @@ mod tests {
         std::fs::write(dir.path().join("scene.toml"), "a").unwrap();
         std::fs::create_dir(dir.path().join("meshes")).unwrap();
         std::fs::write(dir.path().join("meshes/m.obj"), "v 0 0 0").unwrap();
-        let before = Snapshot::of(dir.path());
+        let before = Snapshot::of(dir.path(), &[]);
         assert_eq!(before.0.len(), 2);
         std::fs::write(dir.path().join(".scene.toml.swp"), "x").unwrap();
-        assert_eq!(Snapshot::of(dir.path()), before);
+        assert_eq!(Snapshot::of(dir.path(), &[]), before);
         std::fs::write(dir.path().join("meshes/m.obj"), "v 0 0 1\n").unwrap();
-        assert_ne!(Snapshot::of(dir.path()), before);
+        assert_ne!(Snapshot::of(dir.path(), &[]), before);
     }
 }

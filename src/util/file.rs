@@ -8,7 +8,8 @@
 
 use std::io::Read as _;
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, OnceLock};
 
 /// The folder every read is confined to, once [`restrict_reads_to`] has been called.
 static READ_ROOT: OnceLock<PathBuf> = OnceLock::new();
@@ -56,9 +57,38 @@ fn allowed(path: &Path) -> Result<std::borrow::Cow<'_, Path>, String> {
     }
 }
 
+/// Whether [`recording_reads`] is running: the paths opened are then noted.
+static RECORDING: AtomicBool = AtomicBool::new(false);
+/// The paths noted while recording.
+static READS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// One recording at a time.
+static RECORDER: Mutex<()> = Mutex::new(());
+
+/// Runs `f` and returns, with its result, every path it asked to open through this
+/// module, from any thread, whether or not the file could be read (a scene's includes,
+/// meshes, material libraries, textures): what a preview watches for saves. One
+/// recording runs at a time; reads of other work meanwhile are noted too.
+pub fn recording_reads<T>(f: impl FnOnce() -> T) -> (T, Vec<PathBuf>) {
+    let _one = RECORDER.lock().unwrap_or_else(|e| e.into_inner());
+    READS.lock().unwrap_or_else(|e| e.into_inner()).clear();
+    RECORDING.store(true, Ordering::SeqCst);
+    let out = f();
+    RECORDING.store(false, Ordering::SeqCst);
+    let mut reads = std::mem::take(&mut *READS.lock().unwrap_or_else(|e| e.into_inner()));
+    reads.sort();
+    reads.dedup();
+    (out, reads)
+}
+
 /// Opens the regular file `path` for reading, refusing directories, FIFOs, sockets and
 /// devices before opening them, and paths outside a restriction.
 pub fn open_regular(path: &Path) -> Result<std::fs::File, String> {
+    if RECORDING.load(Ordering::Relaxed) {
+        READS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(path.to_path_buf());
+    }
     let path = allowed(path)?;
     // Before opening: opening a FIFO for reading blocks until someone writes to it.
     let named = std::fs::metadata(&path).map_err(|e| e.to_string())?;
@@ -106,6 +136,23 @@ mod tests {
             "not a regular file"
         );
         assert!(read_regular(&dir.path().join("none"), 100).is_err());
+    }
+
+    #[test]
+    fn a_recording_notes_every_path_asked_for_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a.txt"), dir.path().join("b.txt"));
+        std::fs::write(&a, b"a").unwrap();
+        let ((), reads) = recording_reads(|| {
+            let _ = read_regular(&a, 10);
+            let _ = read_regular(&a, 10);
+            let _ = read_regular(&b, 10); // missing: noted all the same
+        });
+        // Other tests read files meanwhile, and are noted too: look for these two.
+        assert_eq!(reads.iter().filter(|p| **p == a).count(), 1);
+        assert!(reads.contains(&b));
+        let _ = read_regular(&a, 10);
+        assert!(!recording_reads(|| ()).1.contains(&a));
     }
 
     #[cfg(target_os = "linux")]
