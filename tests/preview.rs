@@ -85,6 +85,13 @@ fn final_after(url: &str, generation: u64, within: Duration) -> serde_json::Valu
     }
 }
 
+/// A preview of `scene` on a free port, and its address.
+fn start(scene: &Path) -> (Preview, String) {
+    let preview = Preview::start(scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
+    let url = preview.url().to_string();
+    (preview, url)
+}
+
 const SCENE: &str = "[camera]\nfrom = [0, 1.5, 6]\nat = [0, 0.5, 0]\nfov = 50\n\
      [render]\nwidth = 96\nheight = 64\naa = 2\n\
      [[light]]\ntype = \"point\"\nposition = [3, 5, 4]\nintensity = 40\n\
@@ -110,8 +117,7 @@ fn rendered(args: &[&str]) -> Vec<u8> {
 fn passes_end_on_the_image_prism_render_writes_and_a_camera_message_moves_it() {
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_in(dir.path());
-    let preview = Preview::start(&scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
-    let url = preview.url().to_string();
+    let (preview, url) = start(&scene);
     let (code, page) = http(&url, "GET", "/", &[], "");
     assert_eq!(code, 200);
     assert!(String::from_utf8_lossy(&page).contains("<title>Prism preview</title>"));
@@ -153,8 +159,7 @@ fn passes_end_on_the_image_prism_render_writes_and_a_camera_message_moves_it() {
 fn a_saved_edit_re_renders_and_a_broken_one_shows_its_line_and_keeps_the_image() {
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_in(dir.path());
-    let preview = Preview::start(&scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
-    let url = preview.url().to_string();
+    let (preview, url) = start(&scene);
     let s = final_after(&url, 0, Duration::from_secs(30));
     let generation = s["frame"]["generation"].as_u64().unwrap();
     std::thread::sleep(Duration::from_millis(20));
@@ -193,14 +198,7 @@ fn a_saved_edit_re_renders_and_a_broken_one_shows_its_line_and_keeps_the_image()
 #[test]
 fn foreign_hosts_and_origins_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let preview = Preview::start(
-        &scene_in(dir.path()),
-        JobOptions::default(),
-        [127, 0, 0, 1].into(),
-        0,
-    )
-    .unwrap();
-    let url = preview.url().to_string();
+    let (preview, url) = start(&scene_in(dir.path()));
     let port = url
         .rsplit(':')
         .next()
@@ -226,14 +224,7 @@ fn threads() -> usize {
 #[test]
 fn a_hundred_quick_camera_moves_leave_one_render_and_no_more_threads() {
     let dir = tempfile::tempdir().unwrap();
-    let preview = Preview::start(
-        &scene_in(dir.path()),
-        JobOptions::default(),
-        [127, 0, 0, 1].into(),
-        0,
-    )
-    .unwrap();
-    let url = preview.url().to_string();
+    let (preview, url) = start(&scene_in(dir.path()));
     final_after(&url, 0, Duration::from_secs(30));
     let before = threads();
     for i in 0..100 {
@@ -278,8 +269,7 @@ fn an_animation_previews_one_frame_at_a_time_as_prism_animate_renders_it() {
         .arg(&frames)
         .arg("--quiet"));
     assert!(o.status.success(), "{}", stderr(&o));
-    let preview = Preview::start(&scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
-    let url = preview.url().to_string();
+    let (preview, url) = start(&scene);
     let s = final_after(&url, 0, Duration::from_secs(30));
     assert_eq!(s["animation"]["frames"].as_u64(), Some(3), "{s}");
     let (_, png) = http(&url, "GET", "/frame.png", &[], "");
@@ -310,8 +300,7 @@ fn a_mesh_saved_outside_the_scene_folder_re_renders() {
          [[object]]\ntype = \"mesh\"\nfile = \"../tri.obj\"\n",
     )
     .unwrap();
-    let preview = Preview::start(&scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
-    let url = preview.url().to_string();
+    let (preview, url) = start(&scene);
     let s = final_after(&url, 0, Duration::from_secs(30));
     let (_, before) = http(&url, "GET", "/frame.png", &[], "");
     std::fs::write(&mesh, "v -1 0 0\nv 1 0 0\nv 0 0.5 0\nf 1 2 3\n").unwrap();
