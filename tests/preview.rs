@@ -85,6 +85,9 @@ fn final_after(url: &str, generation: u64, within: Duration) -> serde_json::Valu
     }
 }
 
+/// The tests of this file one at a time: two of them count the process's threads.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// A preview of `scene` on a free port, and its address.
 fn start(scene: &Path) -> (Preview, String) {
     let preview = Preview::start(scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
@@ -115,6 +118,7 @@ fn rendered(args: &[&str]) -> Vec<u8> {
 
 #[test]
 fn passes_end_on_the_image_prism_render_writes_and_a_camera_message_moves_it() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_in(dir.path());
     let (preview, url) = start(&scene);
@@ -157,6 +161,7 @@ fn passes_end_on_the_image_prism_render_writes_and_a_camera_message_moves_it() {
 
 #[test]
 fn a_saved_edit_re_renders_and_a_broken_one_shows_its_line_and_keeps_the_image() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_in(dir.path());
     let (preview, url) = start(&scene);
@@ -197,6 +202,7 @@ fn a_saved_edit_re_renders_and_a_broken_one_shows_its_line_and_keeps_the_image()
 
 #[test]
 fn foreign_hosts_and_origins_are_refused() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
     let (preview, url) = start(&scene_in(dir.path()));
     let port = url
@@ -212,7 +218,7 @@ fn foreign_hosts_and_origins_are_refused() {
     let origin = [("Origin", "http://evil.example")];
     assert_eq!(http(&url, "POST", "/camera/reset", &origin, "").0, 403);
     let big = "x".repeat(10_000);
-    assert_eq!(http(&url, "POST", "/camera", &[], &big).0, 400);
+    assert_eq!(http(&url, "POST", "/camera", &[], &big).0, 413);
     assert_eq!(http(&url, "GET", "/../../etc/passwd", &[], "").0, 404);
     preview.stop();
 }
@@ -223,6 +229,7 @@ fn threads() -> usize {
 
 #[test]
 fn a_hundred_quick_camera_moves_leave_one_render_and_no_more_threads() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
     let (preview, url) = start(&scene_in(dir.path()));
     final_after(&url, 0, Duration::from_secs(30));
@@ -246,6 +253,7 @@ fn a_hundred_quick_camera_moves_leave_one_render_and_no_more_threads() {
 
 #[test]
 fn an_animation_previews_one_frame_at_a_time_as_prism_animate_renders_it() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("bounce.toml");
     std::fs::write(
@@ -287,6 +295,7 @@ fn an_animation_previews_one_frame_at_a_time_as_prism_animate_renders_it() {
 /// A mesh the scene reads from outside its folder is watched too.
 #[test]
 fn a_mesh_saved_outside_the_scene_folder_re_renders() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir(dir.path().join("scene")).unwrap();
     let mesh = dir.path().join("tri.obj");
@@ -309,5 +318,31 @@ fn a_mesh_saved_outside_the_scene_folder_re_renders() {
     let (_, after) = http(&url, "GET", "/frame.png", &[], "");
     assert_ne!(before, after);
     assert_eq!(after, rendered(&[scene.to_str().unwrap()]));
+    preview.stop();
+}
+
+/// Connections are bounded: a flood of idle ones starts no threads, and those beyond
+/// the queue are answered 503 at once.
+#[test]
+fn a_flood_of_idle_connections_starts_no_threads() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let (preview, url) = start(&scene_in(dir.path()));
+    final_after(&url, 0, Duration::from_secs(30));
+    let before = threads();
+    let addr = url.trim_start_matches("http://").trim_end_matches('/');
+    let idle: Vec<TcpStream> = (0..80).map(|_| TcpStream::connect(addr).unwrap()).collect();
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(
+        threads() <= before,
+        "{before} threads before, {} after",
+        threads()
+    );
+    // The last ones found the queue full.
+    let mut last = idle.into_iter().last().unwrap();
+    last.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let mut answer = String::new();
+    let _ = last.read_to_string(&mut answer);
+    assert!(answer.starts_with("HTTP/1.1 503"), "{answer}");
     preview.stop();
 }

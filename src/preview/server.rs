@@ -7,19 +7,16 @@
 //! reach it through a name it points at 127.0.0.1 (DNS rebinding). Bodies are bounded,
 //! and a fixed set of worker threads serves the connections.
 
+use super::http::{Request, Response};
 use super::session::Session;
 use crate::job::LookAt;
 use crate::math::Vec3;
 use serde_json::{Value, json};
-use std::io::Read;
 use std::sync::Arc;
 use std::time::Duration;
-use tiny_http::{Header, Method, Request, Response};
 
 /// The page, its script and style: built in, so the preview works offline.
 const PAGE: &str = include_str!("page.html");
-/// The largest request body read (a camera is about a hundred bytes).
-const MAX_BODY: u64 = 4096;
 /// How long a client waiting for a new frame is held before it is answered anyway.
 const LONG_POLL: Duration = Duration::from_secs(10);
 
@@ -34,20 +31,13 @@ pub struct Names {
 impl Names {
     /// Whether a request's `Host` and `Origin` are the server's own.
     fn admits(&self, request: &Request) -> bool {
-        let header = |name: &'static str| {
-            request
-                .headers()
-                .iter()
-                .find(|h| h.field.equiv(name))
-                .map(|h| h.value.as_str().to_string())
-        };
-        let Some(host) = header("Host") else {
+        let Some(host) = request.header("host") else {
             return false;
         };
-        if !self.is_own(&host) {
+        if !self.is_own(host) {
             return false;
         }
-        match header("Origin") {
+        match request.header("origin") {
             None => true,
             Some(origin) => origin.eq_ignore_ascii_case(&format!("http://{host}")),
         }
@@ -66,92 +56,56 @@ impl Names {
     }
 }
 
-/// Answers one request.
-pub fn handle(session: &Arc<Session>, names: &Names, mut request: Request) {
-    if !names.admits(&request) {
-        let _ = request.respond(text(403, "this preview answers only to its own address"));
-        return;
+/// The answer to one request.
+pub fn handle(session: &Arc<Session>, names: &Names, request: &Request) -> Response {
+    if !names.admits(request) {
+        return Response::text(403, "this preview answers only to its own address");
     }
-    let url = request.url().to_string();
-    let (path, query) = url.split_once('?').unwrap_or((url.as_str(), ""));
-    let response = match (request.method(), path) {
-        (Method::Get, "/") => Response::from_string(PAGE)
-            .with_header(header("Content-Type", "text/html; charset=utf-8"))
-            .with_status_code(200),
-        (Method::Get, "/status") => {
-            let after = query
+    let body = || String::from_utf8_lossy(&request.body).into_owned();
+    match (request.method.as_str(), request.path.as_str()) {
+        ("GET", "/") => Response {
+            code: 200,
+            content_type: "text/html; charset=utf-8",
+            headers: Vec::new(),
+            body: PAGE.as_bytes().to_vec(),
+        },
+        ("GET", "/status") => {
+            let after = request
+                .query
                 .split('&')
                 .find_map(|kv| kv.strip_prefix("after="))
                 .and_then(|v| v.parse::<u64>().ok());
-            json_response(&status(session, after))
+            let status = status(session, after).to_string();
+            Response::data("application/json", status.into_bytes())
         }
-        (Method::Get, "/frame.png") => match session.state().frame.clone() {
-            Some(frame) => Response::from_data(frame.png.as_slice())
-                .with_header(header("Content-Type", "image/png"))
-                .with_header(header("Cache-Control", "no-store"))
-                .with_status_code(200),
-            None => text(404, "no frame yet"),
+        ("GET", "/frame.png") => match session.state().frame.clone() {
+            Some(frame) => Response::data("image/png", frame.png.to_vec()),
+            None => Response::text(404, "no frame yet"),
         },
-        (Method::Get, "/save.png") | (Method::Get, "/save.exr") => save(session, &path[6..]),
-        (Method::Post, "/camera") => match body(&mut request).and_then(|b| look_of(&b)) {
-            Ok(look) => match session.set_look(Some(look)) {
-                Ok(()) => text(200, "ok"),
-                Err(e) => text(400, &e.to_string()),
-            },
-            Err(why) => text(400, &why),
+        ("GET", "/save.png") => save(session, "png"),
+        ("GET", "/save.exr") => save(session, "exr"),
+        ("POST", "/camera") => match look_of(&body()) {
+            Ok(look) => answer(session.set_look(Some(look))),
+            Err(why) => Response::text(400, &why),
         },
-        (Method::Post, "/frame") => match body(&mut request).and_then(|b| {
-            b.trim()
-                .parse::<u32>()
-                .map_err(|_| format!("expected a frame number, found {:?}", b.trim()))
-        }) {
-            Ok(k) => match session.set_frame(k) {
-                Ok(()) => text(200, "ok"),
-                Err(e) => text(400, &e.to_string()),
-            },
-            Err(why) => text(400, &why),
+        ("POST", "/frame") => match body().trim().parse::<u32>() {
+            Ok(k) => answer(session.set_frame(k)),
+            Err(_) => Response::text(
+                400,
+                &format!("expected a frame number, found {:?}", body().trim()),
+            ),
         },
-        (Method::Post, "/camera/reset") => match session.set_look(None) {
-            Ok(()) => text(200, "ok"),
-            Err(e) => text(400, &e.to_string()),
-        },
-        _ => text(404, "not found"),
-    };
-    let _ = request.respond(response);
-}
-
-fn header(name: &str, value: &str) -> Header {
-    Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("a valid header")
-}
-
-fn text(code: u16, message: &str) -> Response<std::io::Cursor<Vec<u8>>> {
-    Response::from_string(message)
-        .with_header(header("Content-Type", "text/plain; charset=utf-8"))
-        .with_status_code(code)
-}
-
-fn json_response(v: &Value) -> Response<std::io::Cursor<Vec<u8>>> {
-    Response::from_string(v.to_string())
-        .with_header(header("Content-Type", "application/json"))
-        .with_header(header("Cache-Control", "no-store"))
-        .with_status_code(200)
-}
-
-/// The request's body, refused beyond [`MAX_BODY`].
-fn body(request: &mut Request) -> Result<String, String> {
-    if request.body_length().is_some_and(|n| n as u64 > MAX_BODY) {
-        return Err(format!("a body of at most {MAX_BODY} bytes"));
+        ("POST", "/camera/reset") => answer(session.set_look(None)),
+        _ => Response::text(404, "not found"),
     }
-    let mut text = String::new();
-    request
-        .as_reader()
-        .take(MAX_BODY + 1)
-        .read_to_string(&mut text)
-        .map_err(|e| format!("cannot read the body: {e}"))?;
-    if text.len() as u64 > MAX_BODY {
-        return Err(format!("a body of at most {MAX_BODY} bytes"));
+}
+
+/// `ok`, or the error as a bad request.
+fn answer(done: crate::error::Result<()>) -> Response {
+    match done {
+        Ok(()) => Response::text(200, "ok"),
+        Err(e) => Response::text(400, &e.to_string()),
     }
-    Ok(text)
 }
 
 /// `{"from": [x, y, z], "at": [...], "up": [...], "fov": degrees}`.
@@ -246,10 +200,10 @@ fn status(session: &Session, after: Option<u64>) -> Value {
 
 /// The latest image as a file of the format `ext` names, written by the writers
 /// `prism render` uses, as a download.
-fn save(session: &Session, ext: &str) -> Response<std::io::Cursor<Vec<u8>>> {
+fn save(session: &Session, ext: &str) -> Response {
     let state = session.state();
     let (Some(frame), Some(job)) = (state.frame.clone(), state.job.clone()) else {
-        return text(404, "no frame yet");
+        return Response::text(404, "no frame yet");
     };
     drop(state);
     match crate::film::file_bytes(&frame.image, ext, &job.output) {
@@ -263,15 +217,14 @@ fn save(session: &Session, ext: &str) -> Response<std::io::Cursor<Vec<u8>>> {
             } else {
                 "image/x-exr"
             };
-            Response::from_data(bytes)
-                .with_header(header("Content-Type", kind))
-                .with_header(header(
-                    "Content-Disposition",
-                    &format!("attachment; filename=\"{}.{ext}\"", name.replace('"', "")),
-                ))
-                .with_status_code(200)
+            let mut response = Response::data(kind, bytes);
+            response.headers.push((
+                "Content-Disposition",
+                format!("attachment; filename=\"{}.{ext}\"", name.replace('"', "")),
+            ));
+            response
         }
-        Err(e) => text(500, &e.to_string()),
+        Err(e) => Response::text(500, &e.to_string()),
     }
 }
 
