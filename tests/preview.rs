@@ -331,18 +331,20 @@ fn a_flood_of_idle_connections_starts_no_threads() {
     final_after(&url, 0, Duration::from_secs(30));
     let before = threads();
     let addr = url.trim_start_matches("http://").trim_end_matches('/');
-    let idle: Vec<TcpStream> = (0..80).map(|_| TcpStream::connect(addr).unwrap()).collect();
+    let mut idle: Vec<TcpStream> = (0..80).map(|_| TcpStream::connect(addr).unwrap()).collect();
     std::thread::sleep(Duration::from_millis(300));
     assert!(
         threads() <= before,
         "{before} threads before, {} after",
         threads()
     );
-    // The last ones found the queue full.
-    let mut last = idle.into_iter().last().unwrap();
+    // The last ones found the queue full. The others stay open until then: closed, they
+    // would free the workers and the queue for a connection not yet accepted.
+    let last = idle.last_mut().unwrap();
     last.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
     let mut answer = String::new();
     let _ = last.read_to_string(&mut answer);
     assert!(answer.starts_with("HTTP/1.1 503"), "{answer}");
+    drop(idle);
     preview.stop();
 }
