@@ -211,7 +211,7 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
         threads: options.threads,
         accel: options.accel,
         integrator,
-        max_depth: o.max_depth.unwrap_or(crate::render::DEFAULT_MAX_DEPTH),
+        max_depth: o.max_depth.unwrap_or(integrator.default_max_depth()),
         min_weight: o.min_weight.unwrap_or(crate::render::DEFAULT_MIN_WEIGHT),
         max_memory: options.max_memory,
     };

@@ -75,6 +75,26 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     d - 2.0 * d.dot(n) * n
 }
 
+/// Shirley and Chiu's map of the unit square onto the unit disk: uniform by area, and
+/// neighbouring points stay neighbours.
+#[inline]
+pub fn concentric_disk((u, v): (f32, f32)) -> (f32, f32) {
+    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let (r, phi) = if a.abs() > b.abs() {
+        (a, std::f32::consts::FRAC_PI_4 * (b / a))
+    } else {
+        (
+            b,
+            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (a / b),
+        )
+    };
+    let (s, c) = sin_cos(phi);
+    (r * c, r * s)
+}
+
 /// Sine and cosine of `x` for `|x|` below 2^20, worked out in f64 and rounded once. So
 /// they are the f32s nearest the true values (every one over a turn, [0, 2 pi), the
 /// samplers' range), the same on every machine; only a value within about 1e-16,

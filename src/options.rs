@@ -90,19 +90,44 @@ pub enum IntegratorKind {
     Classic,
     /// Physically based Whitted: linear radiance, Fresnel, Beer, area lights.
     Whitted,
+    /// Unidirectional path tracing: light that bounces, with next-event estimation
+    /// and multiple importance sampling.
+    Path,
 }
 
 impl IntegratorKind {
     /// Every shading model, in the order messages list them.
-    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::Classic, IntegratorKind::Whitted];
+    pub const ALL: [IntegratorKind; 3] = [
+        IntegratorKind::Classic,
+        IntegratorKind::Whitted,
+        IntegratorKind::Path,
+    ];
 
     /// The curve a display format stores this model's values with: none for the classic
-    /// model (the 2014 program wrote its 0..1 values as they are), sRGB for the whitted
-    /// model's linear radiance.
+    /// model (the 2014 program wrote its 0..1 values as they are), sRGB for the linear
+    /// radiance of the whitted and path models.
     pub fn transfer(self) -> Transfer {
         match self {
             IntegratorKind::Classic => Transfer::Classic,
-            IntegratorKind::Whitted => Transfer::Srgb,
+            IntegratorKind::Whitted | IntegratorKind::Path => Transfer::Srgb,
+        }
+    }
+
+    /// The depth a render of this model goes to when none is given: the whitted
+    /// model's recursion limit, or no limit but [`MAX_PATH_DEPTH`] for paths (Russian
+    /// roulette ends them long before).
+    pub fn default_max_depth(self) -> u32 {
+        match self {
+            IntegratorKind::Path => MAX_PATH_DEPTH,
+            _ => DEFAULT_MAX_DEPTH,
+        }
+    }
+
+    /// The deepest `max_depth` a user may ask of this model.
+    pub fn max_depth_limit(self) -> u32 {
+        match self {
+            IntegratorKind::Path => MAX_PATH_DEPTH,
+            _ => crate::util::limits::MAX_DEPTH,
         }
     }
 
@@ -112,6 +137,7 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Classic => "classic",
             IntegratorKind::Whitted => "whitted",
+            IntegratorKind::Path => "path",
         }
     }
 }
@@ -122,6 +148,15 @@ impl std::str::FromStr for IntegratorKind {
         by_name(s, &IntegratorKind::ALL, IntegratorKind::name, "integrator")
     }
 }
+
+/// Recursion depth of the whitted model: POV-Ray's `max_trace_level` default is 5;
+/// ten lets light cross a few glass surfaces.
+pub const DEFAULT_MAX_DEPTH: u32 = 10;
+
+/// The most bounces a path takes: "unlimited" for a user. Russian roulette continues
+/// a path with probability at most 0.95, so one reaches this with odds below 1e-22; the
+/// bound keeps a path between two white mirrors finite all the same.
+pub const MAX_PATH_DEPTH: u32 = 1024;
 
 /// A window `x, y, width, height` of the final frame, in output pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -278,7 +313,7 @@ mod tests {
         assert_eq!("lanczos".parse::<Filter>(), Ok(Filter::Lanczos));
         assert_eq!(
             "Whitted".parse::<IntegratorKind>(),
-            Err("unknown integrator `Whitted`: expected classic or whitted".into())
+            Err("unknown integrator `Whitted`: expected classic, whitted or path".into())
         );
         assert_eq!(
             "gauss".parse::<Filter>(),

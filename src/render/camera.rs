@@ -79,6 +79,29 @@ impl CameraRays {
         self.screen_center + self.frame.right * sx + self.frame.down * sy
     }
 
+    /// A ray through point `(dx, dy)` of supersampled pixel `(x, y)` (each in [0, 1),
+    /// from its top-left corner) from lens point `lens` (uniform in the unit square,
+    /// mapped onto the aperture's disk): the path model's camera samples, spread over
+    /// the pixel's area as a box filter weighs them. Without an aperture every ray
+    /// starts at the eye; an orthographic ray starts on the screen's plane.
+    #[inline]
+    pub fn through(&self, x: u32, y: u32, (dx, dy): (f32, f32), lens: (f32, f32)) -> Ray {
+        let sx = self.origin_x + (x as f32 + dx - 0.5) * self.step;
+        let sy = self.origin_y + (y as f32 + dy - 0.5) * self.step;
+        let offset = self.frame.right * sx + self.frame.down * sy;
+        if self.orthographic {
+            return Ray::new(self.eye + offset, self.frame.forward);
+        }
+        let to_screen = self.screen_center + offset - self.eye;
+        if self.aperture <= 0.0 {
+            return Ray::new(self.eye, to_screen);
+        }
+        let focus = self.eye + to_screen * self.focus_ratio;
+        let (lx, ly) = crate::math::concentric_disk(lens);
+        let origin = self.eye + (self.frame.right * lx + self.frame.down * ly) * self.aperture;
+        Ray::new(origin, focus - origin)
+    }
+
     /// Calls `emit` with each camera ray of pixel `(x, y)` and the pixel's random stream
     /// (for what the shading model samples): the pinhole ray, then the
     /// lens rays, aimed at the point where the pinhole ray meets the focal plane (which
@@ -114,7 +137,7 @@ impl CameraRays {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::normalize;
+    use crate::math::{concentric_disk, normalize};
 
     /// Eye at the origin looking along +x; 4 x 2 pixels, s = 0.5, d = 1: the screen is
     /// the square [-2, 2] x [-1, 1] at x = 1, pixels one unit wide.
@@ -175,6 +198,49 @@ mod tests {
         rays.for_each_ray(2, 1, &mut sampler, |r, _| all.push(r));
         assert_eq!(all.len(), 1);
         assert!(close(all[0].origin, Vec3::new(0.0, 0.5, -0.5)));
+    }
+
+    #[test]
+    fn a_sample_at_the_pixel_centre_is_the_pinhole_ray_and_corners_bound_the_pixel() {
+        let mut c = camera();
+        c.aperture = 0.0;
+        let rays = CameraRays::new(&c, 1, 1);
+        let centre = rays.through(1, 0, (0.5, 0.5), (0.5, 0.5));
+        assert!(close(centre.dir, rays.pinhole(1, 0).dir));
+        // Pixel (1, 0) spans right [-1, 0] and up [0, 1] on the screen at x = 1.
+        let corner = rays.through(1, 0, (0.0, 0.0), (0.5, 0.5));
+        assert!(
+            close(corner.dir, normalize(Vec3::new(1.0, -1.0, 1.0))),
+            "{corner:?}"
+        );
+        // A lens ray meets the jittered pinhole ray on the focal plane (x = 4).
+        let lensed = CameraRays::new(&camera(), 1, 1);
+        let pin = rays.through(2, 1, (0.25, 0.75), (0.5, 0.5));
+        let lens = lensed.through(2, 1, (0.25, 0.75), (0.9, 0.2));
+        assert!(lens.origin.length() > 0.1 && lens.origin.length() <= 0.5 + 1e-6);
+        let p = lens.at((4.0 - lens.origin.x) / lens.dir.x);
+        let q = pin.at(4.0 / pin.dir.x);
+        assert!((p - q).length() < 1e-5, "{p} vs {q}");
+    }
+
+    #[test]
+    fn the_concentric_map_keeps_the_disk_and_its_area() {
+        let n = 64;
+        let mut inner = 0;
+        for i in 0..n {
+            for j in 0..n {
+                let (x, y) =
+                    concentric_disk(((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32));
+                let r2 = x * x + y * y;
+                assert!(r2 <= 1.0 + 1e-6);
+                inner += (r2 < 0.25) as u32;
+            }
+        }
+        // A quarter of the area lies within radius 1/2.
+        assert!(
+            (inner as f32 / (n * n) as f32 - 0.25).abs() < 0.01,
+            "{inner}"
+        );
     }
 
     #[test]

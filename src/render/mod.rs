@@ -4,8 +4,10 @@
 pub mod camera;
 pub mod classic;
 pub mod memory;
+mod metallic_roughness;
 pub mod observer;
 pub mod optics;
+pub mod path;
 pub mod sampler;
 mod settings;
 pub mod shadows;
@@ -15,6 +17,7 @@ pub use crate::options::{IntegratorKind, Region};
 pub use camera::CameraRays;
 pub use classic::Classic;
 pub use observer::{CancelOn, Observer, Progress, Rows};
+pub use path::Path;
 pub use sampler::PixelSampler;
 use settings::Plan;
 pub use settings::{DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, RenderSettings, check_threads};
@@ -80,6 +83,13 @@ pub trait Integrator: Sync {
     /// ray each are always traced a tile at a time: that ray is drawn before its
     /// shading either way.)
     fn lens_packets(&self) -> bool;
+
+    /// Whether a pixel's samples spread over its area (each its own random stream,
+    /// [`PixelSampler::for_sample`], a box filter over the supersampled pixel) rather
+    /// than the pinhole ray through its centre and lens rays aimed at its focus.
+    fn spreads_samples(&self) -> bool {
+        false
+    }
 
     /// Traces camera ray `ray` and every ray it spawns, adding its colour to `acc` and
     /// the rays traced to `count`.
@@ -311,6 +321,11 @@ impl<'a> Renderer<'a> {
                 };
                 self.render_frame(&whitted, accel, start, observer)
             }
+            IntegratorKind::Path => {
+                let surfaces = self.scene.resolved_surfaces();
+                let path = Path::new(self.scene, accel, &surfaces, plan.max_depth);
+                self.render_frame(&path, accel, start, observer)
+            }
         }
     }
 
@@ -337,7 +352,18 @@ impl<'a> Renderer<'a> {
                 return;
             }
             let mut count = RayCount::default();
-            if rays.spp() == 1 {
+            if integrator.spreads_samples() {
+                for (k, out) in strip.iter_mut().enumerate() {
+                    if observer.cancelled() {
+                        return;
+                    }
+                    let x = x_lo + (k % row_len) as u32;
+                    let y = y0 + (k / row_len) as u32;
+                    *out = self
+                        .spread_pixel(integrator, &rays, x, y, &mut count)
+                        .to_array();
+                }
+            } else if rays.spp() == 1 {
                 self.strip_in_packets(
                     integrator,
                     accel,
@@ -483,6 +509,29 @@ impl<'a> Renderer<'a> {
             &mut acc,
             count,
         );
+        acc.mean()
+    }
+
+    /// Colour of supersampled pixel `(x, y)` as the mean of `spp` samples spread over
+    /// its area, sample `i` drawing from its own stream: the pixel position, then the
+    /// lens point, then what the model draws.
+    #[inline]
+    fn spread_pixel<I: Integrator>(
+        &self,
+        integrator: &I,
+        rays: &CameraRays,
+        x: u32,
+        y: u32,
+        count: &mut RayCount,
+    ) -> Vec3 {
+        let mut acc = WeightedColor::default();
+        for i in 0..self.plan.spp {
+            let mut sampler = PixelSampler::for_sample(self.plan.seed, x, y, i);
+            let jitter = sampler.next_2d();
+            let lens = sampler.next_2d();
+            let ray = rays.through(x, y, jitter, lens);
+            integrator.trace_camera_ray(ray, &mut sampler, &mut acc, count);
+        }
         acc.mean()
     }
 

@@ -19,6 +19,27 @@ impl PixelSampler {
         }
     }
 
+    /// The stream of sample `index` of the pixel: its numbers depend on the seed, the
+    /// pixel and the index alone, so a pixel's samples may be taken in any order and
+    /// split into passes without changing one of them (the path model's samples).
+    pub fn for_sample(seed: u64, x: u32, y: u32, index: u32) -> PixelSampler {
+        let pixel = (u64::from(y) << 32) | u64::from(x);
+        let sample = splitmix64(SAMPLE_KEY ^ u64::from(index));
+        PixelSampler {
+            rng: Pcg32::new(
+                splitmix64(seed ^ splitmix64(pixel) ^ sample),
+                0xda3e_39cb_94b9_5bdb,
+            ),
+        }
+    }
+
+    /// Two uniform numbers in [0, 1).
+    #[inline]
+    pub fn next_2d(&mut self) -> (f32, f32) {
+        let a = self.next_f32();
+        (a, self.next_f32())
+    }
+
     /// Uniform in [0, 1).
     #[inline]
     pub fn next_f32(&mut self) -> f32 {
@@ -53,6 +74,10 @@ impl PixelSampler {
     }
 }
 
+/// Mixed with a sample's index, so that sample streams differ from the pixel stream
+/// [`PixelSampler::new`] gives.
+const SAMPLE_KEY: u64 = 0x5a3c_96e1_0f2d_4b87;
+
 /// The largest f32 below 1: strata computed in f32 can round up to 1.
 const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
 
@@ -76,6 +101,21 @@ mod tests {
         assert_ne!(a, draw(&mut PixelSampler::new(7, 4, 3)));
         assert_ne!(a, draw(&mut PixelSampler::new(8, 3, 4)));
         assert!(a.iter().all(|x| (0.0..1.0).contains(x)));
+    }
+
+    #[test]
+    fn a_sample_stream_depends_on_seed_pixel_and_index_alone() {
+        let draw = |s: &mut PixelSampler| (0..8).map(|_| s.next_f32()).collect::<Vec<_>>();
+        let a = draw(&mut PixelSampler::for_sample(7, 3, 4, 5));
+        assert_eq!(a, draw(&mut PixelSampler::for_sample(7, 3, 4, 5)));
+        for other in [
+            PixelSampler::for_sample(7, 3, 4, 6),
+            PixelSampler::for_sample(7, 4, 3, 5),
+            PixelSampler::for_sample(8, 3, 4, 5),
+            PixelSampler::new(7, 3, 4),
+        ] {
+            assert_ne!(a, draw(&mut { other }));
+        }
     }
 
     #[test]

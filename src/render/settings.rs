@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 use crate::options::{Filter, IntegratorKind, Region};
 use crate::scene::Camera;
 use crate::util::limits::{
-    MAX_AA, MAX_CAMERA_RAYS, MAX_DEPTH, MAX_SIDE, MAX_SPP, MAX_THREADS_PER_CORE, max_threads,
+    MAX_AA, MAX_CAMERA_RAYS, MAX_SIDE, MAX_SPP, MAX_THREADS_PER_CORE, max_threads,
 };
 
 /// Render options. `None` keeps the camera file's value.
@@ -61,9 +61,7 @@ impl Default for RenderSettings {
     }
 }
 
-/// Recursion depth of the whitted model: POV-Ray's `max_trace_level` default is 5;
-/// ten lets light cross a few glass surfaces.
-pub const DEFAULT_MAX_DEPTH: u32 = 10;
+pub use crate::options::DEFAULT_MAX_DEPTH;
 /// A ray whose contribution can change no 8-bit value is not traced (POV-Ray's
 /// `adc_bailout`).
 pub const DEFAULT_MIN_WEIGHT: f32 = 1.0 / 255.0;
@@ -157,9 +155,11 @@ impl RenderSettings {
             )));
         }
         check_threads(self.threads)?;
-        if self.max_depth > MAX_DEPTH {
+        let depth_limit = self.integrator.max_depth_limit();
+        if self.max_depth > depth_limit {
             return Err(Error::Settings(format!(
-                "max depth must be at most {MAX_DEPTH}, found {}",
+                "max depth of the {} model must be at most {depth_limit}, found {}",
+                self.integrator.name(),
                 self.max_depth
             )));
         }
@@ -200,6 +200,7 @@ fn scaled(a: u32, num: u32, den: u32) -> u32 {
 mod tests {
     use super::*;
     use crate::math::Vec3;
+    use crate::util::limits::MAX_DEPTH;
 
     fn camera() -> Camera {
         Camera {

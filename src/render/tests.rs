@@ -390,7 +390,7 @@ mod band_tests {
             ..Scene::default()
         });
         let camera = Camera::look_at(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 48, 40);
-        for integrator in [IntegratorKind::Classic, IntegratorKind::Whitted] {
+        for integrator in IntegratorKind::ALL {
             for region in [
                 None,
                 Some(Region {
@@ -417,6 +417,7 @@ mod band_tests {
                 let whitted =
                     Whitted::new(&scene, &accel, &surfaces, plan.max_depth, plan.min_weight);
                 let classic = Classic::new(&scene, &accel, plan.camera.medium_ior);
+                let path = Path::new(&scene, &accel, &surfaces, plan.max_depth);
                 let mut count = RayCount::default();
                 let mut traced = Vec::new();
                 for y in r.y..r.y + r.height {
@@ -427,6 +428,9 @@ mod band_tests {
                             }
                             IntegratorKind::Whitted => {
                                 renderer.pixel(&whitted, &accel, &rays, x, y, &mut count)
+                            }
+                            IntegratorKind::Path => {
+                                renderer.spread_pixel(&path, &rays, x, y, &mut count)
                             }
                         };
                         traced.push(p.to_array());

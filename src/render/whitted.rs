@@ -11,19 +11,16 @@ use super::optics::{fresnel_dielectric, refract};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, cross, highlight_pow, normalize, offset_origin, reflect, sin_cos};
-use crate::scene::{
-    Albedo, Background, Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint,
-    material::srgb_to_linear,
-};
+use crate::scene::light::sampling::{SphereCone, pick_triangle, triangle_point};
+use crate::scene::{Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint};
 
 mod casters;
-mod metallic_roughness;
 mod sample_lanes;
 mod shadow_batch;
 mod visibility;
 
+use super::metallic_roughness::PbrAt;
 pub use casters::Casters;
-use metallic_roughness::PbrAt;
 use visibility::{ShadowRole, Shadows};
 
 /// Surfaces a ray may pass through (alpha cut-outs) or a shadow ray may cross
@@ -171,12 +168,14 @@ impl<'a> Whitted<'a> {
     ) -> Vec3 {
         count.rays += 1;
         let Some((hit, sp)) = self.first_hit(ray, hit) else {
-            return self.background(ray.dir);
+            return self.scene.background(ray.dir);
         };
         let s = self.surface(hit.shape);
         let d = ray.dir;
         let sp = match &s.normal_map {
-            Some(slot) => self.normal_mapped(sp, hit.shape, slot),
+            Some(slot) => self
+                .scene
+                .normal_mapped(sp, hit.shape, slot, s.normal_scale),
             None => sp,
         };
         // Inside/outside from the geometric normal; shading normals turned to the ray.
@@ -196,22 +195,22 @@ impl<'a> Whitted<'a> {
 
         // Emitters glow on the side their normal faces, as they light the scene.
         let mut l = if entering {
-            s.emission * self.map(&s.emission_map, &sp)
+            s.emission * self.scene.map(&s.emission_map, &sp)
         } else {
             Vec3::ZERO
         };
-        let albedo = self.albedo(s, &sp, hit.shape) * sp.color;
+        let albedo = self.scene.albedo(s, &sp, hit.shape) * sp.color;
         if !s.lit {
             return absorbed * (l + albedo);
         }
-        l += s.ambient * self.map(&s.ambient_map, &sp) * self.scene.ambient;
+        l += s.ambient * self.scene.map(&s.ambient_map, &sp) * self.scene.ambient;
         let v = -d;
         let shadow_from = sp.shadow_origin(ng);
         let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
         let (kd, ks, shininess, pbr_mirror) = match &s.metallic_roughness {
             None => (
                 albedo * s.diffuse,
-                s.specular * self.map(&s.specular_map, &sp),
+                s.specular * self.scene.map(&s.specular_map, &sp),
                 s.shininess,
                 None,
             ),
@@ -325,101 +324,9 @@ impl<'a> Whitted<'a> {
         None
     }
 
-    /// The colour of an optional map at the hit (white without one).
-    #[inline]
-    fn map(&self, slot: &Option<crate::scene::TextureSlot>, sp: &SurfacePoint) -> Vec3 {
-        match slot {
-            Some(slot) => {
-                let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
-                Vec3::new(c.x, c.y, c.z)
-            }
-            None => Vec3::ONE,
-        }
-    }
-
-    /// The shading normal bent by a tangent-space normal map (texel `2 c - 1` in the
-    /// frame of dP/du, N x dP/du and N). Kept as it was where the surface has no
-    /// tangent or the map would turn it past the geometric surface.
-    fn normal_mapped(
-        &self,
-        mut sp: SurfacePoint,
-        shape: u32,
-        slot: &crate::scene::TextureSlot,
-    ) -> SurfacePoint {
-        let Some(dpdu) = self.scene.dpdu(shape) else {
-            return sp;
-        };
-        let n = sp.n;
-        let t = (dpdu - n * n.dot(dpdu)).normalize_or_zero();
-        if t == Vec3::ZERO {
-            return sp;
-        }
-        let b = cross(n, t);
-        let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
-        let mut m = Vec3::new(c.x, c.y, c.z) * 2.0 - Vec3::ONE;
-        let scale = self.surface(shape).normal_scale;
-        if scale != 1.0 {
-            m.x *= scale;
-            m.y *= scale;
-        }
-        let bent = (t * m.x + b * m.y + n * m.z).normalize_or_zero();
-        if bent.dot(sp.ng) > 0.0 {
-            sp.n = bent;
-        }
-        sp
-    }
-
     #[inline]
     fn cut_out(&self, shape: u32, sp: &SurfacePoint) -> bool {
-        let s = self.surface(shape);
-        let Some(slot) = &s.alpha_map else {
-            return false;
-        };
-        self.scene.images[slot.image as usize]
-            .sample_slot(slot, sp.uv)
-            .w
-            < s.alpha_cutoff
-    }
-
-    /// The albedo C at a hit.
-    fn albedo(&self, s: &Surface, sp: &SurfacePoint, shape: u32) -> Vec3 {
-        match &s.albedo {
-            Albedo::Color(c) => *c,
-            Albedo::Image { slot, tint } => {
-                let c = self.scene.images[slot.image as usize].sample_slot(slot, sp.uv);
-                Vec3::new(c.x, c.y, c.z) * *tint
-            }
-            Albedo::Checker { a, b, scale } => {
-                // Read just inside the surface: a plane lying on a cube face (a floor
-                // at y = 0) would otherwise flip cells with the rounding of each hit.
-                let scale = scale.max(f32::MIN_POSITIVE);
-                let inside = sp.p - sp.ng * (scale * 1e-3);
-                let q = (inside / scale).floor();
-                let sum = q.x + q.y + q.z;
-                // `sum` is a whole number (not a costly `rem_euclid` away from its
-                // parity), and every float from 2^24 up is even.
-                let even = if sum.abs() < 16_777_216.0 {
-                    (sum as i32) & 1 == 0
-                } else {
-                    sum.is_finite()
-                };
-                if even { *a } else { *b }
-            }
-            Albedo::Classic => srgb_to_linear(self.scene.surface_color(shape, sp.p)),
-        }
-    }
-
-    fn background(&self, d: Vec3) -> Vec3 {
-        match &self.scene.background {
-            Background::Black => Vec3::ZERO,
-            Background::Color(c) => *c,
-            Background::Environment {
-                image,
-                up,
-                forward,
-                intensity,
-            } => self.scene.images[*image as usize].sample_direction(d, *up, *forward) * *intensity,
-        }
+        self.scene.cut_out(self.surface(shape), sp)
     }
 
     /// Calls `f` with each sample of `light` seen from `p`: one for a point, spot or
@@ -530,80 +437,6 @@ impl<'a> Whitted<'a> {
                 }
             }
         }
-    }
-}
-
-/// The triangle (of `count`) of a mesh light that uniform `a` picks by `cdf`, their
-/// cumulative areas, and the square root of `a`'s place within its share: the
-/// stratified coordinate reused within the triangle.
-#[inline(always)]
-fn pick_triangle(cdf: &[f32], count: usize, a: f32) -> (usize, f32) {
-    let k = cdf.partition_point(|&c| c <= a).min(count - 1);
-    let lo = if k == 0 { 0.0 } else { cdf[k - 1] };
-    let within = ((a - lo) / (cdf[k] - lo).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-    (k, within.sqrt())
-}
-
-/// The point of triangle `[v0, v1, v2]` at `su` (from [`pick_triangle`]) and `b`: uniform
-/// in its area for uniform coordinates.
-#[inline(always)]
-fn triangle_point([v0, v1, v2]: [Vec3; 3], su: f32, b: f32) -> Vec3 {
-    v0 * (1.0 - su) + v1 * (su * (1.0 - b)) + v2 * (su * b)
-}
-
-/// The cone a sphere light fills seen from a point outside it: its samples' directions
-/// are drawn inside it, uniform in solid angle.
-struct SphereCone {
-    /// Squared distance from the point to the centre, and the squared radius.
-    d2: f32,
-    r2: f32,
-    dist_c: f32,
-    /// Unit direction to the centre, and two more making a frame with it.
-    axis: Vec3,
-    t1: Vec3,
-    t2: Vec3,
-    cos_max: f32,
-    solid_angle: f32,
-}
-
-impl SphereCone {
-    /// The cone of the sphere at `center` of `radius` seen from `p`; `None` from inside.
-    #[inline]
-    fn new(center: Vec3, radius: f32, p: Vec3) -> Option<SphereCone> {
-        let to = center - p;
-        let d2 = to.length_squared();
-        let r2 = radius * radius;
-        if d2 <= r2 {
-            return None;
-        }
-        let dist_c = d2.sqrt();
-        let axis = to / dist_c;
-        let cos_max = (1.0 - r2 / d2).max(0.0).sqrt();
-        let (t1, t2) = axis.any_orthonormal_pair();
-        Some(SphereCone {
-            d2,
-            r2,
-            dist_c,
-            axis,
-            t1,
-            t2,
-            cos_max,
-            solid_angle: std::f32::consts::TAU * (1.0 - cos_max),
-        })
-    }
-
-    /// The cosine to the axis of a direction drawn with uniform `a` in [0, 1).
-    #[inline(always)]
-    fn cos_of(&self, a: f32) -> f32 {
-        1.0 - a * (1.0 - self.cos_max)
-    }
-
-    /// Distance to the near side of the sphere along a direction at cosine `cos` to the
-    /// axis.
-    #[inline(always)]
-    fn near_side(&self, cos: f32) -> f32 {
-        let along = self.dist_c * cos;
-        along - (self.r2 - (self.d2 - along * along)).max(0.0).sqrt()
     }
 }
 

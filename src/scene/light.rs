@@ -3,6 +3,10 @@
 
 use crate::math::{Vec3, cross};
 
+pub mod sampling;
+
+pub use sampling::Incident;
+
 /// A light. The classic model uses only `position` (every light is a white point light
 /// there); the whitted model uses everything.
 #[derive(Clone, Debug, PartialEq)]

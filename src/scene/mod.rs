@@ -7,6 +7,7 @@ pub mod image;
 pub mod light;
 pub mod material;
 pub mod mesh;
+mod shading;
 pub mod shape;
 pub mod shapes;
 mod surface_point;

@@ -60,7 +60,7 @@ pub struct JobArgs {
     #[arg(long, value_name = "DEGREES")]
     pub fov: Option<f32>,
     /// Shading model (default: classic for .objx, whitted otherwise).
-    #[arg(long, value_parser = names_parser::<IntegratorKind, 2>(IntegratorKind::ALL.map(IntegratorKind::name)))]
+    #[arg(long, value_parser = names_parser::<IntegratorKind, 3>(IntegratorKind::ALL.map(IntegratorKind::name)))]
     pub integrator: Option<IntegratorKind>,
     /// Read the scene file as this dialect, whatever its extension.
     #[arg(long, value_parser = SceneDialect::names())]

@@ -6,9 +6,10 @@ use super::raw::{RawAmbient, RawBackground, RawRender};
 use super::source::Source;
 use crate::error::Result;
 use crate::math::Vec3;
+use crate::options::MAX_PATH_DEPTH;
 use crate::options::RenderOptions;
 use crate::scene::Background;
-use crate::util::limits::{MAX_AA, MAX_DEPTH, MAX_SIDE, MAX_SPP};
+use crate::util::limits::{MAX_AA, MAX_SIDE, MAX_SPP};
 use glam::DVec3;
 use toml::Spanned;
 
@@ -37,16 +38,20 @@ pub fn render(source: &Source, raw: &RawRender) -> Result<RenderOptions> {
         }
         w => w.as_ref().map(|w| w.get_ref().f32()),
     };
+    let integrator: Option<crate::options::IntegratorKind> = parsed(source, &raw.integrator)?;
+    // The file's own model bounds its depth; without one, the deepest any model takes
+    // (the render checks the model it is given).
+    let depth_limit = integrator.map_or(MAX_PATH_DEPTH, |i| i.max_depth_limit());
     Ok(RenderOptions {
         width: range(&raw.width, "width", 1, MAX_SIDE)?,
         height: range(&raw.height, "height", 1, MAX_SIDE)?,
         aa: range(&raw.aa, "aa", 1, MAX_AA)?,
         filter: parsed(source, &raw.filter)?,
         spp: range(&raw.spp, "spp", 1, MAX_SPP)?,
-        max_depth: range(&raw.max_depth, "max_depth", 0, MAX_DEPTH)?,
+        max_depth: range(&raw.max_depth, "max_depth", 0, depth_limit)?,
         min_weight,
         seed: raw.seed.as_ref().map(|s| *s.get_ref()),
-        integrator: parsed(source, &raw.integrator)?,
+        integrator,
         exposure: raw.exposure.as_ref().map(|e| e.get_ref().f32()),
         tonemap: parsed(source, &raw.tonemap)?,
     })

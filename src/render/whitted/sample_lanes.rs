@@ -11,10 +11,11 @@
 // Loops over lane indices read like the formulas they vectorise.
 #![allow(clippy::needless_range_loop)]
 
-use super::{LightSample, SphereCone, Whitted, pick_triangle, triangle_point};
+use super::{LightSample, Whitted};
 use crate::accel::PACKET_RAYS;
 use crate::math::{Vec3, sin_cos};
 use crate::render::PixelSampler;
+use crate::scene::light::sampling::{SphereCone, pick_triangle, triangle_point};
 use crate::scene::{Light, LightKind, Shape};
 
 /// Samples worked out together.

@@ -6,8 +6,10 @@ use crate::math::Vec3;
 use crate::scene::{MetallicRoughness, Scene, SurfacePoint};
 
 /// A metallic-roughness surface at one hit.
-pub(super) struct PbrAt {
+pub(crate) struct PbrAt {
     pub metallic: f32,
+    /// Perceptual roughness, 0 (mirror) to 1: the microfacet `alpha` is its square.
+    pub roughness: f32,
     base_f0: Vec3,
     pub exponent: f32,
     /// How much of the mirror reflection a rough surface keeps.
@@ -29,6 +31,7 @@ impl PbrAt {
         let roughness = roughness.clamp(0.0, 1.0);
         PbrAt {
             metallic,
+            roughness,
             base_f0: mr.f0,
             exponent: MetallicRoughness::exponent(roughness),
             gloss: (1.0 - roughness) * (1.0 - roughness),

@@ -1,0 +1,448 @@
+//! The path model: unidirectional path tracing (Kajiya's rendering equation, as pbrt
+//! and Mitsuba solve it). At every vertex light is gathered from each light by
+//! next-event estimation and the path goes on in a direction the surface's BSDF draws;
+//! where both strategies can find the same light (an area light, an emissive mesh, the
+//! environment) their estimates are weighed by the power heuristic. Russian roulette
+//! ends paths whose throughput has fallen, so depth is unlimited by default.
+//!
+//! Each camera sample draws from its own stream (seed, pixel, sample index), in a
+//! fixed order of dimensions, so the image does not depend on threads or passes.
+
+mod bsdf;
+mod environment;
+#[cfg(test)]
+mod tests;
+
+use super::metallic_roughness::PbrAt;
+use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
+use crate::accel::{Accel, Hit};
+use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
+use crate::scene::{Light, LightKind, Scene, Surface, SurfacePoint};
+pub use bsdf::{Bsdf, Highlight, Sampled, Terms};
+use environment::Environment;
+
+/// Bounces after which Russian roulette may end a path (Mitsuba's default).
+const ROULETTE_DEPTH: u32 = 5;
+/// A path is continued with at most this probability, so that every path ends.
+const MAX_CONTINUE: f32 = 0.95;
+/// Alpha cut-outs a ray or shadow ray passes through before the next surface is taken
+/// as final.
+const MAX_CUT_OUTS: u32 = 64;
+/// No emitter index.
+const NONE: u32 = u32::MAX;
+
+/// The path integrator over a scene, its intersector and its resolved surfaces.
+pub struct Path<'a> {
+    scene: &'a Scene,
+    accel: &'a Accel<'a>,
+    surfaces: &'a [Surface],
+    max_depth: u32,
+    /// The light each emissive triangle belongs to, by shape (empty without mesh
+    /// lights): what a BSDF ray that meets one weighs itself against.
+    light_of_shape: Vec<u32>,
+    /// Lights with an extent that are not geometry (quads, disks, spheres): a ray may
+    /// meet them.
+    shaped_lights: Vec<u32>,
+    /// Whether any surface cuts out: shadow rays then walk through the cut-outs.
+    cuts_out: bool,
+    /// What rays that leave the scene see, and how it is sampled.
+    environment: Option<Environment>,
+}
+
+impl<'a> Path<'a> {
+    /// The integrator for `scene` with intersector `accel`; `surfaces[m]` shades material
+    /// `m`. A path scatters at most `max_depth` times (0: direct light only).
+    pub fn new(
+        scene: &'a Scene,
+        accel: &'a Accel<'a>,
+        surfaces: &'a [Surface],
+        max_depth: u32,
+    ) -> Path<'a> {
+        let mut light_of_shape = Vec::new();
+        let mut shaped_lights = Vec::new();
+        for (k, light) in scene.lights.iter().enumerate() {
+            match &light.kind {
+                LightKind::Mesh { shapes, .. } => {
+                    if light_of_shape.is_empty() {
+                        light_of_shape = vec![NONE; scene.shapes.len()];
+                    }
+                    for &s in shapes {
+                        light_of_shape[s as usize] = k as u32;
+                    }
+                }
+                LightKind::Quad { .. } | LightKind::Disk { .. } | LightKind::Sphere { .. } => {
+                    shaped_lights.push(k as u32)
+                }
+                _ => {}
+            }
+        }
+        Path {
+            scene,
+            accel,
+            surfaces,
+            max_depth,
+            light_of_shape,
+            shaped_lights,
+            cuts_out: surfaces.iter().any(|s| s.alpha_map.is_some()),
+            environment: Environment::of(scene),
+        }
+    }
+
+    #[inline]
+    fn surface(&self, shape: u32) -> &Surface {
+        &self.surfaces[self.scene.material_of[shape as usize] as usize]
+    }
+
+    /// The light whose triangle `shape` is, if any.
+    #[inline]
+    fn light_of(&self, shape: u32) -> Option<&Light> {
+        let k = *self.light_of_shape.get(shape as usize)?;
+        self.scene.lights.get(k as usize)
+    }
+
+    /// Radiance arriving along camera ray `ray` whose closest hit is `hit`.
+    pub fn radiance(
+        &self,
+        ray: Ray,
+        hit: Option<Hit>,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) -> Vec3 {
+        let mut l = Vec3::ZERO;
+        let mut beta = Vec3::ONE;
+        let mut ray = ray;
+        let mut known = Some(hit);
+        // Where the last scattering was and the density its direction was drawn with;
+        // `None` for the camera and after a mirror or refraction (nothing else could
+        // have found what the ray meets, so it counts in full).
+        let mut last: Option<(Vec3, f32)> = None;
+        let mut depth = 0;
+        loop {
+            count.rays += 1;
+            let found = self.first_hit(&ray, known.take());
+            let t_scene = found.as_ref().map_or(f32::INFINITY, |(h, _)| h.t);
+            if let Some((light, t, normal)) = self.shaped_light_hit(&ray, t_scene) {
+                let le = light.color * light.intensity;
+                let w = last.map_or(1.0, |(p, pdf)| {
+                    power_heuristic(pdf, light.pdf_incident(p, ray.at(t), normal))
+                });
+                l += beta * le * w;
+                break;
+            }
+            let Some((hit, sp)) = found else {
+                if let Some(env) = &self.environment {
+                    let le = env.radiance(self.scene, ray.dir);
+                    let w = last.map_or(1.0, |(_, pdf)| power_heuristic(pdf, env.pdf(ray.dir)));
+                    l += beta * le * w;
+                }
+                break;
+            };
+            let s = self.surface(hit.shape);
+            let sp = match &s.normal_map {
+                Some(slot) => self
+                    .scene
+                    .normal_mapped(sp, hit.shape, slot, s.normal_scale),
+                None => sp,
+            };
+            let entering = ray.dir.dot(sp.ng) < 0.0;
+            let (ng, n) = if entering {
+                (sp.ng, sp.n)
+            } else {
+                (-sp.ng, -sp.n)
+            };
+            if !entering && s.absorption != Vec3::ZERO {
+                beta *= (-s.absorption * hit.t).exp();
+            }
+            if entering && s.emission != Vec3::ZERO {
+                let light = self.light_of(hit.shape);
+                let le = s.emission
+                    * self.scene.map(&s.emission_map, &sp)
+                    * light.map_or(1.0, |light| light.intensity);
+                let w = match (last, light) {
+                    (Some((p, pdf)), Some(light)) => {
+                        power_heuristic(pdf, light.pdf_incident(p, sp.p, sp.ng))
+                    }
+                    _ => 1.0,
+                };
+                l += beta * le * w;
+            }
+            let albedo = self.scene.albedo(s, &sp, hit.shape) * sp.color;
+            if !s.lit {
+                l += beta * albedo;
+                break;
+            }
+            let wo = -ray.dir;
+            let bsdf = Bsdf::new(&self.terms(s, &sp, albedo, entering), wo, n, ng);
+            if bsdf.has_smooth() {
+                l += beta * self.direct(&bsdf, &sp, ng, sampler, count);
+            }
+            if depth >= self.max_depth {
+                break;
+            }
+            let pick = sampler.next_f32();
+            let Some(scattered) = bsdf.sample(pick, sampler.next_2d()) else {
+                break;
+            };
+            beta *= scattered.weight;
+            last = (scattered.pdf > 0.0).then_some((sp.p, scattered.pdf));
+            ray = Ray::new(offset_origin(sp.p, ng, scattered.wi), scattered.wi);
+            depth += 1;
+            if depth >= ROULETTE_DEPTH {
+                let q = beta.max_element().min(MAX_CONTINUE);
+                if sampler.next_f32() >= q {
+                    break;
+                }
+                beta /= q;
+            }
+            if !beta.is_finite() || beta.max_element() <= 0.0 {
+                break;
+            }
+        }
+        if l.is_finite() { l } else { Vec3::ZERO }
+    }
+
+    /// The surface's terms at a hit: its albedo, maps and glTF factors read there.
+    fn terms(&self, s: &Surface, sp: &SurfacePoint, albedo: Vec3, entering: bool) -> Terms {
+        let (eta_i, eta_t) = if entering { (1.0, s.ior) } else { (s.ior, 1.0) };
+        let (diffuse, highlight, reflection) = match &s.metallic_roughness {
+            None => {
+                let ks = s.specular * self.scene.map(&s.specular_map, sp);
+                let highlight = if ks == Vec3::ZERO {
+                    Highlight::None
+                } else {
+                    match s.highlight {
+                        crate::scene::Highlight::Phong => Highlight::Phong {
+                            ks,
+                            exponent: s.shininess,
+                        },
+                        crate::scene::Highlight::BlinnPhong => Highlight::Blinn {
+                            ks,
+                            exponent: s.shininess,
+                        },
+                    }
+                };
+                (albedo * s.diffuse, highlight, s.reflection)
+            }
+            Some(mr) => {
+                let at = PbrAt::at(self.scene, mr, sp);
+                // The whitted reading's Lambert term carries 1/pi; reflectance does not.
+                let diffuse = albedo * (s.diffuse * std::f32::consts::PI * (1.0 - at.metallic));
+                let highlight = Highlight::Ggx {
+                    f0: at.f0(albedo),
+                    alpha: at.roughness * at.roughness,
+                };
+                (diffuse, highlight, Vec3::ZERO)
+            }
+        };
+        Terms {
+            diffuse,
+            highlight,
+            reflection,
+            transmission: s.transmission,
+            fresnel: s.fresnel,
+            eta_i,
+            eta_t,
+        }
+    }
+
+    /// Light arriving at the hit straight from every light and the environment, each
+    /// sampled once and weighed against the BSDF's own samples.
+    fn direct(
+        &self,
+        bsdf: &Bsdf,
+        sp: &SurfacePoint,
+        ng: Vec3,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) -> Vec3 {
+        let from = sp.shadow_origin(ng);
+        let mut l = Vec3::ZERO;
+        for light in &self.scene.lights {
+            let u = sampler.next_2d();
+            let Some(inc) = light.sample_incident(self.scene, self.surfaces, sp.p, u) else {
+                continue;
+            };
+            l += self.light_sample(bsdf, from, ng, inc.dir, inc.dist, inc.li, inc.pdf, count);
+        }
+        if let Some(env) = &self.environment {
+            let u = sampler.next_2d();
+            if let Some((dir, le, pdf)) = env.sample(self.scene, u) {
+                l += self.light_sample(bsdf, from, ng, dir, f32::INFINITY, le, pdf, count);
+            }
+        }
+        l
+    }
+
+    /// What one light sample adds: `f cos Li / pdf`, weighed by the power heuristic
+    /// unless the light has one direction (`pdf` 0), where `li` is its irradiance.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn light_sample(
+        &self,
+        bsdf: &Bsdf,
+        from: Vec3,
+        ng: Vec3,
+        dir: Vec3,
+        dist: f32,
+        li: Vec3,
+        pdf: f32,
+        count: &mut RayCount,
+    ) -> Vec3 {
+        let f = bsdf.eval(dir);
+        if f == Vec3::ZERO || li == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        let cos = bsdf_cos(bsdf, dir);
+        let contribution = if pdf > 0.0 {
+            f * li * (cos * power_heuristic(pdf, bsdf.pdf(dir)) / pdf)
+        } else {
+            f * li * cos
+        };
+        if contribution.max_element() <= 0.0 || !self.visible(from, ng, dir, dist, count) {
+            return Vec3::ZERO;
+        }
+        contribution
+    }
+
+    /// Whether nothing blocks the segment from `from` (geometric normal `ng`) along
+    /// `dir` for `dist`; alpha cut-outs let it through.
+    fn visible(&self, from: Vec3, ng: Vec3, dir: Vec3, dist: f32, count: &mut RayCount) -> bool {
+        count.rays += 1;
+        let origin = offset_origin(from, ng, dir);
+        // Stop short of the light itself: an emissive mesh is geometry too.
+        let t_max = if dist.is_finite() {
+            dist * (1.0 - 1e-4) - surface_epsilon(origin)
+        } else {
+            f32::INFINITY
+        };
+        // A NaN distance is seen, as a sample too close to need a ray.
+        if t_max.is_nan() || t_max <= 0.0 {
+            return true;
+        }
+        let mut ray = Ray { origin, dir };
+        if !self.cuts_out {
+            return !self.accel.occluded(&ray, t_max, |_| true);
+        }
+        let mut left = t_max;
+        for _ in 0..MAX_CUT_OUTS {
+            let Some(hit) = self.accel.closest(&ray, left) else {
+                return true;
+            };
+            let s = self.surface(hit.shape);
+            if s.alpha_map.is_none() {
+                return false;
+            }
+            let sp = self.scene.surface_point(hit.shape, &ray, hit.t, true);
+            if !self.scene.cut_out(s, &sp) {
+                return false;
+            }
+            left -= hit.t;
+            ray.origin = offset_origin(sp.p, sp.ng, dir);
+        }
+        false
+    }
+
+    /// The first surface along `ray` not cut out by its alpha map, given the ray's
+    /// closest hit when it is known.
+    fn first_hit(&self, ray: &Ray, known: Option<Option<Hit>>) -> Option<(Hit, SurfacePoint)> {
+        let mut r = *ray;
+        let mut travelled = 0.0;
+        let mut known = known;
+        for _ in 0..MAX_CUT_OUTS {
+            let hit = match known.take() {
+                Some(hit) => hit,
+                None => self.accel.closest(&r, f32::INFINITY),
+            }?;
+            let s = self.surface(hit.shape);
+            let sp = self
+                .scene
+                .surface_point(hit.shape, &r, hit.t, s.reads_texture_coords());
+            if !self.scene.cut_out(s, &sp) {
+                let t = travelled + hit.t;
+                return Some((
+                    Hit {
+                        t,
+                        shape: hit.shape,
+                    },
+                    sp,
+                ));
+            }
+            travelled += hit.t;
+            r.origin = offset_origin(sp.p, sp.ng, r.dir);
+        }
+        None
+    }
+
+    /// The nearest light that is not geometry `ray` meets before `t_max`.
+    fn shaped_light_hit(&self, ray: &Ray, t_max: f32) -> Option<(&Light, f32, Vec3)> {
+        let mut best = None;
+        let mut t_best = t_max;
+        for &k in &self.shaped_lights {
+            let light = &self.scene.lights[k as usize];
+            if let Some((t, normal)) = light.hit(ray, t_best) {
+                t_best = t;
+                best = Some((light, t, normal));
+            }
+        }
+        best
+    }
+}
+
+/// The cosine a BSDF weighs light from `dir` by.
+#[inline]
+fn bsdf_cos(bsdf: &Bsdf, dir: Vec3) -> f32 {
+    bsdf.normal().dot(dir).max(0.0)
+}
+
+/// Veach's power heuristic for a sample drawn with density `a` that another strategy
+/// would have drawn with density `b`.
+#[inline]
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2.is_infinite() {
+        return 1.0;
+    }
+    let w = a2 / (a2 + b2);
+    if w.is_finite() { w } else { 0.0 }
+}
+
+impl Integrator for Path<'_> {
+    /// Every sample draws from the sampler while it is shaded.
+    fn lens_packets(&self) -> bool {
+        false
+    }
+
+    fn spreads_samples(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn trace_camera_ray(
+        &self,
+        ray: Ray,
+        sampler: &mut PixelSampler,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        let hit = self.accel.closest(&ray, f32::INFINITY);
+        let l = self.radiance(ray, hit, sampler, count);
+        acc.sum += l;
+        acc.weight += 1.0;
+    }
+
+    fn trace_camera_packet(
+        &self,
+        rays: &[Ray],
+        hits: &[Option<Hit>],
+        samplers: &mut [PixelSampler],
+        accs: &mut [WeightedColor],
+        count: &mut RayCount,
+    ) {
+        for (i, (ray, &hit)) in rays.iter().zip(hits).enumerate() {
+            let k = slot(samplers, i);
+            let l = self.radiance(*ray, hit, &mut samplers[k], count);
+            accs[k].sum += l;
+            accs[k].weight += 1.0;
+        }
+    }
+}

@@ -1,0 +1,310 @@
+//! Lights sampled from a shading point, as every model needs them: a direction toward
+//! the light with the light arriving along it and the density with which it was
+//! chosen (per unit solid angle), that density for a direction found otherwise (a
+//! surface's own sample that met the light), and where a ray meets a light that is
+//! not geometry (quads, disks, spheres): what next-event estimation and multiple
+//! importance sampling ask of a light.
+
+use super::{Light, LightKind};
+use crate::math::{Ray, Vec3, concentric_disk, cross, normalize, sin_cos};
+use crate::scene::{Scene, Shape, Surface};
+
+/// Light arriving at a point from one sample of a light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Incident {
+    /// Unit direction from the point toward the sample.
+    pub dir: Vec3,
+    /// Distance to the sample; infinite for a directional light.
+    pub dist: f32,
+    /// The radiance arriving along `dir` from an area light; for a point, spot or
+    /// directional light (one direction) the irradiance on a surface facing it.
+    pub li: Vec3,
+    /// Density of `dir` per unit solid angle; zero for a light of one direction.
+    pub pdf: f32,
+}
+
+impl Incident {
+    /// Whether the light reaches the point along one direction only (no other
+    /// strategy can find it).
+    pub fn is_delta(&self) -> bool {
+        self.pdf == 0.0
+    }
+}
+
+impl Light {
+    /// One sample of the light seen from `p`, drawn with `u` uniform in the unit
+    /// square; `None` where the light sends nothing toward `p` (behind a one-sided
+    /// emitter, inside a sphere light, a light without area). `surfaces` gives a mesh
+    /// light's emission.
+    pub fn sample_incident(
+        &self,
+        scene: &Scene,
+        surfaces: &[Surface],
+        p: Vec3,
+        (a, b): (f32, f32),
+    ) -> Option<Incident> {
+        let power = self.color * self.intensity;
+        match &self.kind {
+            LightKind::Point | LightKind::Spot { .. } => {
+                let to = self.position - p;
+                let dist = to.length();
+                if dist <= 0.0 || !dist.is_finite() {
+                    return None;
+                }
+                let dir = to / dist;
+                let mut li = power * self.falloff.at(dist);
+                if let LightKind::Spot {
+                    direction,
+                    cos_inner,
+                    cos_outer,
+                    edge,
+                } = self.kind
+                {
+                    li *= edge.at(
+                        cos_outer,
+                        cos_inner,
+                        (-dir).dot(direction.normalize_or_zero()),
+                    );
+                }
+                Some(Incident {
+                    dir,
+                    dist,
+                    li,
+                    pdf: 0.0,
+                })
+            }
+            LightKind::Directional { direction } => {
+                let dir = -direction.normalize_or_zero();
+                (dir != Vec3::ZERO).then_some(Incident {
+                    dir,
+                    dist: f32::INFINITY,
+                    li: power,
+                    pdf: 0.0,
+                })
+            }
+            LightKind::Quad { u, v } => {
+                let normal = cross(*u, *v);
+                let area = normal.length();
+                let y = self.position + *u * (a - 0.5) + *v * (b - 0.5);
+                planar_sample(p, y, normal / area, area, power)
+            }
+            LightKind::Disk { normal, radius } => {
+                let normal = normal.normalize_or(Vec3::Y);
+                let (t1, t2) = normal.any_orthonormal_pair();
+                let (x, z) = concentric_disk((a, b));
+                let y = self.position + (t1 * x + t2 * z) * *radius;
+                planar_sample(p, y, normal, std::f32::consts::PI * radius * radius, power)
+            }
+            LightKind::Sphere { radius } => {
+                let cone = SphereCone::new(self.position, *radius, p)?;
+                let cos = cone.cos_of(a);
+                let sin = (1.0 - cos * cos).max(0.0).sqrt();
+                let (sp, cp) = sin_cos(b * std::f32::consts::TAU);
+                let dir = normalize(cone.axis * cos + cone.t1 * (sin * cp) + cone.t2 * (sin * sp));
+                (cone.solid_angle > 0.0).then_some(Incident {
+                    dir,
+                    dist: cone.near_side(cos),
+                    li: power,
+                    pdf: 1.0 / cone.solid_angle,
+                })
+            }
+            LightKind::Mesh { shapes, cdf, area } => {
+                if shapes.is_empty() {
+                    return None;
+                }
+                let (k, su) = pick_triangle(cdf, shapes.len(), a);
+                let shape = shapes[k];
+                let Shape::Triangle(tri) = scene.shapes.get(shape as usize) else {
+                    return None;
+                };
+                let y = triangle_point(tri.v, su, b);
+                let le =
+                    surfaces[scene.material_of[shape as usize] as usize].emission * self.intensity;
+                planar_sample(p, y, tri.normal(), *area, le)
+            }
+        }
+    }
+
+    /// The density per unit solid angle with which [`Light::sample_incident`] from `p`
+    /// draws the direction toward point `y` of the light, whose surface normal there
+    /// is `normal`; zero for lights of one direction.
+    pub fn pdf_incident(&self, p: Vec3, y: Vec3, normal: Vec3) -> f32 {
+        let area = match &self.kind {
+            LightKind::Point | LightKind::Spot { .. } | LightKind::Directional { .. } => {
+                return 0.0;
+            }
+            LightKind::Sphere { radius } => {
+                return SphereCone::new(self.position, *radius, p)
+                    .filter(|c| c.solid_angle > 0.0)
+                    .map_or(0.0, |c| 1.0 / c.solid_angle);
+            }
+            LightKind::Quad { u, v } => cross(*u, *v).length(),
+            LightKind::Disk { radius, .. } => std::f32::consts::PI * radius * radius,
+            LightKind::Mesh { area, .. } => *area,
+        };
+        let to = y - p;
+        let d2 = to.length_squared();
+        let cos_l = normal.dot(to).abs() / d2.sqrt();
+        let pdf = d2 / (cos_l * area);
+        if pdf.is_finite() { pdf } else { 0.0 }
+    }
+
+    /// Where `ray` meets the emitting side of a light that is not geometry (quad,
+    /// disk, sphere) before `t_max`: the distance and the light's normal there.
+    /// Mesh lights are the scene's own triangles, and the other kinds have no extent.
+    pub fn hit(&self, ray: &Ray, t_max: f32) -> Option<(f32, Vec3)> {
+        let (t, normal) = match &self.kind {
+            LightKind::Quad { u, v } => {
+                let n = cross(*u, *v);
+                let area = n.length();
+                let normal = n / area;
+                let t = plane_hit(ray, self.position, normal)?;
+                let q = ray.at(t) - self.position;
+                let s = cross(q, *v).dot(normal) / area;
+                let r = cross(*u, q).dot(normal) / area;
+                if s.abs() > 0.5 || r.abs() > 0.5 {
+                    return None;
+                }
+                (t, normal)
+            }
+            LightKind::Disk { normal, radius } => {
+                let normal = normal.normalize_or(Vec3::Y);
+                let t = plane_hit(ray, self.position, normal)?;
+                if (ray.at(t) - self.position).length_squared() > radius * radius {
+                    return None;
+                }
+                (t, normal)
+            }
+            LightKind::Sphere { radius } => {
+                let oc = ray.origin - self.position;
+                let b = oc.dot(ray.dir);
+                let c = oc.length_squared() - radius * radius;
+                // From inside, the sphere lights nothing (it emits outward).
+                if c <= 0.0 {
+                    return None;
+                }
+                let disc = b * b - c;
+                if disc < 0.0 {
+                    return None;
+                }
+                let t = -b - disc.sqrt();
+                (t, normalize(ray.at(t) - self.position))
+            }
+            _ => return None,
+        };
+        (t > 0.0 && t < t_max && t.is_finite()).then_some((t, normal))
+    }
+}
+
+/// Where `ray` meets the plane through `at` with unit `normal` from the side the
+/// normal faces.
+#[inline]
+fn plane_hit(ray: &Ray, at: Vec3, normal: Vec3) -> Option<f32> {
+    let facing = ray.dir.dot(normal);
+    if facing >= 0.0 {
+        return None;
+    }
+    Some((at - ray.origin).dot(normal) / facing)
+}
+
+/// A sample at `y` on a flat emitter of radiance `le`, unit normal `normal` and
+/// `area`, chosen uniformly by area, seen from `p`: its solid-angle density is
+/// `d^2 / (cos_l area)`. One-sided: nothing from behind.
+#[inline]
+fn planar_sample(p: Vec3, y: Vec3, normal: Vec3, area: f32, le: Vec3) -> Option<Incident> {
+    let to = y - p;
+    let d2 = to.length_squared();
+    if d2 <= 0.0 || !d2.is_finite() {
+        return None;
+    }
+    let dist = d2.sqrt();
+    let dir = to / dist;
+    let cos_l = -normal.dot(dir);
+    let pdf = d2 / (cos_l * area);
+    (cos_l > 0.0 && pdf.is_finite()).then_some(Incident {
+        dir,
+        dist,
+        li: le,
+        pdf,
+    })
+}
+
+/// The triangle (of `count`) of a mesh light that uniform `a` picks by `cdf`, their
+/// cumulative areas, and the square root of `a`'s place within its share: the
+/// stratified coordinate reused within the triangle.
+#[inline(always)]
+pub fn pick_triangle(cdf: &[f32], count: usize, a: f32) -> (usize, f32) {
+    let k = cdf.partition_point(|&c| c <= a).min(count - 1);
+    let lo = if k == 0 { 0.0 } else { cdf[k - 1] };
+    let within = ((a - lo) / (cdf[k] - lo).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+    (k, within.sqrt())
+}
+
+/// The point of triangle `[v0, v1, v2]` at `su` (from [`pick_triangle`]) and `b`: uniform
+/// in its area for uniform coordinates.
+#[inline(always)]
+pub fn triangle_point([v0, v1, v2]: [Vec3; 3], su: f32, b: f32) -> Vec3 {
+    v0 * (1.0 - su) + v1 * (su * (1.0 - b)) + v2 * (su * b)
+}
+
+/// The cone a sphere light fills seen from a point outside it: its samples' directions
+/// are drawn inside it, uniform in solid angle.
+pub struct SphereCone {
+    /// Squared distance from the point to the centre.
+    pub d2: f32,
+    /// The squared radius.
+    pub r2: f32,
+    /// Distance from the point to the centre.
+    pub dist_c: f32,
+    /// Unit direction to the centre.
+    pub axis: Vec3,
+    /// A unit vector across the axis.
+    pub t1: Vec3,
+    /// The unit vector across the axis and `t1`.
+    pub t2: Vec3,
+    /// Cosine of the cone's half-angle.
+    pub cos_max: f32,
+    /// The solid angle the sphere subtends.
+    pub solid_angle: f32,
+}
+
+impl SphereCone {
+    /// The cone of the sphere at `center` of `radius` seen from `p`; `None` from inside.
+    #[inline]
+    pub fn new(center: Vec3, radius: f32, p: Vec3) -> Option<SphereCone> {
+        let to = center - p;
+        let d2 = to.length_squared();
+        let r2 = radius * radius;
+        if d2 <= r2 {
+            return None;
+        }
+        let dist_c = d2.sqrt();
+        let axis = to / dist_c;
+        let cos_max = (1.0 - r2 / d2).max(0.0).sqrt();
+        let (t1, t2) = axis.any_orthonormal_pair();
+        Some(SphereCone {
+            d2,
+            r2,
+            dist_c,
+            axis,
+            t1,
+            t2,
+            cos_max,
+            solid_angle: std::f32::consts::TAU * (1.0 - cos_max),
+        })
+    }
+
+    /// The cosine to the axis of a direction drawn with uniform `a` in [0, 1).
+    #[inline(always)]
+    pub fn cos_of(&self, a: f32) -> f32 {
+        1.0 - a * (1.0 - self.cos_max)
+    }
+
+    /// Distance to the near side of the sphere along a direction at cosine `cos` to the
+    /// axis.
+    #[inline(always)]
+    pub fn near_side(&self, cos: f32) -> f32 {
+        let along = self.dist_c * cos;
+        along - (self.r2 - (self.d2 - along * along)).max(0.0).sqrt()
+    }
+}
