@@ -73,6 +73,11 @@ fn example_scene_with_depth_of_field_and_lanczos() {
 /// A scene file of the repository rendered small with `prism render`, against its
 /// stored image. Scenes that read the models beside the repository skip without them.
 fn check_scene_golden(name: &str, scene: &str, size: (u32, u32)) {
+    check_scene_golden_with(name, scene, size, &[]);
+}
+
+/// [`check_scene_golden`] with more options for `prism render`.
+fn check_scene_golden_with(name: &str, scene: &str, size: (u32, u32), more: &[&str]) {
     let path = repo().join(scene);
     let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
     if text.contains("../shared/models") && !repo().join("../shared/models").is_dir() {
@@ -80,7 +85,7 @@ fn check_scene_golden(name: &str, scene: &str, size: (u32, u32)) {
         return;
     }
     let (w, h) = (size.0.to_string(), size.1.to_string());
-    let args: Vec<&std::ffi::OsStr> = vec![
+    let mut args: Vec<&std::ffi::OsStr> = vec![
         "render".as_ref(),
         path.as_os_str(),
         "--width".as_ref(),
@@ -88,12 +93,26 @@ fn check_scene_golden(name: &str, scene: &str, size: (u32, u32)) {
         "--height".as_ref(),
         h.as_ref(),
     ];
+    args.extend(more.iter().map(std::ffi::OsStr::new));
     check_golden(name, &args);
 }
 
 #[test]
 fn whitted_showcase() {
     check_scene_golden("showcase", "scenes/showcase/showcase.toml", (128, 72));
+}
+
+/// The path model on the showcase: light bouncing between the floor, the spheres and
+/// the glass (16 samples a pixel, so the golden holds its noise too: the samples are
+/// the same on every machine).
+#[test]
+fn path_traced_showcase() {
+    check_scene_golden_with(
+        "showcase-path",
+        "scenes/showcase/showcase.toml",
+        (128, 72),
+        &["--integrator", "path", "--spp", "16", "--aa", "1"],
+    );
 }
 
 #[test]
