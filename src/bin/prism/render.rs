@@ -118,8 +118,8 @@ pub struct JobArgs {
     #[arg(long, default_value = "half", value_parser = ["half", "float"])]
     pub exr_precision: String,
     /// Intersector.
-    #[arg(long, default_value = "bvh", value_parser = crate::accel_parser())]
-    pub accel: AccelKind,
+    #[arg(long, value_parser = crate::accel_parser())]
+    pub accel: Option<AccelKind>,
     /// Worker threads (default: every core). The image does not depend on it.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
