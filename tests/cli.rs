@@ -335,20 +335,35 @@ fn a_path_traced_image_is_the_same_on_any_thread_count_and_in_any_window() {
             .arg("render")
             .arg(&scene)
             .arg(&out)
-            .args(["--integrator", "path", "--width", "48", "--spp", "4", "--quiet"])
+            .args([
+                "--integrator",
+                "path",
+                "--width",
+                "48",
+                "--spp",
+                "4",
+                "--quiet",
+            ])
             .args(["--exr-precision", "float"])
             .args(more));
         assert!(o.status.success(), "{}", stderr(&o));
         out
     };
     let one = fs::read(render("t1.exr", &["--threads", "1"])).unwrap();
-    assert_eq!(one, fs::read(render("t3.exr", &["--threads", "3"])).unwrap());
+    assert_eq!(
+        one,
+        fs::read(render("t3.exr", &["--threads", "3"])).unwrap()
+    );
     assert_ne!(one, fs::read(render("s1.exr", &["--seed", "1"])).unwrap());
     let full = load_rgb(&render("full.png", &[]));
     let part = load_rgb(&render("part.png", &["--region", "10,5,20,12"]));
     for y in 0..12 {
         for x in 0..20 {
-            assert_eq!(part.get_pixel(x, y), full.get_pixel(10 + x, 5 + y), "{x},{y}");
+            assert_eq!(
+                part.get_pixel(x, y),
+                full.get_pixel(10 + x, 5 + y),
+                "{x},{y}"
+            );
         }
     }
 }
