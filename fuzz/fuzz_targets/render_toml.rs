@@ -1,7 +1,9 @@
 //! The whole pipeline on a Prism scene file: arbitrary text (inputs naming paths are
 //! skipped, so no file of the machine is read), resolved as the command line resolves
 //! it, then rendered with the whitted model at 8x8, one ray per pixel, on one thread,
-//! once with each BVH layout: the two images must be the same, bit for bit. Area
+//! once with each BVH layout: the two images must be the same, bit for bit. The path
+//! model renders it too (two samples a pixel, at most four bounces), with the same
+//! check. Area
 //! lights, glass, spot and directional lights, checkers and emitters all come from the
 //! text, so every light kind's samples in lanes and every shadow path runs.
 #![no_main]
@@ -55,14 +57,18 @@ fuzz_target!(|data: &[u8]| {
     let Ok(still) = resolve(file, &options) else {
         return;
     };
-    let render = |accel| {
+    let render_with = |accel, integrator, spp, max_depth| {
         let settings = prism::render::RenderSettings {
             accel,
+            integrator,
+            spp: Some(spp),
+            max_depth,
             ..still.settings.clone()
         };
         let renderer = Renderer::new(&still.scene, &still.camera, settings).ok()?;
         Some(renderer.render(&()).ok()?.0)
     };
+    let render = |accel| render_with(accel, IntegratorKind::Whitted, 1, still.settings.max_depth);
     let Some(image) = render(AccelKind::Bvh) else {
         return;
     };
@@ -73,6 +79,13 @@ fuzz_target!(|data: &[u8]| {
     let copied =
         render(AccelKind::BvhCopied).expect("the copied layout renders where the other did");
     assert_eq!(bits(&image), bits(&copied));
+    let path = |accel| render_with(accel, IntegratorKind::Path, 2, 4);
+    if let Some(image) = path(AccelKind::Bvh) {
+        assert_eq!((image.width, image.height), (8, 8));
+        let copied = path(AccelKind::BvhCopied).expect("the copied layout renders a path too");
+        assert_eq!(bits(&image), bits(&copied));
+        assert!(image.pixels.iter().flatten().all(|v| v.is_finite()));
+    }
     // As in render_objx: wait for the renderer's worker to exit, so LeakSanitizer does
     // not report its thread-local memory.
     let deadline = Instant::now() + Duration::from_secs(1);

@@ -47,6 +47,34 @@ pub struct Path<'a> {
     cuts_out: bool,
     /// What rays that leave the scene see, and how it is sampled.
     environment: Option<Environment>,
+    /// How light that two strategies can find is weighed between them.
+    weighing: Weighing,
+}
+
+/// How the light that both a light's samples and the BSDF's can find is shared between
+/// the two estimates. Renders weigh by the power heuristic; the others exist so tests
+/// can hold each strategy alone to the weighed sum.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Weighing {
+    /// Veach's power heuristic: the lower variance of the two where each is good.
+    PowerHeuristic,
+    /// Light sampling alone (BSDF samples that meet a light add nothing).
+    LightsOnly,
+    /// BSDF sampling alone (light samples of lights with an extent add nothing).
+    BsdfOnly,
+}
+
+impl Weighing {
+    /// The weight of a sample one strategy drew with density `own` (`from_light`: the
+    /// light's) that the other would draw with density `other`.
+    #[inline]
+    fn of(self, own: f32, other: f32, from_light: bool) -> f32 {
+        match self {
+            Weighing::PowerHeuristic => power_heuristic(own, other),
+            Weighing::LightsOnly => from_light as u8 as f32,
+            Weighing::BsdfOnly => !from_light as u8 as f32,
+        }
+    }
 }
 
 impl<'a> Path<'a> {
@@ -85,7 +113,14 @@ impl<'a> Path<'a> {
             shaped_lights,
             cuts_out: surfaces.iter().any(|s| s.alpha_map.is_some()),
             environment: Environment::of(scene),
+            weighing: Weighing::PowerHeuristic,
         }
+    }
+
+    /// The same integrator weighing the two strategies by `weighing`.
+    pub fn weighing(mut self, weighing: Weighing) -> Path<'a> {
+        self.weighing = weighing;
+        self
     }
 
     #[inline]
@@ -124,7 +159,8 @@ impl<'a> Path<'a> {
             if let Some((light, t, normal)) = self.shaped_light_hit(&ray, t_scene) {
                 let le = light.color * light.intensity;
                 let w = last.map_or(1.0, |(p, pdf)| {
-                    power_heuristic(pdf, light.pdf_incident(p, ray.at(t), normal))
+                    self.weighing
+                        .of(pdf, light.pdf_incident(p, ray.at(t), normal), false)
                 });
                 l += beta * le * w;
                 break;
@@ -132,7 +168,9 @@ impl<'a> Path<'a> {
             let Some((hit, sp)) = found else {
                 if let Some(env) = &self.environment {
                     let le = env.radiance(self.scene, ray.dir);
-                    let w = last.map_or(1.0, |(_, pdf)| power_heuristic(pdf, env.pdf(ray.dir)));
+                    let w = last.map_or(1.0, |(_, pdf)| {
+                        self.weighing.of(pdf, env.pdf(ray.dir), false)
+                    });
                     l += beta * le * w;
                 }
                 break;
@@ -160,7 +198,8 @@ impl<'a> Path<'a> {
                     * light.map_or(1.0, |light| light.intensity);
                 let w = match (last, light) {
                     (Some((p, pdf)), Some(light)) => {
-                        power_heuristic(pdf, light.pdf_incident(p, sp.p, sp.ng))
+                        self.weighing
+                            .of(pdf, light.pdf_incident(p, sp.p, sp.ng), false)
                     }
                     _ => 1.0,
                 };
@@ -294,7 +333,7 @@ impl<'a> Path<'a> {
         }
         let cos = bsdf_cos(bsdf, dir);
         let contribution = if pdf > 0.0 {
-            f * li * (cos * power_heuristic(pdf, bsdf.pdf(dir)) / pdf)
+            f * li * (cos * self.weighing.of(pdf, bsdf.pdf(dir), true) / pdf)
         } else {
             f * li * cos
         };
@@ -305,7 +344,8 @@ impl<'a> Path<'a> {
     }
 
     /// Whether nothing blocks the segment from `from` (geometric normal `ng`) along
-    /// `dir` for `dist`; alpha cut-outs let it through.
+    /// `dir` for `dist`; alpha cut-outs let it through, and lights that are not
+    /// geometry stop it from their emitting side only.
     fn visible(&self, from: Vec3, ng: Vec3, dir: Vec3, dist: f32, count: &mut RayCount) -> bool {
         count.rays += 1;
         let origin = offset_origin(from, ng, dir);
@@ -320,6 +360,12 @@ impl<'a> Path<'a> {
             return true;
         }
         let mut ray = Ray { origin, dir };
+        // A light that is not geometry stops shadow rays that meet its emitting side,
+        // as it stops every other ray: light from behind it does not reach the point
+        // by either strategy.
+        if self.shaped_light_hit(&ray, t_max).is_some() {
+            return false;
+        }
         if !self.cuts_out {
             return !self.accel.occluded(&ray, t_max, |_| true);
         }

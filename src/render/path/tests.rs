@@ -33,18 +33,36 @@ fn matte(c: f32) -> Surface {
 
 /// The mean radiance along `ray` over `n` samples.
 fn mean_radiance(s: &Scene, ray: Ray, n: u32) -> Vec3 {
+    weighed_radiance(s, ray, n, Weighing::PowerHeuristic)
+}
+
+/// [`mean_radiance`] with the strategies weighed by `weighing`.
+fn weighed_radiance(s: &Scene, ray: Ray, n: u32, weighing: Weighing) -> Vec3 {
+    estimate(s, ray, n, weighing).0
+}
+
+/// The mean radiance along `ray` over `n` samples and its standard error.
+fn estimate(s: &Scene, ray: Ray, n: u32, weighing: Weighing) -> (Vec3, Vec3) {
     let accel = Accel::build(AccelKind::List, &s.shapes);
     let surfaces = s.resolved_surfaces();
-    let path = Path::new(s, &accel, &surfaces, crate::options::MAX_PATH_DEPTH);
+    let path = Path::new(s, &accel, &surfaces, crate::options::MAX_PATH_DEPTH).weighing(weighing);
     let mut count = RayCount::default();
     // Summed in f64: thousands of f32 additions would drift by 1e-4.
-    let mut sum = glam::DVec3::ZERO;
+    let (mut sum, mut squares) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
     for i in 0..n {
         let mut sampler = PixelSampler::for_sample(11, 0, 0, i);
         let hit = accel.closest(&ray, f32::INFINITY);
-        sum += path.radiance(ray, hit, &mut sampler, &mut count).as_dvec3();
+        let l = path.radiance(ray, hit, &mut sampler, &mut count).as_dvec3();
+        sum += l;
+        squares += l * l;
     }
-    Vec3::from((sum / f64::from(n)).as_vec3())
+    let n = f64::from(n);
+    let mean = sum / n;
+    let variance = (squares / n - mean * mean).max(glam::DVec3::ZERO);
+    (
+        Vec3::from(mean.as_vec3()),
+        Vec3::from((variance / n).sqrt().as_vec3()),
+    )
 }
 
 fn assert_near(got: Vec3, want: f32, tol: f32, what: &str) {
@@ -480,4 +498,66 @@ fn an_environment_image_is_drawn_by_its_brightness() {
     }
     let total = total * 4.0 * std::f64::consts::PI / (2 * k * k) as f64;
     assert!((total - 1.0).abs() < 0.01, "{total}");
+}
+
+#[test]
+fn light_sampling_alone_and_bsdf_sampling_alone_agree_with_their_weighed_sum() {
+    // A glossy floor under a disk light, beside a diffuse wall, in a dim sky: light
+    // that each strategy finds well and light it finds badly.
+    let glossy = Surface {
+        specular: Vec3::splat(0.4),
+        shininess: 30.0,
+        ..matte(0.4)
+    };
+    let s = scene(
+        vec![
+            (
+                Shape::Rectangle(Rectangle {
+                    v: [
+                        Vec3::new(-5.0, 0.0, -5.0),
+                        Vec3::new(-5.0, 0.0, 5.0),
+                        Vec3::new(5.0, 0.0, 5.0),
+                        Vec3::new(5.0, 0.0, -5.0),
+                    ],
+                }),
+                glossy,
+            ),
+            (
+                Shape::Sphere(Sphere {
+                    center: Vec3::new(-1.5, 1.0, 0.0),
+                    radius: 1.0,
+                }),
+                matte(0.7),
+            ),
+        ],
+        vec![area_light(
+            LightKind::Disk {
+                normal: normalize(Vec3::new(-0.3, -1.0, 0.0)),
+                radius: 0.7,
+            },
+            Vec3::new(1.0, 2.5, 0.0),
+            4.0,
+        )],
+        Background::Color(Vec3::new(0.1, 0.15, 0.3)),
+    );
+    for target in [Vec3::new(0.5, 0.0, 0.3), Vec3::new(-0.8, 0.0, 1.2)] {
+        let from = Vec3::new(-2.0, 1.5, 3.0);
+        let ray = Ray::new(from, target - from);
+        let (mis, mis_error) = estimate(&s, ray, 40_000, Weighing::PowerHeuristic);
+        for weighing in [Weighing::LightsOnly, Weighing::BsdfOnly] {
+            let (alone, error) = estimate(&s, ray, 40_000, weighing);
+            // Within four standard errors (of the two, taken as independent: they
+            // share their random streams, so the bound is loose, not tight).
+            let bound = (error * error + mis_error * mis_error).sqrt() * 4.0;
+            assert!(
+                (alone - mis).abs().cmple(bound).all(),
+                "{weighing:?} at {target}: {alone} against {mis}, bound {bound}"
+            );
+            // Each strategy alone is noisier than the two weighed.
+            assert!(
+                error.max_element() > mis_error.max_element(),
+                "{weighing:?}"
+            );
+        }
+    }
 }
