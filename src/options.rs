@@ -158,6 +158,48 @@ pub const DEFAULT_MAX_DEPTH: u32 = 10;
 /// bound keeps a path between two white mirrors finite all the same.
 pub const MAX_PATH_DEPTH: u32 = 1024;
 
+/// A pass for compositing and denoising, written beside the image as a layer of its
+/// OpenEXR file: what the camera's rays first meet.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Aov {
+    /// The surface's albedo (linear RGB, textures and vertex colours included).
+    Albedo,
+    /// The shading normal, world space, on the side the ray came from.
+    Normal,
+    /// The distance along the ray to the surface (0 where it escapes).
+    Depth,
+}
+
+impl Aov {
+    /// Every pass, in the order messages list them.
+    pub const ALL: [Aov; 3] = [Aov::Albedo, Aov::Normal, Aov::Depth];
+
+    /// Its name: what `--aov` takes and the layer is called.
+    pub fn name(self) -> &'static str {
+        match self {
+            Aov::Albedo => "albedo",
+            Aov::Normal => "normal",
+            Aov::Depth => "depth",
+        }
+    }
+
+    /// The channels of its layer.
+    pub fn channels(self) -> &'static [&'static str] {
+        match self {
+            Aov::Albedo => &["R", "G", "B"],
+            Aov::Normal => &["X", "Y", "Z"],
+            Aov::Depth => &["Z"],
+        }
+    }
+}
+
+impl std::str::FromStr for Aov {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        by_name(s, &Aov::ALL, Aov::name, "pass")
+    }
+}
+
 /// A window `x, y, width, height` of the final frame, in output pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Region {

@@ -367,3 +367,75 @@ fn a_path_traced_image_is_the_same_on_any_thread_count_and_in_any_window() {
         }
     }
 }
+
+/// `--aov` writes the albedo, the normal and the distance of what each pixel sees as
+/// layers of the EXR, beside the image: a floor of a known colour seen from above.
+#[test]
+fn passes_are_layers_of_the_exr_with_the_floor_s_albedo_normal_and_distance() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("floor.toml");
+    fs::write(
+        &scene,
+        "[camera]\nfrom = [0, 2, 0]\nat = [0, 0, 0]\nup = [0, 0, -1]\nfov = 20\n\
+         [render]\nwidth = 8\nheight = 8\n\
+         [[light]]\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = 2\n\
+         [[material]]\nname = \"paint\"\ncolor = [0.25, 0.5, 0.75]\n\
+         [[object]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\nmaterial = \"paint\"\n",
+    )
+    .unwrap();
+    for integrator in ["whitted", "path"] {
+        let out = dir.path().join(format!("{integrator}.exr"));
+        let o = run(prism()
+            .arg("render")
+            .arg(&scene)
+            .arg(&out)
+            .args(["--integrator", integrator, "--spp", "4", "--quiet"])
+            .args(["--aov", "albedo,normal,depth", "--exr-precision", "float"]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        let image = exr::prelude::read_all_flat_layers_from_file(&out).unwrap();
+        let names: Vec<String> = image
+            .layer_data
+            .iter()
+            .map(|l| {
+                l.attributes
+                    .layer_name
+                    .as_ref()
+                    .map_or(String::new(), |n| n.to_string())
+            })
+            .collect();
+        assert_eq!(names, ["image", "albedo", "normal", "depth"]);
+        let channel = |layer: usize, name: &str| -> Vec<f32> {
+            let l = &image.layer_data[layer];
+            let c = l
+                .channel_data
+                .list
+                .iter()
+                .find(|c| c.name.to_string() == name)
+                .unwrap();
+            c.sample_data.values_as_f32().collect()
+        };
+        for (name, want) in [("R", 0.25), ("G", 0.5), ("B", 0.75)] {
+            assert!(
+                channel(1, name).iter().all(|&v| (v - want).abs() < 1e-6),
+                "{name}"
+            );
+        }
+        assert!(channel(2, "Y").iter().all(|&v| (v - 1.0).abs() < 1e-6));
+        assert!(channel(2, "X").iter().all(|&v| v.abs() < 1e-6));
+        // The distance grows toward the corners: 2 / cos of the ray's angle.
+        let depth = channel(3, "Z");
+        let centre = depth[3 * 8 + 3];
+        assert!((centre - 2.0).abs() < 0.01, "{centre}");
+        assert!(depth[0] > centre && depth[0] < 2.0 / (10f32.to_radians().cos().powi(2)));
+        // The image is still the first part.
+        assert!(channel(0, "R").iter().any(|&v| v > 0.0));
+    }
+    let o = run(prism()
+        .arg("render")
+        .arg(&scene)
+        .arg(dir.path().join("out.png"))
+        .args(["--aov", "albedo"]));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("OpenEXR"), "{}", stderr(&o));
+    assert!(!dir.path().join("out.png").exists());
+}

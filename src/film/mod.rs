@@ -11,5 +11,8 @@ pub mod tev;
 pub use crate::util::hdr::{ExrPrecision, read_linear_image};
 pub use crate::util::image::{Image, quantize};
 pub use develop::{Develop, ToneMap, Transfer};
-pub use output::{OutputFile, OutputFormat, OutputOptions, PngBits, file_bytes, write_image};
+pub use output::{
+    OutputFile, OutputFormat, OutputOptions, PngBits, file_bytes, write_exr_with_passes,
+    write_image,
+};
 pub use stream::PngStream;

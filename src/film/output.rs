@@ -209,6 +209,30 @@ pub fn write_image(image: &Image, path: &Path, options: &OutputOptions) -> Resul
     })
 }
 
+/// Writes `image` to `path` as OpenEXR with each pass of `passes` as a layer named
+/// after it ([`crate::options::Aov`]); a path of another format is refused.
+pub fn write_exr_with_passes(
+    image: &Image,
+    passes: &[(crate::options::Aov, Image)],
+    path: &Path,
+    options: &OutputOptions,
+) -> Result<()> {
+    if check_output_path(path)? != OutputFormat::Exr {
+        return Err(Error::Settings(format!(
+            "passes (--aov) are written as layers of an OpenEXR file: {} is not .exr",
+            crate::util::text::shown(&path.display().to_string())
+        )));
+    }
+    let layers: Vec<(&str, &[&str], &Image)> = passes
+        .iter()
+        .map(|(aov, img)| (aov.name(), aov.channels(), img))
+        .collect();
+    write_atomically(path, |out| {
+        crate::util::hdr::write_exr_layers(image, &layers, options.exr_precision, out)
+            .map_err(|e| Error::file(path, format!("cannot encode image: {e}")))
+    })
+}
+
 /// The bytes of the file `image` would be written as with extension `ext`: written
 /// in a private temporary folder by [`write_image`] and read back, so they are the
 /// bytes a file of that name gets.

@@ -1,6 +1,7 @@
 //! From scene to samples: camera rays, the shading model, and the parallel loop that
 //! fills the supersampled frame band by band and hands each band to the film.
 
+pub mod aov;
 pub mod camera;
 pub mod classic;
 pub mod memory;
@@ -233,6 +234,26 @@ impl<'a> Renderer<'a> {
     /// observer cancelled it.
     pub fn render(&self, observer: &dyn Observer) -> Result<(Image, RenderStats)> {
         self.drive(None, observer)
+    }
+
+    /// Passes `aovs` of the image [`Renderer::render`] makes, through its camera
+    /// samples and resampling, one image each (depth's value in every channel).
+    pub fn render_aovs(&self, aovs: &[crate::options::Aov]) -> Result<Vec<Image>> {
+        if aovs.is_empty() {
+            return Ok(Vec::new());
+        }
+        let pool = self.pool()?;
+        Ok(pool.install(|| {
+            let accel = Accel::build(self.plan.accel, &self.scene.shapes);
+            let surfaces = self.scene.resolved_surfaces();
+            let spread = matches!(self.plan.integrator, IntegratorKind::Path);
+            aovs.iter()
+                .map(|&aov| {
+                    let tracer = aov::AovTracer::new(self.scene, &accel, &surfaces, aov, spread);
+                    self.render_frame(&tracer, &accel, Instant::now(), &()).0
+                })
+                .collect()
+        }))
     }
 
     /// Builds the intersector [`Renderer::render`] would, on the renderer's threads.

@@ -96,6 +96,52 @@ pub fn write_exr(
     }
 }
 
+/// Writes `image` with more layers beside it, each named and with its own channels
+/// taken from the first channels of its image (a depth layer's one channel "Z"): one
+/// file of several parts, as compositors read render passes. The image is the first
+/// part, "image" (R, G, B): a reader that takes the first part sees it.
+pub fn write_exr_layers(
+    image: &Image,
+    layers: &[(&str, &[&str], &Image)],
+    precision: ExrPrecision,
+    out: impl Write + Seek,
+) -> Result<(), exr::error::Error> {
+    use exr_img::{AnyChannel, AnyChannels, FlatSamples, Layer, LayerAttributes, Text};
+    let size = (image.width as usize, image.height as usize);
+    let layer = |name: &str, channels: &[&str], img: &Image| {
+        let channels = channels
+            .iter()
+            .enumerate()
+            .map(|(c, &n)| {
+                let values = img.pixels.iter().map(|p| finite_or_zero(p[c.min(2)]));
+                let samples = match precision {
+                    ExrPrecision::Float => FlatSamples::F32(values.collect()),
+                    ExrPrecision::Half => FlatSamples::F16(values.map(to_half).collect()),
+                };
+                AnyChannel::new(n, samples)
+            })
+            .collect();
+        let attributes = LayerAttributes {
+            layer_name: Some(Text::from(name)),
+            ..LayerAttributes::default()
+        };
+        Layer::new(
+            size,
+            attributes,
+            exr_img::Encoding::SMALL_LOSSLESS,
+            AnyChannels::sort(channels),
+        )
+    };
+    let mut parts = vec![layer("image", &["R", "G", "B"], image)];
+    for (name, channels, img) in layers {
+        parts.push(layer(name, channels, img));
+    }
+    let attributes = exr_img::ImageAttributes::new(exr_img::IntegerBounds::from_dimensions(size));
+    exr_img::Image::from_layers(attributes, parts)
+        .write()
+        .to_buffered(out)
+}
+
 /// Rounds to half, saturating: a finite radiance never becomes an infinity in the file.
 fn to_half(v: f32) -> exr_img::f16 {
     let max = exr_img::f16::MAX.to_f32();

@@ -29,6 +29,10 @@ pub struct RenderArgs {
     /// default port is 14158), as well as writing it.
     #[arg(long, value_name = "HOST:PORT")]
     pub display: Option<String>,
+    /// Passes written beside the image as layers of its OpenEXR file, for compositing
+    /// and denoising: albedo, normal, depth (comma-separated).
+    #[arg(long, value_name = "PASSES", value_delimiter = ',', value_parser = names_parser::<prism::options::Aov, 3>(prism::options::Aov::ALL.map(prism::options::Aov::name)))]
+    pub aov: Vec<prism::options::Aov>,
     /// No progress bar and no warnings.
     #[arg(long, short)]
     pub quiet: bool,
@@ -210,7 +214,13 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     };
     args.limits.apply()?;
     // Refuse a bad output path before spending time on the render.
-    check_output_path(output)?;
+    let format = check_output_path(output)?;
+    if !args.aov.is_empty() && format != prism::film::OutputFormat::Exr {
+        return Err(prism::Error::Settings(format!(
+            "--aov writes its passes as layers of an OpenEXR file: give an .exr output, not {}",
+            output.display()
+        )));
+    }
     let options = args.job.options(camera_file)?;
     // Loading (texture images decode in parallel) and development run on the threads
     // the render is given, so `--threads 1` is one thread throughout.
@@ -257,8 +267,14 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     if interrupt.stop.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(prism::Error::Interrupted);
     }
-    // Formats written from the finished image develop its rows in parallel.
-    on_threads(pool.as_ref(), || file.finish(&image))?;
+    if args.aov.is_empty() {
+        // Formats written from the finished image develop its rows in parallel.
+        on_threads(pool.as_ref(), || file.finish(&image))?;
+    } else {
+        let passes = renderer.render_aovs(&args.aov)?;
+        let passes: Vec<_> = args.aov.iter().copied().zip(passes).collect();
+        prism::film::write_exr_with_passes(&image, &passes, output, &job.output)?;
+    }
     if !args.quiet {
         eprintln!(
             "{}",
