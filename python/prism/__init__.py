@@ -35,6 +35,7 @@ __all__ = [
     "animate",
     "load_scene",
     "render",
+    "render_passes",
     "scene_from_dict",
     "restrict_paths",
     "show",
@@ -232,6 +233,25 @@ def render(
     finally:
         close()
     return np.frombuffer(data, dtype=np.dtype(dtype)).reshape(h, w, 3)
+
+
+def render_passes(
+    scene: Scene,
+    passes: Tuple[str, ...] = ("albedo", "normal"),
+    camera: Optional[Camera] = None,
+    **options: Any,
+) -> Dict[str, np.ndarray]:
+    """Passes for compositing and denoising of the image :func:`render` makes with the
+    same options, through its own camera samples and filter, so they line up with it
+    pixel for pixel: ``albedo`` (H x W x 3), ``normal`` (H x W x 3, world space, facing
+    the camera) and ``depth`` (H x W, the distance along the ray; 0 where it escapes).
+    They are the auxiliary images Intel Open Image Denoise takes (``pyoidn``)."""
+    rendered = _prism.render_passes(scene, list(passes), camera, options)
+    out: Dict[str, np.ndarray] = {}
+    for name, (data, w, h) in zip(passes, rendered):
+        a = np.frombuffer(data, dtype=np.float32).reshape(h, w, 3)
+        out[name] = a[..., 0].copy() if name == "depth" else a
+    return out
 
 
 def _cell_preview() -> Callable[[bytes, int, int], None]:

@@ -37,6 +37,7 @@ fn _prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(still::render, m)?)?;
+    m.add_function(wrap_pyfunction!(still::render_passes, m)?)?;
     m.add_function(wrap_pyfunction!(still::plan, m)?)?;
     m.add_function(wrap_pyfunction!(image::write_image, m)?)?;
     m.add_function(wrap_pyfunction!(image::encode_png, m)?)?;

@@ -140,3 +140,32 @@ pub fn plan<'py>(
     d.set_item("warnings", job.warnings.clone())?;
     Ok(d)
 }
+
+/// Renders passes `names` (`albedo`, `normal`, `depth`) of the image the same options
+/// make: each through the image's own camera samples and filter. Returns, per pass,
+/// its f32 pixels (three channels; depth's value in each), width and height.
+#[pyfunction]
+#[pyo3(signature = (scene, names, camera = None, options = None))]
+pub fn render_passes<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    names: Vec<String>,
+    camera: Option<&Camera>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Vec<(Bound<'py, PyByteArray>, u32, u32)>> {
+    let aovs = names
+        .iter()
+        .map(|n| n.parse::<prism::options::Aov>())
+        .collect::<Result<Vec<_>, String>>()
+        .map_err(pyo3::exceptions::PyValueError::new_err)?;
+    let job = resolve(py, scene, camera, options)?;
+    let renderer = job.renderer().py_err(py)?;
+    let images = py.detach(|| renderer.render_aovs(&aovs)).py_err(py)?;
+    Ok(images
+        .iter()
+        .map(|image| {
+            let bytes: &[u8] = bytemuck::cast_slice(&image.pixels);
+            (PyByteArray::new(py, bytes), image.width, image.height)
+        })
+        .collect())
+}

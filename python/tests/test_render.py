@@ -255,3 +255,21 @@ def test_the_path_model_renders_the_same_on_any_thread_count():
     assert np.array_equal(one, two)
     whitted = prism.render(scene, width=48, aa=1, integrator="whitted")
     assert not np.array_equal(one, whitted)
+
+
+def test_passes_line_up_with_the_image_and_say_what_each_pixel_sees():
+    scene = prism.load_scene(SHOWCASE)
+    options = dict(width=64, aa=1, integrator="path", spp=2)
+    image = prism.render(scene, **options)
+    passes = prism.render_passes(scene, ("albedo", "normal", "depth"), **options)
+    assert passes["albedo"].shape == image.shape
+    assert passes["depth"].shape == image.shape[:2]
+    # Normals are unit vectors where a surface is seen (depth > 0), zero elsewhere;
+    # only pixels on an edge average two of them.
+    seen = passes["depth"] > 0
+    lengths = np.linalg.norm(passes["normal"], axis=-1)
+    assert seen.any() and (~seen).any()  # the floor, and the sky above it
+    assert np.mean(np.abs(lengths[seen] - 1.0) < 0.05) > 0.8
+    assert (passes["albedo"][~seen] == 0).all() and (lengths[~seen] == 0).all()
+    with pytest.raises(ValueError, match="albedo, normal or depth"):
+        prism.render_passes(scene, ("shadows",), **options)
