@@ -45,7 +45,7 @@ Subcommands:
       kernels on disk in ~/.drjit, so only a first-ever llvm run pays the whole
       compilation), minimum and median; ratios Mitsuba time / Prism time against the
       targets (>= 1x llvm_ad_rgb, >= 3x scalar_rgb). Then time to equal error: the
-      spp at which Prism's RMSE (fitted as c / sqrt(spp) from renders at --fit-spps,
+      spp at which Prism's RMSE (fitted as c * spp^k from renders at --fit-spps,
       the reference's own noise taken out) equals Mitsuba llvm_ad_rgb's at --spp,
       Prism timed there, against Mitsuba's time (target >= 1x). Needs a reference for
       that part (run `reference`).
@@ -648,17 +648,6 @@ def without_floor(rmse, floor_mse):
     return math.sqrt(max(rmse * rmse - floor_mse, 0.01 * rmse * rmse))
 
 
-def inverse_sqrt_fit(spps, rmses):
-    """c of RMSE = c / sqrt(spp), fitted in log space (the geometric mean of
-    RMSE * sqrt(spp))."""
-    logs = [math.log(r) + 0.5 * math.log(s) for s, r in zip(spps, rmses, strict=True)]
-    return math.exp(sum(logs) / len(logs))
-
-
-# --------------------------------------------------------------------------------------
-# Prism.
-
-
 def prism_command(prism, scene, out, spp, seed, threads=None):
     command = [str(prism), "render", str(scene), str(out),
                "--integrator", "path", "--spp", str(spp), "--aa", "1",
@@ -909,6 +898,8 @@ def print_speed_table(args, figures, errors):
 
 def equal_error(args, mi, llvm_exr, llvm_time, folder):
     """Prism's time at the spp where its RMSE matches Mitsuba llvm's at --spp."""
+    import numpy as np
+
     found = reference_for(args, render_if_missing=False)
     if not found:
         print("\ntime to equal error: no cached reference; run `reference` first")
@@ -922,11 +913,14 @@ def equal_error(args, mi, llvm_exr, llvm_time, folder):
         out = Path(folder) / f"fit-{spp}.exr"
         run_prism(args.prism, args.scene, out, spp, seed=100 + k, threads=args.threads)
         rmses.append(compare_images(read_exr(mi, out), reference)["rmse"])
-    # Both RMSEs carry the reference's noise; matched without it, Prism's fit is the
-    # 1 / sqrt(spp) law that its own noise follows.
+    # Both RMSEs carry the reference's noise; matched without it, Prism's error is
+    # fitted as c * spp^k, k measured rather than assumed: stratified (Sobol) samples
+    # converge faster than 1 / sqrt(spp).
     floor_mse = reference_noise_mse({args.spp: llvm_rmse ** 2}, ref_info["spp"])
-    c = inverse_sqrt_fit(fit_spps, [without_floor(r, floor_mse) for r in rmses])
-    spp_equal = max(1, round((c / without_floor(llvm_rmse, floor_mse)) ** 2))
+    own = [without_floor(r, floor_mse) for r in rmses]
+    slope, log_c = np.polyfit(np.log(fit_spps), np.log(own), 1)
+    c = float(np.exp(log_c))
+    spp_equal = max(1, round((without_floor(llvm_rmse, floor_mse) / c) ** (1.0 / slope)))
     out = Path(folder) / "prism-equal.exr"
     command = prism_command(args.prism, args.scene, out, spp_equal, 200, args.threads)
     try:
@@ -943,7 +937,7 @@ def equal_error(args, mi, llvm_exr, llvm_time, folder):
           f"{llvm_time['min']:.2f} s min, {llvm_time['median']:.2f} s median")
     print(f"  Prism RMSE at {fit_spps} spp: {[round(r, 5) for r in rmses]}; "
           f"slope {loglog_slope(fit_spps, rmses):+.3f}; without the reference's noise "
-          f"(RMSE {math.sqrt(floor_mse):.5f}) fitted as {c:.4f} / sqrt(spp)")
+          f"(RMSE {math.sqrt(floor_mse):.5f}) fitted as {c:.4f} * spp^{slope:.3f}")
     print(f"  Prism at {spp_equal} spp (equal error): RMSE {prism_rmse:.5f}, "
           f"{prism_equal['min']:.2f} s min, {prism_equal['median']:.2f} s median")
     print(f"  Mitsuba / Prism at equal error: {ratio_min:.2f}x (min), {ratio_median:.2f}x "
@@ -1052,8 +1046,9 @@ def parser():
                        help="timed runs of each, after a warm-up (default: %(default)s)")
     speed.add_argument("--threads", type=int, default=2,
                        help="threads of Prism and of Mitsuba (default: %(default)s)")
-    speed.add_argument("--fit-spps", default="16,64,256",
-                       help="Prism's spps for the 1/sqrt(spp) fit of its RMSE")
+    speed.add_argument("--fit-spps", default="4,8,16,32",
+                       help="Prism's spps for the c * spp^k fit of its RMSE (bracketing "
+                            "the equal-error spp)")
     speed.add_argument("--variant", help="the reference's variant for the equal-error part")
     speed.add_argument("--reference-spp", type=int)
     speed.add_argument("--json", help="write every figure to this file too")
