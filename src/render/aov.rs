@@ -2,14 +2,12 @@
 //! its albedo, shading normal or distance, through the same camera samples and the
 //! same resampling as the image, so a pass lines up with it pixel for pixel.
 
+use super::cut_outs::first_uncut;
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::{Ray, Vec3, offset_origin};
+use crate::math::{Ray, Vec3};
 use crate::options::Aov;
-use crate::scene::{Scene, Surface, SurfacePoint};
-
-/// Alpha cut-outs a camera ray passes through before the next surface counts.
-const MAX_CUT_OUTS: u32 = 64;
+use crate::scene::{Scene, Surface};
 
 /// An integrator whose "radiance" is one pass's value at the first surface.
 pub struct AovTracer<'a> {
@@ -42,9 +40,11 @@ impl<'a> AovTracer<'a> {
 
     /// The pass's value along `ray` whose closest hit is `hit`.
     fn value(&self, ray: &Ray, hit: Option<Hit>) -> Vec3 {
-        let Some((t, shape, sp)) = self.first_surface(ray, hit) else {
+        let Some((hit, sp)) = first_uncut(self.scene, self.accel, self.surfaces, ray, Some(hit))
+        else {
             return Vec3::ZERO;
         };
+        let (t, shape) = (hit.t, hit.shape);
         let s = &self.surfaces[self.scene.material_of[shape as usize] as usize];
         match self.aov {
             Aov::Albedo => self.scene.albedo(s, &sp, shape) * sp.color,
@@ -61,29 +61,6 @@ impl<'a> AovTracer<'a> {
             }
             Aov::Depth => Vec3::splat(t),
         }
-    }
-
-    /// The first surface along `ray` not cut out: its distance, shape and point.
-    fn first_surface(&self, ray: &Ray, hit: Option<Hit>) -> Option<(f32, u32, SurfacePoint)> {
-        let mut r = *ray;
-        let mut travelled = 0.0;
-        let mut known = Some(hit);
-        for _ in 0..MAX_CUT_OUTS {
-            let hit = match known.take() {
-                Some(hit) => hit,
-                None => self.accel.closest(&r, f32::INFINITY),
-            }?;
-            let s = &self.surfaces[self.scene.material_of[hit.shape as usize] as usize];
-            let sp = self
-                .scene
-                .surface_point(hit.shape, &r, hit.t, s.reads_texture_coords());
-            if !self.scene.cut_out(s, &sp) {
-                return Some((travelled + hit.t, hit.shape, sp));
-            }
-            travelled += hit.t;
-            r.origin = offset_origin(sp.p, sp.ng, r.dir);
-        }
-        None
     }
 }
 

@@ -4,6 +4,7 @@
 pub mod aov;
 pub mod camera;
 pub mod classic;
+mod cut_outs;
 pub mod memory;
 mod metallic_roughness;
 pub mod observer;

@@ -13,6 +13,7 @@ mod environment;
 #[cfg(test)]
 mod tests;
 
+use super::cut_outs::{MAX_CUT_OUTS, first_uncut};
 use super::metallic_roughness::PbrAt;
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
@@ -25,9 +26,6 @@ use environment::Environment;
 const ROULETTE_DEPTH: u32 = 5;
 /// A path is continued with at most this probability, so that every path ends.
 const MAX_CONTINUE: f32 = 0.95;
-/// Alpha cut-outs a ray or shadow ray passes through before the next surface is taken
-/// as final.
-const MAX_CUT_OUTS: u32 = 64;
 /// No emitter index.
 const NONE: u32 = u32::MAX;
 
@@ -154,7 +152,7 @@ impl<'a> Path<'a> {
         let mut depth = 0;
         loop {
             count.rays += 1;
-            let found = self.first_hit(&ray, known.take());
+            let found = first_uncut(self.scene, self.accel, self.surfaces, &ray, known.take());
             let t_scene = found.as_ref().map_or(f32::INFINITY, |(h, _)| h.t);
             if let Some((light, t, normal)) = self.shaped_light_hit(&ray, t_scene) {
                 let le = light.color * light.intensity;
@@ -386,37 +384,6 @@ impl<'a> Path<'a> {
             ray.origin = offset_origin(sp.p, sp.ng, dir);
         }
         false
-    }
-
-    /// The first surface along `ray` not cut out by its alpha map, given the ray's
-    /// closest hit when it is known.
-    fn first_hit(&self, ray: &Ray, known: Option<Option<Hit>>) -> Option<(Hit, SurfacePoint)> {
-        let mut r = *ray;
-        let mut travelled = 0.0;
-        let mut known = known;
-        for _ in 0..MAX_CUT_OUTS {
-            let hit = match known.take() {
-                Some(hit) => hit,
-                None => self.accel.closest(&r, f32::INFINITY),
-            }?;
-            let s = self.surface(hit.shape);
-            let sp = self
-                .scene
-                .surface_point(hit.shape, &r, hit.t, s.reads_texture_coords());
-            if !self.scene.cut_out(s, &sp) {
-                let t = travelled + hit.t;
-                return Some((
-                    Hit {
-                        t,
-                        shape: hit.shape,
-                    },
-                    sp,
-                ));
-            }
-            travelled += hit.t;
-            r.origin = offset_origin(sp.p, sp.ng, r.dir);
-        }
-        None
     }
 
     /// The nearest light that is not geometry `ray` meets before `t_max`.

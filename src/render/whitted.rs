@@ -167,7 +167,9 @@ impl<'a> Whitted<'a> {
         count: &mut RayCount,
     ) -> Vec3 {
         count.rays += 1;
-        let Some((hit, sp)) = self.first_hit(ray, hit) else {
+        let Some((hit, sp)) =
+            super::cut_outs::first_uncut(self.scene, self.accel, self.surfaces, ray, Some(hit))
+        else {
             return self.scene.background(ray.dir);
         };
         let s = self.surface(hit.shape);
@@ -291,37 +293,6 @@ impl<'a> Whitted<'a> {
             l += kt * self.radiance(&child, depth + 1, weight * kt, sampler, count);
         }
         absorbed * l
-    }
-
-    /// The first surface along `ray` that is not cut out by its alpha map, given the
-    /// ray's closest hit.
-    fn first_hit(&self, ray: &Ray, closest: Option<Hit>) -> Option<(Hit, SurfacePoint)> {
-        let mut r = *ray;
-        let mut travelled = 0.0;
-        let mut known = Some(closest);
-        for _ in 0..MAX_CROSSINGS {
-            let hit = match known.take() {
-                Some(hit) => hit,
-                None => self.accel.closest(&r, f32::INFINITY),
-            }?;
-            let uv = self.surface(hit.shape).reads_texture_coords();
-            let sp = self.scene.surface_point(hit.shape, &r, hit.t, uv);
-            if !self.cut_out(hit.shape, &sp) {
-                return Some((
-                    Hit {
-                        t: travelled + hit.t,
-                        shape: hit.shape,
-                    },
-                    sp,
-                ));
-            }
-            travelled += hit.t;
-            r = Ray {
-                origin: offset_origin(sp.p, sp.ng, r.dir),
-                dir: r.dir,
-            };
-        }
-        None
     }
 
     #[inline]
