@@ -87,6 +87,20 @@ impl PixelSampler {
     }
 }
 
+/// A light's stratified samples draw from the pixel's stream: squares and disks in the
+/// lattice patterns above.
+impl crate::scene::light::Strata for PixelSampler {
+    #[inline]
+    fn square(&mut self, i: u32, n: u32) -> (f32, f32) {
+        self.square_sample(i, n)
+    }
+
+    #[inline]
+    fn disk(&mut self, i: u32, n: u32) -> (f32, f32) {
+        self.disk_sample(i, n)
+    }
+}
+
 impl PixelSampler {
     /// Sample `i` of `n` stratified points on the unit square, in the lattice pattern
     /// of [`PixelSampler::disk_sample`]: the first coordinate in equal strata, the

@@ -10,12 +10,11 @@
 use super::optics::{fresnel_dielectric, refract};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::{Ray, Vec3, cross, highlight_pow, normalize, offset_origin, reflect, sin_cos};
-use crate::scene::light::sampling::{SphereCone, pick_triangle, triangle_point};
-use crate::scene::{Falloff, Highlight, Light, LightKind, Scene, Shape, Surface, SurfacePoint};
+use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect};
+use crate::scene::light::LightSample;
+use crate::scene::{Highlight, Light, Scene, Surface, SurfacePoint};
 
 mod casters;
-mod sample_lanes;
 mod shadow_batch;
 mod visibility;
 
@@ -73,17 +72,6 @@ pub struct Whitted<'a> {
     /// Shadow packets traced, for tests that hold the packets to being used.
     #[cfg(test)]
     packets_traced: std::sync::atomic::AtomicU32,
-}
-
-/// One sample of a light as seen from a shading point.
-#[derive(Clone, Copy)]
-struct LightSample {
-    /// Unit direction from the point toward the light.
-    dir: Vec3,
-    /// Distance to the sample (infinite for a directional light).
-    dist: f32,
-    /// Irradiance the sample delivers to a surface facing it.
-    e: Vec3,
 }
 
 impl<'a> Whitted<'a> {
@@ -249,7 +237,7 @@ impl<'a> Whitted<'a> {
                 self.add_area_light(light, &from, &shading, &mut l, sampler, count);
                 continue;
             }
-            self.for_each_sample(light, sp.p, sampler, |ls| {
+            light.for_each_sample(self.scene, self.surfaces, sp.p, sampler, |ls| {
                 let Some(shade) = shading(&ls) else {
                     return;
                 };
@@ -299,139 +287,6 @@ impl<'a> Whitted<'a> {
     fn cut_out(&self, shape: u32, sp: &SurfacePoint) -> bool {
         self.scene.cut_out(self.surface(shape), sp)
     }
-
-    /// Calls `f` with each sample of `light` seen from `p`: one for a point, spot or
-    /// directional light, `light.samples` stratified ones for an area light.
-    fn for_each_sample(
-        &self,
-        light: &Light,
-        p: Vec3,
-        sampler: &mut PixelSampler,
-        mut f: impl FnMut(LightSample),
-    ) {
-        let power = light.color * light.intensity;
-        let n = light.samples.max(1);
-        match &light.kind {
-            LightKind::Point | LightKind::Spot { .. } => {
-                let to = light.position - p;
-                let dist = to.length();
-                if dist <= 0.0 || !dist.is_finite() {
-                    return;
-                }
-                let dir = to / dist;
-                let mut e = power;
-                match light.falloff {
-                    Falloff::None => {}
-                    Falloff::InverseSquare => e /= dist * dist,
-                    range @ Falloff::Range { .. } => e *= range.at(dist),
-                }
-                if let LightKind::Spot {
-                    direction,
-                    cos_inner,
-                    cos_outer,
-                    edge,
-                } = light.kind
-                {
-                    let cos = (-dir).dot(direction.normalize_or_zero());
-                    e *= edge.at(cos_outer, cos_inner, cos);
-                }
-                f(LightSample { dir, dist, e });
-            }
-            LightKind::Directional { direction } => {
-                let dir = -direction.normalize_or_zero();
-                if dir != Vec3::ZERO {
-                    f(LightSample {
-                        dir,
-                        dist: f32::INFINITY,
-                        e: power,
-                    });
-                }
-            }
-            LightKind::Quad { u, v } => {
-                let normal = cross(*u, *v);
-                let area = normal.length();
-                let normal = normal / area;
-                for i in 0..n {
-                    let (a, b) = sampler.square_sample(i, n);
-                    let y = light.position + *u * (a - 0.5) + *v * (b - 0.5);
-                    if let Some(ls) = area_sample(p, y, normal, area / n as f32, power) {
-                        f(ls);
-                    }
-                }
-            }
-            LightKind::Disk { normal, radius } => {
-                let normal = normal.normalize_or(Vec3::Y);
-                let (t1, t2) = normal.any_orthonormal_pair();
-                let area = std::f32::consts::PI * radius * radius;
-                for i in 0..n {
-                    let (a, b) = sampler.disk_sample(i, n);
-                    let y = light.position + (t1 * a + t2 * b) * *radius;
-                    if let Some(ls) = area_sample(p, y, normal, area / n as f32, power) {
-                        f(ls);
-                    }
-                }
-            }
-            LightKind::Sphere { radius } => {
-                let Some(cone) = SphereCone::new(light.position, *radius, p) else {
-                    return;
-                };
-                for i in 0..n {
-                    let (a, b) = sampler.square_sample(i, n);
-                    let cos = cone.cos_of(a);
-                    let sin = (1.0 - cos * cos).max(0.0).sqrt();
-                    let (sp, cp) = sin_cos(b * std::f32::consts::TAU);
-                    let (axis, t1, t2) = (cone.axis, cone.t1, cone.t2);
-                    let dir = normalize(axis * cos + t1 * (sin * cp) + t2 * (sin * sp));
-                    f(LightSample {
-                        dir,
-                        dist: cone.near_side(cos),
-                        e: power * (cone.solid_angle / n as f32),
-                    });
-                }
-            }
-            LightKind::Mesh { shapes, cdf, area } => {
-                if shapes.is_empty() {
-                    return;
-                }
-                for i in 0..n {
-                    let (a, b) = sampler.square_sample(i, n);
-                    let (k, su) = pick_triangle(cdf, shapes.len(), a);
-                    let shape = shapes[k];
-                    let Shape::Triangle(tri) = self.scene.shapes.get(shape as usize) else {
-                        continue;
-                    };
-                    let y = triangle_point(tri.v, su, b);
-                    let le = self.surface(shape).emission * light.intensity;
-                    if let Some(ls) = area_sample(p, y, tri.normal(), area / n as f32, le) {
-                        f(ls);
-                    }
-                }
-            }
-        }
-    }
-}
-
-/// A sample at `y` on an emitter of radiance `le` with unit normal `normal`, standing
-/// for `area` of its surface: irradiance `le cos_l area / r^2` toward `p`. One-sided
-/// emitters (all but spheres) light only the side their normal faces.
-#[inline]
-fn area_sample(p: Vec3, y: Vec3, normal: Vec3, area: f32, le: Vec3) -> Option<LightSample> {
-    let to = y - p;
-    let d2 = to.length_squared();
-    if d2 <= 0.0 || !d2.is_finite() {
-        return None;
-    }
-    let dist = d2.sqrt();
-    let dir = to / dist;
-    let cos_l = -normal.dot(dir);
-    if cos_l <= 0.0 {
-        return None;
-    }
-    Some(LightSample {
-        dir,
-        dist,
-        e: le * (cos_l * area / d2),
-    })
 }
 
 /// The highlight term s(N, L, V), normalised if the material asks.

@@ -4,8 +4,10 @@
 use crate::math::{Vec3, cross};
 
 pub mod sampling;
+pub mod stratified;
 
 pub use sampling::Incident;
+pub use stratified::{LightSample, Strata};
 
 /// A light. The classic model uses only `position` (every light is a white point light
 /// there); the whitted model uses everything.

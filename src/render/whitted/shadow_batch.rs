@@ -10,9 +10,13 @@
 
 use crate::accel::{Accel, PACKET_RAYS};
 use crate::math::{Ray, Vec3};
+use crate::scene::light::stratified::lanes::LANES;
 
 use super::LightSample;
 use std::mem::MaybeUninit;
+
+// A chunk of a light's sample lanes fills one packet of shadow rays.
+const _: () = assert!(LANES == PACKET_RAYS);
 
 /// Light samples waiting for their shadow answers: up to [`PACKET_RAYS`].
 ///

@@ -4,7 +4,6 @@
 //! surface is clear to shadows, and an area light's samples from one point traced as
 //! one packet.
 
-use super::sample_lanes::{LANES, SampleLanes};
 use super::shadow_batch::ShadowBatch;
 use super::{
     FLAT_CROSSINGS, LightSample, MAX_CLEAR_CROSSINGS, MAX_CROSSINGS, WALK_SPHERES, Whitted,
@@ -12,6 +11,7 @@ use super::{
 use crate::accel::Hit;
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
 use crate::render::{PixelSampler, RayCount};
+use crate::scene::light::stratified::lanes::{LANES, SampleLanes};
 use crate::scene::{Light, Shape, Surface};
 use std::cell::Cell;
 use std::mem::MaybeUninit;
@@ -122,10 +122,18 @@ impl Whitted<'_> {
         // lies inside or behind glass, or in shadow) so do the rest.
         let (mut probe, mut alone) = (self.see_through, false);
         let n = light.samples.max(1);
-        let mut lanes = SampleLanes::new();
+        let mut lanes = SampleLanes::default();
         for first in (0..n).step_by(LANES) {
             let len = (n - first).min(LANES as u32) as usize;
-            self.area_sample_lanes(light, at.p, sampler, first, len, &mut lanes);
+            light.sample_lanes(
+                self.scene,
+                self.surfaces,
+                at.p,
+                sampler,
+                first,
+                len,
+                &mut lanes,
+            );
             for ls in lanes.lit() {
                 let Some(shade) = shading(&ls) else {
                     continue;

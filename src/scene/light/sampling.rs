@@ -5,7 +5,7 @@
 //! not geometry (quads, disks, spheres): what next-event estimation and multiple
 //! importance sampling ask of a light.
 
-use super::{Light, LightKind};
+use super::{Falloff, Light, LightKind};
 use crate::math::{Ray, Vec3, concentric_disk, cross, normalize, sin_cos};
 use crate::scene::{Scene, Shape, Surface};
 
@@ -31,6 +31,28 @@ impl Incident {
     }
 }
 
+/// A point drawn on a flat light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmitterPoint {
+    /// Where it lies.
+    pub y: Vec3,
+    /// The light's unit normal there: the side it emits to.
+    pub normal: Vec3,
+    /// The radiance it emits.
+    pub le: Vec3,
+}
+
+/// A triangle of an emissive mesh as its light samples it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshTriangle {
+    /// Its corners.
+    pub v: [Vec3; 3],
+    /// Its unit normal: the side it emits to.
+    pub normal: Vec3,
+    /// The radiance it emits.
+    pub le: Vec3,
+}
+
 impl Light {
     /// One sample of the light seen from `p`, drawn with `u` uniform in the unit
     /// square; `None` where the light sends nothing toward `p` (behind a one-sided
@@ -43,29 +65,9 @@ impl Light {
         p: Vec3,
         (a, b): (f32, f32),
     ) -> Option<Incident> {
-        let power = self.color * self.intensity;
         match &self.kind {
-            LightKind::Point | LightKind::Spot { .. } => {
-                let to = self.position - p;
-                let dist = to.length();
-                if dist <= 0.0 || !dist.is_finite() {
-                    return None;
-                }
-                let dir = to / dist;
-                let mut li = power * self.falloff.at(dist);
-                if let LightKind::Spot {
-                    direction,
-                    cos_inner,
-                    cos_outer,
-                    edge,
-                } = self.kind
-                {
-                    li *= edge.at(
-                        cos_outer,
-                        cos_inner,
-                        (-dir).dot(direction.normalize_or_zero()),
-                    );
-                }
+            LightKind::Point | LightKind::Spot { .. } | LightKind::Directional { .. } => {
+                let (dir, dist, li) = self.delta_irradiance(p)?;
                 Some(Incident {
                     dir,
                     dist,
@@ -73,56 +75,141 @@ impl Light {
                     pdf: 0.0,
                 })
             }
-            LightKind::Directional { direction } => {
-                let dir = -direction.normalize_or_zero();
-                (dir != Vec3::ZERO).then_some(Incident {
+            LightKind::Quad { .. } | LightKind::Mesh { .. } => {
+                let y = self.flat_point(scene, surfaces, (a, b))?;
+                planar_sample(p, y.y, y.normal, self.flat_area(), y.le)
+            }
+            LightKind::Disk { .. } => {
+                let y = self.flat_point(scene, surfaces, concentric_disk((a, b)))?;
+                planar_sample(p, y.y, y.normal, self.flat_area(), y.le)
+            }
+            LightKind::Sphere { radius } => {
+                let cone = SphereCone::new(self.position, *radius, p)?;
+                let (dir, cos) = cone.direction((a, b));
+                (cone.solid_angle > 0.0).then_some(Incident {
                     dir,
-                    dist: f32::INFINITY,
-                    li: power,
-                    pdf: 0.0,
+                    dist: cone.near_side(cos),
+                    li: self.color * self.intensity,
+                    pdf: 1.0 / cone.solid_angle,
                 })
             }
+        }
+    }
+
+    /// The light of a point, spot or directional light reaching `p`: the direction
+    /// toward it, its distance and the irradiance on a surface facing it; `None` for
+    /// the other kinds and where it is undefined (`p` at the light).
+    #[inline]
+    pub fn delta_irradiance(&self, p: Vec3) -> Option<(Vec3, f32, Vec3)> {
+        let power = self.color * self.intensity;
+        match self.kind {
+            LightKind::Point | LightKind::Spot { .. } => {
+                let to = self.position - p;
+                let dist = to.length();
+                if dist <= 0.0 || !dist.is_finite() {
+                    return None;
+                }
+                let dir = to / dist;
+                let mut e = power;
+                match self.falloff {
+                    Falloff::None => {}
+                    Falloff::InverseSquare => e /= dist * dist,
+                    range @ Falloff::Range { .. } => e *= range.at(dist),
+                }
+                if let LightKind::Spot {
+                    direction,
+                    cos_inner,
+                    cos_outer,
+                    edge,
+                } = self.kind
+                {
+                    let cos = (-dir).dot(direction.normalize_or_zero());
+                    e *= edge.at(cos_outer, cos_inner, cos);
+                }
+                Some((dir, dist, e))
+            }
+            LightKind::Directional { direction } => {
+                let dir = -direction.normalize_or_zero();
+                (dir != Vec3::ZERO).then_some((dir, f32::INFINITY, power))
+            }
+            _ => None,
+        }
+    }
+
+    /// The emitting area of a flat light (quad, disk, emissive mesh), in squared world
+    /// units; zero for the other kinds.
+    #[inline]
+    pub fn flat_area(&self) -> f32 {
+        match &self.kind {
+            LightKind::Quad { u, v } => cross(*u, *v).length(),
+            LightKind::Disk { radius, .. } => std::f32::consts::PI * radius * radius,
+            LightKind::Mesh { area, .. } => *area,
+            _ => 0.0,
+        }
+    }
+
+    /// The point of a flat light at `at`, uniform in its area for uniform `at`: a point
+    /// of the unit square for a quad or a mesh, of the unit disk for a disk. `None` for
+    /// the other kinds, an empty mesh, or a mesh shape that is not a triangle.
+    /// `surfaces` gives a mesh light's emission.
+    #[inline]
+    pub fn flat_point(
+        &self,
+        scene: &Scene,
+        surfaces: &[Surface],
+        (a, b): (f32, f32),
+    ) -> Option<EmitterPoint> {
+        let power = self.color * self.intensity;
+        match &self.kind {
             LightKind::Quad { u, v } => {
                 let normal = cross(*u, *v);
-                let area = normal.length();
-                let y = self.position + *u * (a - 0.5) + *v * (b - 0.5);
-                planar_sample(p, y, normal / area, area, power)
+                Some(EmitterPoint {
+                    y: self.position + *u * (a - 0.5) + *v * (b - 0.5),
+                    normal: normal / normal.length(),
+                    le: power,
+                })
             }
             LightKind::Disk { normal, radius } => {
                 let normal = normal.normalize_or(Vec3::Y);
                 let (t1, t2) = normal.any_orthonormal_pair();
-                let (x, z) = concentric_disk((a, b));
-                let y = self.position + (t1 * x + t2 * z) * *radius;
-                planar_sample(p, y, normal, std::f32::consts::PI * radius * radius, power)
-            }
-            LightKind::Sphere { radius } => {
-                let cone = SphereCone::new(self.position, *radius, p)?;
-                let cos = cone.cos_of(a);
-                let sin = (1.0 - cos * cos).max(0.0).sqrt();
-                let (sp, cp) = sin_cos(b * std::f32::consts::TAU);
-                let dir = normalize(cone.axis * cos + cone.t1 * (sin * cp) + cone.t2 * (sin * sp));
-                (cone.solid_angle > 0.0).then_some(Incident {
-                    dir,
-                    dist: cone.near_side(cos),
-                    li: power,
-                    pdf: 1.0 / cone.solid_angle,
+                Some(EmitterPoint {
+                    y: self.position + (t1 * a + t2 * b) * *radius,
+                    normal,
+                    le: power,
                 })
             }
-            LightKind::Mesh { shapes, cdf, area } => {
+            LightKind::Mesh { shapes, cdf, .. } => {
                 if shapes.is_empty() {
                     return None;
                 }
                 let (k, su) = pick_triangle(cdf, shapes.len(), a);
-                let shape = shapes[k];
-                let Shape::Triangle(tri) = scene.shapes.get(shape as usize) else {
-                    return None;
-                };
-                let y = triangle_point(tri.v, su, b);
-                let le =
-                    surfaces[scene.material_of[shape as usize] as usize].emission * self.intensity;
-                planar_sample(p, y, tri.normal(), *area, le)
+                let tri = self.mesh_triangle(scene, surfaces, shapes[k])?;
+                Some(EmitterPoint {
+                    y: triangle_point(tri.v, su, b),
+                    normal: tri.normal,
+                    le: tri.le,
+                })
             }
+            _ => None,
         }
+    }
+
+    /// Triangle `shape` of a mesh light; `None` if the shape is not a triangle.
+    #[inline]
+    pub fn mesh_triangle(
+        &self,
+        scene: &Scene,
+        surfaces: &[Surface],
+        shape: u32,
+    ) -> Option<MeshTriangle> {
+        let Shape::Triangle(tri) = scene.shapes.get(shape as usize) else {
+            return None;
+        };
+        Some(MeshTriangle {
+            v: tri.v,
+            normal: tri.normal(),
+            le: surfaces[scene.material_of[shape as usize] as usize].emission * self.intensity,
+        })
     }
 
     /// The density per unit solid angle with which [`Light::sample_incident`] from `p`
@@ -138,9 +225,9 @@ impl Light {
                     .filter(|c| c.solid_angle > 0.0)
                     .map_or(0.0, |c| 1.0 / c.solid_angle);
             }
-            LightKind::Quad { u, v } => cross(*u, *v).length(),
-            LightKind::Disk { radius, .. } => std::f32::consts::PI * radius * radius,
-            LightKind::Mesh { area, .. } => *area,
+            LightKind::Quad { .. } | LightKind::Disk { .. } | LightKind::Mesh { .. } => {
+                self.flat_area()
+            }
         };
         let to = y - p;
         let d2 = to.length_squared();
@@ -212,21 +299,48 @@ fn plane_hit(ray: &Ray, at: Vec3, normal: Vec3) -> Option<f32> {
 /// `d^2 / (cos_l area)`. One-sided: nothing from behind.
 #[inline]
 fn planar_sample(p: Vec3, y: Vec3, normal: Vec3, area: f32, le: Vec3) -> Option<Incident> {
-    let to = y - p;
-    let d2 = to.length_squared();
-    if d2 <= 0.0 || !d2.is_finite() {
-        return None;
-    }
-    let dist = d2.sqrt();
-    let dir = to / dist;
-    let cos_l = -normal.dot(dir);
-    let pdf = d2 / (cos_l * area);
-    (cos_l > 0.0 && pdf.is_finite()).then_some(Incident {
-        dir,
-        dist,
+    let seen = Seen::from(p, y, normal)?;
+    let pdf = seen.d2 / (seen.cos_l * area);
+    (seen.cos_l > 0.0 && pdf.is_finite()).then_some(Incident {
+        dir: seen.dir,
+        dist: seen.dist,
         li: le,
         pdf,
     })
+}
+
+/// A point of a flat emitter as seen from a shading point.
+pub struct Seen {
+    /// Unit direction from the shading point to it.
+    pub dir: Vec3,
+    /// Its distance, and that squared.
+    pub dist: f32,
+    /// See `dist`.
+    pub d2: f32,
+    /// Cosine between the emitter's normal and the way back to the shading point:
+    /// positive where the point sees the emitting side.
+    pub cos_l: f32,
+}
+
+impl Seen {
+    /// Point `y` (emitter normal `normal`) seen from `p`; `None` at `p` itself or too
+    /// far for its squared distance.
+    #[inline(always)]
+    pub fn from(p: Vec3, y: Vec3, normal: Vec3) -> Option<Seen> {
+        let to = y - p;
+        let d2 = to.length_squared();
+        if d2 <= 0.0 || !d2.is_finite() {
+            return None;
+        }
+        let dist = d2.sqrt();
+        let dir = to / dist;
+        Some(Seen {
+            dir,
+            dist,
+            d2,
+            cos_l: -normal.dot(dir),
+        })
+    }
 }
 
 /// The triangle (of `count`) of a mesh light that uniform `a` picks by `cdf`, their
@@ -292,6 +406,17 @@ impl SphereCone {
             cos_max,
             solid_angle: std::f32::consts::TAU * (1.0 - cos_max),
         })
+    }
+
+    /// A direction inside the cone drawn with `(a, b)` uniform in the unit square,
+    /// uniform in solid angle, and its cosine to the axis.
+    #[inline(always)]
+    pub fn direction(&self, (a, b): (f32, f32)) -> (Vec3, f32) {
+        let cos = self.cos_of(a);
+        let sin = (1.0 - cos * cos).max(0.0).sqrt();
+        let (sp, cp) = sin_cos(b * std::f32::consts::TAU);
+        let dir = normalize(self.axis * cos + self.t1 * (sin * cp) + self.t2 * (sin * sp));
+        (dir, cos)
     }
 
     /// The cosine to the axis of a direction drawn with uniform `a` in [0, 1).

@@ -3,9 +3,9 @@
 //! inside or on a light, mesh lights with degenerate, NaN or non-triangle shapes, and
 //! counts on either side of a chunk of lanes.
 
-use super::super::sample_lanes::{LANES, SampleLanes};
 use super::*;
 use crate::scene::Triangle;
+use crate::scene::light::stratified::lanes::{LANES, SampleLanes};
 
 fn bits(ls: &LightSample) -> [u32; 7] {
     [
@@ -32,14 +32,14 @@ fn same(a: &[u32; 7], b: &[u32; 7]) -> bool {
 fn compare(w: &Whitted, light: &Light, p: Vec3, tag: &str) -> usize {
     let mut s1 = PixelSampler::new(5, 1, 2);
     let mut scalar = Vec::new();
-    w.for_each_sample(light, p, &mut s1, |ls| scalar.push(bits(&ls)));
+    light.for_each_sample(w.scene, w.surfaces, p, &mut s1, |ls| scalar.push(bits(&ls)));
     let mut s2 = PixelSampler::new(5, 1, 2);
     let mut lanes_out = Vec::new();
     let n = light.samples.max(1);
-    let mut lanes = SampleLanes::new();
+    let mut lanes = SampleLanes::default();
     for first in (0..n).step_by(LANES) {
         let len = (n - first).min(LANES as u32) as usize;
-        w.area_sample_lanes(light, p, &mut s2, first, len, &mut lanes);
+        light.sample_lanes(w.scene, w.surfaces, p, &mut s2, first, len, &mut lanes);
         lanes_out.extend(lanes.lit().map(|ls| bits(&ls)));
     }
     assert_eq!(

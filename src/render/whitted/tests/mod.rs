@@ -4,7 +4,7 @@
 use super::*;
 use crate::accel::AccelKind;
 use crate::math::{normalize, surface_epsilon};
-use crate::scene::{Albedo, Background, Material, Rectangle, Sphere};
+use crate::scene::{Albedo, Background, Falloff, LightKind, Material, Rectangle, Shape, Sphere};
 
 /// A scene of `shapes`, each with its own surface.
 fn scene(shapes: Vec<(Shape, Surface)>, lights: Vec<Light>, background: Background) -> Scene {

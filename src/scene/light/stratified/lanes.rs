@@ -1,9 +1,9 @@
-//! An area light's samples seen from one shading point, worked out sixteen at a time in
-//! lanes: each field an array with a lane a sample, and every step a plain loop over the
-//! lanes, which the compiler turns into SIMD. One sample at a time, a sample's square
-//! roots and divisions wait on each other; in lanes they go side by side.
+//! A light's samples from one shading point worked out sixteen at a time in lanes: each
+//! field an array with a lane a sample, and every step a plain loop over the lanes,
+//! which the compiler turns into SIMD. One sample at a time, a sample's square roots and
+//! divisions wait on each other; in lanes they go side by side.
 //!
-//! Every lane does the arithmetic [`Whitted::for_each_sample`] does for its sample, in
+//! Every lane does the arithmetic [`Light::for_each_sample`] does for its sample, in
 //! the same order, so the samples are the same bit for bit (but the sign of a NaN made
 //! from NaN inputs, which is not specified); the random numbers are drawn first, in
 //! the order that function draws them.
@@ -11,18 +11,16 @@
 // Loops over lane indices read like the formulas they vectorise.
 #![allow(clippy::needless_range_loop)]
 
-use super::{LightSample, Whitted};
-use crate::accel::PACKET_RAYS;
+use super::{LightSample, Strata};
 use crate::math::{Vec3, sin_cos};
-use crate::render::PixelSampler;
-use crate::scene::light::sampling::{SphereCone, pick_triangle, triangle_point};
-use crate::scene::{Light, LightKind, Shape};
+use crate::scene::light::sampling::{MeshTriangle, SphereCone, pick_triangle, triangle_point};
+use crate::scene::{Light, LightKind, Scene, Surface};
 
 /// Samples worked out together.
-pub(super) const LANES: usize = PACKET_RAYS;
+pub const LANES: usize = 16;
 
-/// Up to [`LANES`] samples of one area light from one point.
-pub(super) struct SampleLanes {
+/// Up to [`LANES`] samples of one light with an extent from one point.
+pub struct SampleLanes {
     dir: [[f32; LANES]; 3],
     dist: [f32; LANES],
     e: [[f32; LANES]; 3],
@@ -31,8 +29,8 @@ pub(super) struct SampleLanes {
     len: usize,
 }
 
-impl SampleLanes {
-    pub(super) fn new() -> SampleLanes {
+impl Default for SampleLanes {
+    fn default() -> SampleLanes {
         SampleLanes {
             dir: [[0.0; LANES]; 3],
             dist: [0.0; LANES],
@@ -41,9 +39,11 @@ impl SampleLanes {
             len: 0,
         }
     }
+}
 
+impl SampleLanes {
     /// The samples that light the point, in order.
-    pub(super) fn lit(&self) -> impl Iterator<Item = LightSample> + '_ {
+    pub fn lit(&self) -> impl Iterator<Item = LightSample> + '_ {
         (0..self.len).filter(|&k| self.lit[k]).map(|k| LightSample {
             dir: Vec3::new(self.dir[0][k], self.dir[1][k], self.dir[2][k]),
             dist: self.dist[k],
@@ -52,8 +52,8 @@ impl SampleLanes {
     }
 }
 
-/// The point of an emitter each lane drew, and what [`area_lanes`] needs of the emitter
-/// there.
+/// The point of an emitter each lane drew, and what [`share_lanes`] needs of the
+/// emitter there.
 struct EmitterLanes {
     y: [[f32; LANES]; 3],
     /// The emitter's unit normal at each lane's point.
@@ -92,10 +92,10 @@ fn dot_lanes(a: &[[f32; LANES]; 3], b: &[[f32; LANES]; 3], out: &mut [f32; LANES
     }
 }
 
-/// `area_sample` in lanes: each lane's sample of an emitter standing for `area` of its
-/// surface.
+/// `share_sample` in lanes: each lane's sample of an emitter standing for `share` of
+/// its area.
 #[inline(always)]
-fn area_lanes(p: Vec3, em: &EmitterLanes, area: f32, len: usize, out: &mut SampleLanes) {
+fn share_lanes(p: Vec3, em: &EmitterLanes, share: f32, len: usize, out: &mut SampleLanes) {
     let mut to = [[0.0; LANES]; 3];
     for (c, to) in to.iter_mut().enumerate() {
         for k in 0..LANES {
@@ -117,7 +117,7 @@ fn area_lanes(p: Vec3, em: &EmitterLanes, area: f32, len: usize, out: &mut Sampl
     let mut scale = [0.0; LANES];
     for k in 0..LANES {
         cos_l[k] = -cos_l[k];
-        scale[k] = cos_l[k] * area / d2[k];
+        scale[k] = cos_l[k] * share / d2[k];
     }
     for (c, e) in out.e.iter_mut().enumerate() {
         for k in 0..LANES {
@@ -125,7 +125,7 @@ fn area_lanes(p: Vec3, em: &EmitterLanes, area: f32, len: usize, out: &mut Sampl
         }
     }
     for k in 0..len {
-        // `area_sample`'s two refusals; a NaN cosine (an emitter without area) is not
+        // `share_sample`'s two refusals; a NaN cosine (an emitter without area) is not
         // one of them.
         let faces = cos_l[k] > 0.0 || cos_l[k].is_nan();
         out.lit[k] = em.drawn[k] && d2[k] > 0.0 && d2[k].is_finite() && faces;
@@ -133,85 +133,75 @@ fn area_lanes(p: Vec3, em: &EmitterLanes, area: f32, len: usize, out: &mut Sampl
     out.len = len;
 }
 
-impl Whitted<'_> {
-    /// Samples `first..first + len` of the `light.samples` (at least one) of area
-    /// light `light` seen from `p` into `out`: those [`Whitted::for_each_sample`] would
-    /// hand its callback, with the same values. `len` is at most [`LANES`].
-    pub(super) fn area_sample_lanes(
+impl Light {
+    /// Samples `first..first + len` of the `samples` (at least one) of this light with
+    /// an extent seen from `p` into `out`: those [`Light::for_each_sample`] would hand
+    /// its callback, with the same values. `len` is at most [`LANES`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn sample_lanes(
         &self,
-        light: &Light,
+        scene: &Scene,
+        surfaces: &[Surface],
         p: Vec3,
-        sampler: &mut PixelSampler,
+        strata: &mut impl Strata,
         first: u32,
         len: usize,
         out: &mut SampleLanes,
     ) {
-        debug_assert!(len <= LANES && light.is_area());
-        let power = light.color * light.intensity;
-        let n = light.samples.max(1);
+        debug_assert!(len <= LANES && self.is_area());
+        let n = self.samples.max(1);
+        let share = self.flat_area() / n as f32;
         let mut em = EmitterLanes::new();
-        match &light.kind {
-            LightKind::Quad { u, v } => {
-                let normal = crate::math::cross(*u, *v);
-                let area = normal.length();
-                let normal = normal / area;
+        match &self.kind {
+            LightKind::Quad { .. } | LightKind::Disk { .. } => {
+                let disk = matches!(self.kind, LightKind::Disk { .. });
                 for k in 0..len {
-                    let (a, b) = sampler.square_sample(first + k as u32, n);
-                    let y = light.position + *u * (a - 0.5) + *v * (b - 0.5);
-                    em.set(k, y, normal, power);
-                }
-                area_lanes(p, &em, area / n as f32, len, out);
-            }
-            LightKind::Disk { normal, radius } => {
-                let normal = normal.normalize_or(Vec3::Y);
-                let (t1, t2) = normal.any_orthonormal_pair();
-                let area = std::f32::consts::PI * radius * radius;
-                for k in 0..len {
-                    let (a, b) = sampler.disk_sample(first + k as u32, n);
-                    let y = light.position + (t1 * a + t2 * b) * *radius;
-                    em.set(k, y, normal, power);
-                }
-                area_lanes(p, &em, area / n as f32, len, out);
-            }
-            LightKind::Mesh { shapes, cdf, area } => {
-                if !shapes.is_empty() {
-                    // Stratified samples pick the triangles in order, so neighbouring
-                    // lanes mostly share one: its corners, normal and radiance are
-                    // looked up once.
-                    let mut last: Option<(usize, [Vec3; 3], Vec3, Vec3)> = None;
-                    for k in 0..len {
-                        let (a, b) = sampler.square_sample(first + k as u32, n);
-                        let (j, su) = pick_triangle(cdf, shapes.len(), a);
-                        let (v, normal, le) = match last {
-                            Some((i, v, normal, le)) if i == j => (v, normal, le),
-                            _ => {
-                                let shape = shapes[j];
-                                let Shape::Triangle(tri) = self.scene.shapes.get(shape as usize)
-                                else {
-                                    continue;
-                                };
-                                let (normal, le) =
-                                    (tri.normal(), self.surface(shape).emission * light.intensity);
-                                last = Some((j, tri.v, normal, le));
-                                (tri.v, normal, le)
-                            }
-                        };
-                        em.set(k, triangle_point(v, su, b), normal, le);
+                    let i = first + k as u32;
+                    let at = if disk {
+                        strata.disk(i, n)
+                    } else {
+                        strata.square(i, n)
+                    };
+                    if let Some(y) = self.flat_point(scene, surfaces, at) {
+                        em.set(k, y.y, y.normal, y.le);
                     }
                 }
-                area_lanes(p, &em, area / n as f32, len, out);
+                share_lanes(p, &em, share, len, out);
+            }
+            LightKind::Mesh { shapes, cdf, .. } => {
+                if !shapes.is_empty() {
+                    // Stratified samples pick the triangles in order, so neighbouring
+                    // lanes mostly share one: it is looked up once.
+                    let mut last: Option<(usize, Option<MeshTriangle>)> = None;
+                    for k in 0..len {
+                        let (a, b) = strata.square(first + k as u32, n);
+                        let (j, su) = pick_triangle(cdf, shapes.len(), a);
+                        let triangle = match last {
+                            Some((i, triangle)) if i == j => triangle,
+                            _ => {
+                                let triangle = self.mesh_triangle(scene, surfaces, shapes[j]);
+                                last = Some((j, triangle));
+                                triangle
+                            }
+                        };
+                        if let Some(tri) = triangle {
+                            em.set(k, triangle_point(tri.v, su, b), tri.normal, tri.le);
+                        }
+                    }
+                }
+                share_lanes(p, &em, share, len, out);
             }
             LightKind::Sphere { radius } => {
-                let Some(cone) = SphereCone::new(light.position, *radius, p) else {
+                let Some(cone) = SphereCone::new(self.position, *radius, p) else {
                     out.len = 0;
                     return;
                 };
                 let (axis, t1, t2) = (cone.axis, cone.t1, cone.t2);
-                let e = power * (cone.solid_angle / n as f32);
+                let e = self.color * self.intensity * (cone.solid_angle / n as f32);
                 // Drawn in order, then worked out in lanes.
                 let (mut a, mut b) = ([0.0; LANES], [0.0; LANES]);
                 for k in 0..len {
-                    (a[k], b[k]) = sampler.square_sample(first + k as u32, n);
+                    (a[k], b[k]) = strata.square(first + k as u32, n);
                 }
                 let mut d = [[0.0; LANES]; 3];
                 let mut cos = [0.0; LANES];
