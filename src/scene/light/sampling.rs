@@ -53,6 +53,60 @@ pub struct MeshTriangle {
     pub le: Vec3,
 }
 
+/// A flat light (quad, disk, emissive mesh) ready to draw points from.
+pub struct FlatEmitter<'a> {
+    light: &'a Light,
+    /// The emitting area, in squared world units.
+    pub area: f32,
+    /// The unit normal of a quad or disk.
+    normal: Vec3,
+    /// A disk's axes in its plane.
+    t1: Vec3,
+    t2: Vec3,
+}
+
+impl FlatEmitter<'_> {
+    /// The light's point at `at`, uniform in its area for uniform `at`: a point of the
+    /// unit square for a quad or a mesh, of the unit disk for a disk. `None` for an
+    /// empty mesh or a mesh shape that is not a triangle. `surfaces` gives a mesh
+    /// light's emission.
+    #[inline(always)]
+    pub fn point(
+        &self,
+        scene: &Scene,
+        surfaces: &[Surface],
+        (a, b): (f32, f32),
+    ) -> Option<EmitterPoint> {
+        let light = self.light;
+        let power = light.color * light.intensity;
+        match &light.kind {
+            LightKind::Quad { u, v } => Some(EmitterPoint {
+                y: light.position + *u * (a - 0.5) + *v * (b - 0.5),
+                normal: self.normal,
+                le: power,
+            }),
+            LightKind::Disk { radius, .. } => Some(EmitterPoint {
+                y: light.position + (self.t1 * a + self.t2 * b) * *radius,
+                normal: self.normal,
+                le: power,
+            }),
+            LightKind::Mesh { shapes, cdf, .. } => {
+                if shapes.is_empty() {
+                    return None;
+                }
+                let (k, su) = pick_triangle(cdf, shapes.len(), a);
+                let tri = light.mesh_triangle(scene, surfaces, shapes[k])?;
+                Some(EmitterPoint {
+                    y: triangle_point(tri.v, su, b),
+                    normal: tri.normal,
+                    le: tri.le,
+                })
+            }
+            _ => None,
+        }
+    }
+}
+
 impl Light {
     /// One sample of the light seen from `p`, drawn with `u` uniform in the unit
     /// square; `None` where the light sends nothing toward `p` (behind a one-sided
@@ -76,12 +130,14 @@ impl Light {
                 })
             }
             LightKind::Quad { .. } | LightKind::Mesh { .. } => {
-                let y = self.flat_point(scene, surfaces, (a, b))?;
-                planar_sample(p, y.y, y.normal, self.flat_area(), y.le)
+                let flat = self.flat()?;
+                let y = flat.point(scene, surfaces, (a, b))?;
+                planar_sample(p, y.y, y.normal, flat.area, y.le)
             }
             LightKind::Disk { .. } => {
-                let y = self.flat_point(scene, surfaces, concentric_disk((a, b)))?;
-                planar_sample(p, y.y, y.normal, self.flat_area(), y.le)
+                let flat = self.flat()?;
+                let y = flat.point(scene, surfaces, concentric_disk((a, b)))?;
+                planar_sample(p, y.y, y.normal, flat.area, y.le)
             }
             LightKind::Sphere { radius } => {
                 let cone = SphereCone::new(self.position, *radius, p)?;
@@ -148,50 +204,30 @@ impl Light {
         }
     }
 
-    /// The point of a flat light at `at`, uniform in its area for uniform `at`: a point
-    /// of the unit square for a quad or a mesh, of the unit disk for a disk. `None` for
-    /// the other kinds, an empty mesh, or a mesh shape that is not a triangle.
-    /// `surfaces` gives a mesh light's emission.
+    /// The light made ready to draw points from if it is flat (quad, disk, emissive
+    /// mesh): what all its points share, worked out once.
     #[inline]
-    pub fn flat_point(
-        &self,
-        scene: &Scene,
-        surfaces: &[Surface],
-        (a, b): (f32, f32),
-    ) -> Option<EmitterPoint> {
-        let power = self.color * self.intensity;
-        match &self.kind {
+    pub fn flat(&self) -> Option<FlatEmitter<'_>> {
+        let (normal, t1, t2) = match &self.kind {
             LightKind::Quad { u, v } => {
                 let normal = cross(*u, *v);
-                Some(EmitterPoint {
-                    y: self.position + *u * (a - 0.5) + *v * (b - 0.5),
-                    normal: normal / normal.length(),
-                    le: power,
-                })
+                (normal / normal.length(), Vec3::ZERO, Vec3::ZERO)
             }
-            LightKind::Disk { normal, radius } => {
+            LightKind::Disk { normal, .. } => {
                 let normal = normal.normalize_or(Vec3::Y);
                 let (t1, t2) = normal.any_orthonormal_pair();
-                Some(EmitterPoint {
-                    y: self.position + (t1 * a + t2 * b) * *radius,
-                    normal,
-                    le: power,
-                })
+                (normal, t1, t2)
             }
-            LightKind::Mesh { shapes, cdf, .. } => {
-                if shapes.is_empty() {
-                    return None;
-                }
-                let (k, su) = pick_triangle(cdf, shapes.len(), a);
-                let tri = self.mesh_triangle(scene, surfaces, shapes[k])?;
-                Some(EmitterPoint {
-                    y: triangle_point(tri.v, su, b),
-                    normal: tri.normal,
-                    le: tri.le,
-                })
-            }
-            _ => None,
-        }
+            LightKind::Mesh { .. } => (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO),
+            _ => return None,
+        };
+        Some(FlatEmitter {
+            light: self,
+            area: self.flat_area(),
+            normal,
+            t1,
+            t2,
+        })
     }
 
     /// Triangle `shape` of a mesh light; `None` if the shape is not a triangle.

@@ -3,7 +3,7 @@
 //! `light.samples` for a light with an extent, each standing for its share of the
 //! light), one at a time here and in lanes in [`lanes`].
 //!
-//! Where a sample's point lies is the light's own ([`Light::flat_point`],
+//! Where a sample's point lies is the light's own ([`Light::flat`],
 //! [`SphereCone::direction`]), shared with the path model's samples of
 //! [`Light::sample_incident`]; only how a sample is weighed differs (irradiance over a
 //! share of the area here, radiance over a density there).
@@ -56,7 +56,10 @@ impl Light {
             }
             LightKind::Mesh { shapes, .. } if shapes.is_empty() => {}
             LightKind::Quad { .. } | LightKind::Disk { .. } | LightKind::Mesh { .. } => {
-                let share = self.flat_area() / n as f32;
+                let Some(flat) = self.flat() else {
+                    return;
+                };
+                let share = flat.area / n as f32;
                 let disk = matches!(self.kind, LightKind::Disk { .. });
                 for i in 0..n {
                     let at = if disk {
@@ -64,7 +67,7 @@ impl Light {
                     } else {
                         strata.square(i, n)
                     };
-                    if let Some(y) = self.flat_point(scene, surfaces, at)
+                    if let Some(y) = flat.point(scene, surfaces, at)
                         && let Some(ls) = share_sample(p, y.y, y.normal, share, y.le)
                     {
                         f(ls);

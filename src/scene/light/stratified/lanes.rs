@@ -137,7 +137,9 @@ impl Light {
     /// Samples `first..first + len` of the `samples` (at least one) of this light with
     /// an extent seen from `p` into `out`: those [`Light::for_each_sample`] would hand
     /// its callback, with the same values. `len` is at most [`LANES`].
+    // Not inlined: in its caller's frame its buffers measured slower.
     #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
     pub fn sample_lanes(
         &self,
         scene: &Scene,
@@ -154,6 +156,10 @@ impl Light {
         let mut em = EmitterLanes::new();
         match &self.kind {
             LightKind::Quad { .. } | LightKind::Disk { .. } => {
+                let Some(flat) = self.flat() else {
+                    out.len = 0;
+                    return;
+                };
                 let disk = matches!(self.kind, LightKind::Disk { .. });
                 for k in 0..len {
                     let i = first + k as u32;
@@ -162,7 +168,7 @@ impl Light {
                     } else {
                         strata.square(i, n)
                     };
-                    if let Some(y) = self.flat_point(scene, surfaces, at) {
+                    if let Some(y) = flat.point(scene, surfaces, at) {
                         em.set(k, y.y, y.normal, y.le);
                     }
                 }
