@@ -325,13 +325,12 @@ impl<'a> Path<'a> {
         pdf: f32,
         count: &mut RayCount,
     ) -> Vec3 {
-        let f = bsdf.eval(dir);
+        let (f, bsdf_pdf, cos) = bsdf.eval_pdf(dir);
         if f == Vec3::ZERO || li == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let cos = bsdf_cos(bsdf, dir);
         let contribution = if pdf > 0.0 {
-            f * li * (cos * self.weighing.of(pdf, bsdf.pdf(dir), true) / pdf)
+            f * li * (cos * self.weighing.of(pdf, bsdf_pdf, true) / pdf)
         } else {
             f * li * cos
         };
@@ -399,12 +398,6 @@ impl<'a> Path<'a> {
         }
         best
     }
-}
-
-/// The cosine a BSDF weighs light from `dir` by.
-#[inline]
-fn bsdf_cos(bsdf: &Bsdf, dir: Vec3) -> f32 {
-    bsdf.normal().dot(dir).max(0.0)
 }
 
 /// Veach's power heuristic for a sample drawn with density `a` that another strategy

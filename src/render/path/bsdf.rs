@@ -230,22 +230,35 @@ impl Bsdf {
     /// The BSDF's value for light arriving from `wi` (without the cosine): the smooth
     /// lobes only, which reflect and do not transmit.
     pub fn eval(&self, wi: Vec3) -> Vec3 {
-        let cos_i = self.n.dot(wi);
-        if cos_i <= 0.0 || wi.dot(self.ng) <= 0.0 {
-            return Vec3::ZERO;
-        }
-        self.diffuse * FRAC_1_PI + self.highlight_value(wi, cos_i)
+        self.eval_pdf(wi).0
     }
 
     /// The density with which [`Bsdf::sample`] draws `wi`, per unit solid angle (the
     /// smooth lobes' share of it).
     pub fn pdf(&self, wi: Vec3) -> f32 {
+        self.eval_pdf(wi).1
+    }
+
+    /// [`Bsdf::eval`], [`Bsdf::pdf`] and the cosine of `wi` to the shading normal
+    /// together: what a light sample needs, with the cosines found once. Zero where
+    /// `wi` is below either normal.
+    #[inline]
+    pub fn eval_pdf(&self, wi: Vec3) -> (Vec3, f32, f32) {
         let cos_i = self.n.dot(wi);
-        if cos_i <= 0.0 || wi.dot(self.ng) <= 0.0 || self.p_smooth <= 0.0 {
-            return 0.0;
+        if cos_i <= 0.0 || wi.dot(self.ng) <= 0.0 {
+            return (Vec3::ZERO, 0.0, 0.0);
         }
         let pd = self.p_diffuse_in_smooth;
-        self.p_smooth * (pd * cos_i * FRAC_1_PI + (1.0 - pd) * self.highlight_pdf(wi))
+        let diffuse_pdf = pd * cos_i * FRAC_1_PI;
+        let (f, pdf) = match self.highlight {
+            // Lambert alone: no lobe to look up.
+            Highlight::None => (self.diffuse * FRAC_1_PI, self.p_smooth * diffuse_pdf),
+            _ => (
+                self.diffuse * FRAC_1_PI + self.highlight_value(wi, cos_i),
+                self.p_smooth * (diffuse_pdf + (1.0 - pd) * self.highlight_pdf(wi)),
+            ),
+        };
+        (f, if self.p_smooth > 0.0 { pdf } else { 0.0 }, cos_i)
     }
 
     /// A direction drawn for `wo`: `pick` chooses the lobe, `u` the direction in it.
@@ -277,12 +290,11 @@ impl Bsdf {
         } else {
             self.sample_highlight(u)?
         };
-        let pdf = self.pdf(wi);
+        let (f, pdf, cos_i) = self.eval_pdf(wi);
         if pdf <= 0.0 {
             return None;
         }
-        let f = self.eval(wi);
-        let weight = f * (self.n.dot(wi) / pdf);
+        let weight = f * (cos_i / pdf);
         weight.is_finite().then_some(Sampled { wi, weight, pdf })
     }
 
