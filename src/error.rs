@@ -47,6 +47,10 @@ pub enum Error {
     /// Settings that cannot be rendered (resolution, sample counts, region...).
     #[error("{0}")]
     Settings(String),
+    /// Denoising was asked for and cannot be done: this Prism was built without Open
+    /// Image Denoise, or the library failed.
+    #[error("cannot denoise: {0}")]
+    Denoise(String),
     /// The work was stopped on request (Ctrl-C, a cancelled Python call).
     #[error("interrupted")]
     Interrupted,

@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::film::{ExrPrecision, Image, OutputOptions, PngBits};
 use crate::format::{self, SceneDialect, SceneFile};
 use crate::math::Vec3;
-use crate::options::{Region, RenderOptions};
+use crate::options::{Aov, Region, RenderOptions};
 use crate::render::{RenderSettings, RenderStats, Renderer};
 use crate::scene::framing::{self, DEFAULT_SIZE};
 use crate::scene::{Camera, Scene};
@@ -92,6 +92,9 @@ pub struct Job {
     pub dialect: SceneDialect,
     /// What the readers found but did not understand (`file:line: message`).
     pub warnings: Vec<String>,
+    /// Whether the image is denoised once rendered ([`Job::denoised`]); a job that asks
+    /// is refused by a Prism that cannot ([`crate::film::denoise::check_available`]).
+    pub denoise: bool,
 }
 
 impl Job {
@@ -100,9 +103,28 @@ impl Job {
         Renderer::new(&self.scene, &self.camera, self.settings.clone())
     }
 
-    /// Renders the job's image (linear values) on the job's threads.
+    /// Renders the job's image (linear values) on the job's threads, denoised when the
+    /// job asks.
     pub fn render(&self) -> Result<(Image, RenderStats)> {
-        self.renderer()?.render(&())
+        let renderer = self.renderer()?;
+        let (image, stats) = renderer.render(&())?;
+        Ok((self.denoised(&renderer, image, &[])?, stats))
+    }
+
+    /// `image`, a render of this job by `renderer`, denoised when the job asks (with
+    /// the albedo and normal passes: those among `passes` that were rendered already,
+    /// the others now, [`Renderer::denoise`]); as it is otherwise.
+    pub fn denoised(
+        &self,
+        renderer: &Renderer,
+        image: Image,
+        passes: &[(Aov, Image)],
+    ) -> Result<Image> {
+        if self.denoise {
+            renderer.denoise(&image, passes)
+        } else {
+            Ok(image)
+        }
     }
 
     /// Writes `image` to `path` as this job develops it, in the format the extension
@@ -227,6 +249,11 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
         min_weight: o.min_weight.unwrap_or(crate::render::DEFAULT_MIN_WEIGHT),
         max_memory: options.max_memory,
     };
+    let denoise = o.denoise.unwrap_or(false);
+    if denoise {
+        // Refused now, before anything is rendered.
+        crate::film::denoise::check_available()?;
+    }
     let output = OutputOptions {
         develop: crate::film::Develop {
             exposure: o.exposure.unwrap_or(0.0),
@@ -243,6 +270,7 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
         output,
         dialect,
         warnings,
+        denoise,
     })
 }
 
@@ -476,6 +504,31 @@ mod tests {
         plain.write(&Image::new(1, 1, vec![[0.5; 3]]), &p).unwrap();
         let img = image::open(&p).unwrap().to_rgb8();
         assert_eq!(img.get_pixel(0, 0).0, [64; 3]);
+    }
+
+    /// Denoising is the caller's to ask for, layered as every option is; a Prism that
+    /// cannot denoise refuses the job as it is resolved, before anything renders.
+    #[test]
+    fn a_job_denoises_only_when_asked_and_only_where_it_can() {
+        let plain = resolve(
+            ball_file(SceneDialect::WavefrontObj),
+            &JobOptions::default(),
+        )
+        .unwrap();
+        assert!(!plain.denoise);
+        let asked = JobOptions {
+            render: RenderOptions {
+                denoise: Some(true),
+                ..Default::default()
+            },
+            ..JobOptions::default()
+        };
+        let resolved = resolve(ball_file(SceneDialect::WavefrontObj), &asked);
+        assert_eq!(resolved.is_ok(), crate::film::denoise::AVAILABLE);
+        match resolved {
+            Ok(job) => assert!(job.denoise),
+            Err(e) => assert!(matches!(e, Error::Denoise(_)), "{e}"),
+        }
     }
 
     #[test]

@@ -55,6 +55,9 @@ pub struct RenderOptions {
     pub exposure: Option<f32>,
     /// How display formats bring radiance above 1 into range.
     pub tonemap: Option<ToneMap>,
+    /// Denoise the finished image (Intel Open Image Denoise, guided by the albedo and
+    /// normal passes) before it is developed and written.
+    pub denoise: Option<bool>,
 }
 
 impl RenderOptions {
@@ -78,6 +81,7 @@ impl RenderOptions {
             min_weight: self.min_weight.or(lower.min_weight),
             exposure: self.exposure.or(lower.exposure),
             tonemap: self.tonemap.or(lower.tonemap),
+            denoise: self.denoise.or(lower.denoise),
         }
     }
 }

@@ -180,6 +180,7 @@ fn help_documents_every_option() {
         "--quiet",
         "--stats",
         "--accel",
+        "--denoise",
     ] {
         assert!(help.contains(opt), "{opt} missing from --help");
     }
@@ -438,4 +439,108 @@ fn passes_are_layers_of_the_exr_with_the_floor_s_albedo_normal_and_distance() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("OpenEXR"), "{}", stderr(&o));
     assert!(!dir.path().join("out.png").exists());
+}
+
+fn showcase() -> std::path::PathBuf {
+    repo().join("scenes/showcase/showcase.toml")
+}
+
+/// A Prism built without Open Image Denoise refuses `--denoise` before it renders,
+/// saying how to build one that has it, and writes nothing.
+#[cfg(not(feature = "oidn"))]
+#[test]
+fn without_oidn_denoise_is_refused_with_how_to_build_it_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["out.png", "out.exr"] {
+        let out = dir.path().join(name);
+        let o = run(prism()
+            .arg("render")
+            .arg(showcase())
+            .arg(&out)
+            .args(["--width", "32", "--integrator", "path", "--spp", "4"])
+            .args(["--denoise", "--quiet"]));
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.starts_with(
+                "error: cannot denoise: this Prism was built without Intel Open Image Denoise"
+            ),
+            "{e}"
+        );
+        assert!(
+            e.contains("--features oidn") && e.contains("OIDN_DIR"),
+            "{e}"
+        );
+        assert!(!out.exists());
+    }
+    assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+/// `--denoise` writes the denoised image in any format; with `--aov` the EXR's image
+/// is the denoised one and its passes are those of the render as before.
+#[cfg(feature = "oidn")]
+#[test]
+fn denoise_writes_the_denoised_image_and_the_passes_as_before() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let o = run(prism()
+            .arg("render")
+            .arg(showcase())
+            .arg(&out)
+            .args([
+                "--width",
+                "64",
+                "--aa",
+                "1",
+                "--integrator",
+                "path",
+                "--spp",
+                "4",
+            ])
+            .args(["--exr-precision", "float", "--quiet"])
+            .args(extra));
+        assert!(o.status.success(), "{}", stderr(&o));
+        out
+    };
+    let png = render("denoised.png", &["--denoise"]);
+    let noisy = render("noisy.png", &[]);
+    let (a, b) = (load_rgb(&png), load_rgb(&noisy));
+    assert_eq!(a.dimensions(), (64, 36));
+    assert_ne!(a, b);
+    let layers = |path: &std::path::Path| -> Vec<(String, Vec<f32>)> {
+        let image = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
+        image
+            .layer_data
+            .iter()
+            .map(|l| {
+                let name = l
+                    .attributes
+                    .layer_name
+                    .as_ref()
+                    .map_or(String::new(), |n| n.to_string());
+                let values = l
+                    .channel_data
+                    .list
+                    .iter()
+                    .flat_map(|c| c.sample_data.values_as_f32())
+                    .collect();
+                (name, values)
+            })
+            .collect()
+    };
+    let aov = ["--aov", "albedo,normal,depth"];
+    let plain = layers(&render("plain.exr", &aov));
+    let denoised = layers(&render(
+        "denoised.exr",
+        &[&aov[..], &["--denoise"]].concat(),
+    ));
+    let names = |l: &[(String, Vec<f32>)]| l.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&denoised), ["image", "albedo", "normal", "depth"]);
+    assert_ne!(denoised[0].1, plain[0].1);
+    assert_eq!(denoised[1..], plain[1..]);
+    // Passes not asked for are rendered for the denoiser but not written.
+    let depth_only = layers(&render("depth.exr", &["--aov", "depth", "--denoise"]));
+    assert_eq!(names(&depth_only), ["image", "depth"]);
+    assert_eq!(depth_only[0].1, denoised[0].1);
 }

@@ -9,7 +9,10 @@
 //! why on standard error, which `cargo test` shows, and passes. With them it builds the extension into the
 //! environment (`maturin develop`, the debug profile, sharing target/) and fails when
 //! pytest fails. `PRISM_PY_TESTS="not ray"` is passed to pytest's `-m` (skip the Ray
-//! tests, about 20 seconds).
+//! tests, about 20 seconds). `PRISM_TEST_OIDN=1` asks for the denoising tests too: it
+//! installs `pyoidn` (which ships Intel Open Image Denoise, an 87 MB wheel) into the
+//! environment when it is missing, and those tests then fail rather than skip without
+//! it; unasked, nothing is downloaded for them and they skip, saying why.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -59,6 +62,10 @@ fn skipped(why: &str) {
 
 /// The tools the suite needs, installed into `venv` from the package index.
 const TOOLS: [&str; 5] = ["maturin", "numpy", "pytest", "tqdm", "selenium"];
+
+/// What `prism.denoise` imports (Open Image Denoise 2.5, as the `oidn` feature links):
+/// installed only when `PRISM_TEST_OIDN=1` asks.
+const OIDN_PACKAGE: &str = "pyoidn==2.5.1.0";
 
 #[test]
 fn python_suite() {
@@ -110,6 +117,26 @@ fn python_suite() {
             ));
             return;
         }
+    }
+    let wants_oidn = std::env::var("PRISM_TEST_OIDN").is_ok_and(|v| v == "1");
+    if wants_oidn && !runs(&python, &["-c", "import pyoidn"]) {
+        let installed = in_venv(&venv, "python")
+            .args([
+                "-m",
+                "pip",
+                "install",
+                "--quiet",
+                "--disable-pip-version-check",
+            ])
+            .arg(OIDN_PACKAGE)
+            .status()
+            .is_ok_and(|s| s.success());
+        assert!(
+            installed && runs(&python, &["-c", "import pyoidn"]),
+            "PRISM_TEST_OIDN=1 asks for the denoising tests, and pip could not install \
+             {OIDN_PACKAGE} into {}",
+            venv.display()
+        );
     }
     let built = in_venv(&venv, "maturin")
         .args(["develop", "--quiet", "--manifest-path", "python/Cargo.toml"])

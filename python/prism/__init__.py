@@ -12,6 +12,8 @@ of it), write images in every format ``prism render`` writes, and render animati
 The renderer is the library the command line uses, through the same option handling,
 so the same inputs give the same pixels as ``prism render``, bit for bit. Rendering
 releases the GIL, and Ctrl-C stops a render within a fraction of a second.
+``prism.denoise`` denoises a render with Intel Open Image Denoise (``pip install
+pyoidn``).
 ``prism.distributed`` spreads frames and tiles over a Ray cluster.
 """
 
@@ -21,6 +23,7 @@ from typing import Any, Callable, Dict, Optional, Tuple, Union
 import numpy as np
 
 from . import _prism
+from ._denoise import denoise
 from ._prism import Animation, Camera, Scene
 from .errors import FileError, PrismError, SceneError, SettingsError
 
@@ -33,6 +36,7 @@ __all__ = [
     "SceneError",
     "SettingsError",
     "animate",
+    "denoise",
     "load_scene",
     "render",
     "render_passes",
@@ -245,7 +249,8 @@ def render_passes(
     same options, through its own camera samples and filter, so they line up with it
     pixel for pixel: ``albedo`` (H x W x 3), ``normal`` (H x W x 3, world space, facing
     the camera) and ``depth`` (H x W, the distance along the ray; 0 where it escapes).
-    They are the auxiliary images Intel Open Image Denoise takes (``pyoidn``)."""
+    They are the auxiliary images Intel Open Image Denoise takes: see
+    :func:`denoise`."""
     rendered = _prism.render_passes(scene, list(passes), camera, options)
     out: Dict[str, np.ndarray] = {}
     for name, (data, w, h) in zip(passes, rendered):

@@ -18,6 +18,7 @@ pub fn to_py(py: Python<'_>, error: Error) -> PyErr {
         Error::File { path, .. } => ("FileError", Some(path), None, None),
         Error::Data { .. } => ("SceneError", None, None, None),
         Error::Settings(_) => ("SettingsError", None, None, None),
+        Error::Denoise(_) => ("PrismError", None, None, None),
         Error::Interrupted => return PyKeyboardInterrupt::new_err("render interrupted"),
     };
     match raise(py, class, &message, file.map(|p| p.as_path()), line, column) {

@@ -148,6 +148,7 @@ impl Animation {
             output: self.output,
             dialect: self.dialect,
             warnings: Vec::new(),
+            denoise: false,
         })
     }
 

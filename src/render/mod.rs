@@ -30,6 +30,7 @@ use crate::error::Result;
 use crate::film::Image;
 use crate::film::resample::{AxisWeights, resample_window_into};
 use crate::math::{Ray, Vec3};
+use crate::options::Aov;
 use crate::scene::{Camera, Scene};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -239,7 +240,7 @@ impl<'a> Renderer<'a> {
 
     /// Passes `aovs` of the image [`Renderer::render`] makes, through its camera
     /// samples and resampling, one image each (depth's value in every channel).
-    pub fn render_aovs(&self, aovs: &[crate::options::Aov]) -> Result<Vec<Image>> {
+    pub fn render_aovs(&self, aovs: &[Aov]) -> Result<Vec<Image>> {
         if aovs.is_empty() {
             return Ok(Vec::new());
         }
@@ -255,6 +256,27 @@ impl<'a> Renderer<'a> {
                 })
                 .collect()
         }))
+    }
+
+    /// `image`, which [`Renderer::render`] made, denoised ([`crate::film::denoise()`])
+    /// with its albedo and normal passes: those among `passes` (rendered already, for
+    /// `--aov`) as they are, the others rendered now.
+    pub fn denoise(&self, image: &Image, passes: &[(Aov, Image)]) -> Result<Image> {
+        // Before the passes are rendered for nothing.
+        crate::film::denoise::check_available()?;
+        let given = |aov| passes.iter().find(|(a, _)| *a == aov).map(|(_, p)| p);
+        let missing: Vec<Aov> = [Aov::Albedo, Aov::Normal]
+            .into_iter()
+            .filter(|&aov| given(aov).is_none())
+            .collect();
+        let rendered = self.render_aovs(&missing)?;
+        let pass = |aov| {
+            given(aov).or_else(|| {
+                let i = missing.iter().position(|&m| m == aov)?;
+                rendered.get(i)
+            })
+        };
+        crate::film::denoise(image, pass(Aov::Albedo), pass(Aov::Normal))
     }
 
     /// Builds the intersector [`Renderer::render`] would, on the renderer's threads.

@@ -33,6 +33,11 @@ pub struct RenderArgs {
     /// and denoising: albedo, normal, depth (comma-separated).
     #[arg(long, value_name = "PASSES", value_delimiter = ',', value_parser = names_parser::<prism::options::Aov, 3>(prism::options::Aov::ALL.map(prism::options::Aov::name)))]
     pub aov: Vec<prism::options::Aov>,
+    /// Denoise the image (Intel Open Image Denoise, guided by the albedo and normal
+    /// passes) before it is developed and written; needs a Prism built with the `oidn`
+    /// feature.
+    #[arg(long)]
+    pub denoise: bool,
     /// No progress bar and no warnings.
     #[arg(long, short)]
     pub quiet: bool,
@@ -153,6 +158,7 @@ impl JobArgs {
                 min_weight: self.min_weight,
                 exposure: self.exposure,
                 tonemap: self.tonemap,
+                denoise: None,
             },
             dialect: self.dialect.as_deref().map(dialect_of),
             camera_file,
@@ -221,7 +227,10 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
             output.display()
         )));
     }
-    let options = args.job.options(camera_file)?;
+    let mut options = args.job.options(camera_file)?;
+    if args.denoise {
+        options.render.denoise = Some(true);
+    }
     // Loading (texture images decode in parallel) and development run on the threads
     // the render is given, so `--threads 1` is one thread throughout.
     let pool = args.job.pool()?;
@@ -233,7 +242,18 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     }
     let renderer = job.renderer()?;
     let region = renderer.region();
-    let file = OutputFile::create(output, region.width, region.height, &job.output)?;
+    // A denoised image exists only once the render is whole: its file is written then,
+    // not encoded from the rows as they come.
+    let file = if job.denoise {
+        None
+    } else {
+        Some(OutputFile::create(
+            output,
+            region.width,
+            region.height,
+            &job.output,
+        )?)
+    };
     let tev = match &args.display {
         Some(address) => {
             let name = output.file_name().map_or_else(
@@ -252,33 +272,44 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
     let bar = crate::progress_bar(renderer.rows_to_trace(), args.quiet);
     let watch = Watch {
         bar: &bar,
-        file: &file,
+        file: file.as_ref(),
         tev: tev.as_ref(),
         stop: &interrupt.stop,
     };
     let (image, stats) = renderer.render(&watch)?;
-    if let Some(tev) = tev
-        && let Err(why) = tev.finish()
-        && !args.quiet
-    {
-        eprintln!("warning: {why}");
-    }
     bar.finish_and_clear();
     if interrupt.stop.load(std::sync::atomic::Ordering::Relaxed) {
         return Err(prism::Error::Interrupted);
     }
-    if args.aov.is_empty() {
+    let passes = renderer.render_aovs(&args.aov)?;
+    let passes: Vec<_> = args.aov.iter().copied().zip(passes).collect();
+    let denoising = std::time::Instant::now();
+    let image = job.denoised(&renderer, image, &passes)?;
+    let denoised_in = job.denoise.then(|| denoising.elapsed());
+    if let Some(tev) = tev {
+        if job.denoise {
+            // tev showed the noisy image forming: it ends on the one written.
+            tev.rows(0, &image.pixels);
+        }
+        if let Err(why) = tev.finish()
+            && !args.quiet
+        {
+            eprintln!("warning: {why}");
+        }
+    }
+    if passes.is_empty() {
         // Formats written from the finished image develop its rows in parallel.
-        on_threads(pool.as_ref(), || file.finish(&image))?;
+        on_threads(pool.as_ref(), || match file {
+            Some(file) => file.finish(&image),
+            None => job.write(&image, output),
+        })?;
     } else {
-        let passes = renderer.render_aovs(&args.aov)?;
-        let passes: Vec<_> = args.aov.iter().copied().zip(passes).collect();
         prism::film::write_exr_with_passes(&image, &passes, output, &job.output)?;
     }
     if !args.quiet {
         eprintln!(
             "{}",
-            finished_line(output, region.width, region.height, &stats)
+            finished_line(output, region.width, region.height, &stats, denoised_in)
         );
     }
     if args.stats {
@@ -293,10 +324,11 @@ pub fn run(args: &RenderArgs, interrupt: &crate::Interrupt) -> prism::Result<()>
 }
 
 /// What the command watches of its render: the progress bar, the file (a PNG is
-/// encoded as its rows finish), tev (`--display`) and Ctrl-C.
+/// encoded as its rows finish, unless the image is to be denoised), tev (`--display`)
+/// and Ctrl-C.
 struct Watch<'a> {
     bar: &'a indicatif::ProgressBar,
-    file: &'a OutputFile,
+    file: Option<&'a OutputFile>,
     tev: Option<&'a TevStream>,
     stop: &'a std::sync::atomic::AtomicBool,
 }
@@ -306,7 +338,9 @@ impl Observer for Watch<'_> {
         self.bar.inc(rows)
     }
     fn rows(&self, first_row: u32, pixels: &[[f32; 3]]) {
-        self.file.rows(first_row, pixels);
+        if let Some(file) = self.file {
+            file.rows(first_row, pixels);
+        }
         if let Some(tev) = self.tev {
             tev.rows(first_row, pixels);
         }
@@ -316,12 +350,14 @@ impl Observer for Watch<'_> {
     }
 }
 
-/// What a finished render prints: the file, its size, the time and the ray rate.
+/// What a finished render prints: the file, its size, the time and the ray rate, and
+/// the time denoising took.
 fn finished_line(
     output: &std::path::Path,
     width: u32,
     height: u32,
     stats: &prism::render::RenderStats,
+    denoised_in: Option<std::time::Duration>,
 ) -> String {
     let bytes = std::fs::metadata(output).map_or(0, |m| m.len());
     let size = match bytes {
@@ -329,8 +365,11 @@ fn finished_line(
         b if b >= 1 << 10 => format!("{:.0} KB", b as f64 / 1024.0),
         b => format!("{b} bytes"),
     };
+    let denoised = denoised_in.map_or(String::new(), |t| {
+        format!("; denoised in {:.2} s", t.as_secs_f64())
+    });
     format!(
-        "wrote {} ({width}x{height}, {size}) in {:.2} s: {} rays, {:.2} Mrays/s",
+        "wrote {} ({width}x{height}, {size}) in {:.2} s: {} rays, {:.2} Mrays/s{denoised}",
         output.display(),
         stats.elapsed.as_secs_f64(),
         stats.rays,

@@ -54,6 +54,8 @@ pub fn render(source: &Source, raw: &RawRender) -> Result<RenderOptions> {
         integrator,
         exposure: raw.exposure.as_ref().map(|e| e.get_ref().f32()),
         tonemap: parsed(source, &raw.tonemap)?,
+        // Not a key of the file (yet): denoising is asked for by the caller.
+        denoise: None,
     })
 }
 
