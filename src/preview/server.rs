@@ -158,6 +158,7 @@ fn status(session: &Session, after: Option<u64>) -> Value {
             "generation": f.generation,
             "pass": f.pass,
             "passes": f.passes,
+            "samples": f.samples,
             "final": f.is_final(),
             "width": f.width,
             "height": f.height,
