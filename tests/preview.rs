@@ -91,7 +91,12 @@ static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// A preview of `scene` on a free port, and its address.
 fn start(scene: &Path) -> (Preview, String) {
-    let preview = Preview::start(scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
+    start_with(scene, JobOptions::default())
+}
+
+/// [`start`] with options, as `prism preview`'s flags give them.
+fn start_with(scene: &Path, options: JobOptions) -> (Preview, String) {
+    let preview = Preview::start(scene, options, [127, 0, 0, 1].into(), 0).unwrap();
     let url = preview.url().to_string();
     (preview, url)
 }
@@ -167,9 +172,12 @@ fn the_path_model_refines_sample_pass_by_sample_pass_to_the_image_prism_render_w
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("scene.toml");
-    let path = SCENE.replace("aa = 2\n", "aa = 2\nintegrator = \"path\"\nspp = 16\n");
+    let path = SCENE.replace("aa = 2\n", "aa = 2\nintegrator = \"path\"\n");
     std::fs::write(&scene, path).unwrap();
-    let (preview, url) = start(&scene);
+    // `--spp 16`.
+    let mut options = JobOptions::default();
+    options.render.spp = Some(16);
+    let (preview, url) = start_with(&scene, options);
     // Every frame a long poll sees (one published while the client is away is missed).
     let mut frames = Vec::new();
     let mut after = None;
@@ -190,6 +198,12 @@ fn the_path_model_refines_sample_pass_by_sample_pass_to_the_image_prism_render_w
         );
     }
     let field = |f: &serde_json::Value, k: &str| f[k].as_u64().unwrap();
+    // The page's settings are the render's, `--spp` included.
+    let s = status(&url, None);
+    assert_eq!(
+        (field(&s["settings"], "aa"), field(&s["settings"], "spp")),
+        (2, 16)
+    );
     let last = frames.last().unwrap();
     // Passes at 1/8, 1/4 and 1/2 of 96 x 64, then 1, 2, 4, 8 and 16 samples.
     assert_eq!(
@@ -214,7 +228,7 @@ fn the_path_model_refines_sample_pass_by_sample_pass_to_the_image_prism_render_w
         .count();
     assert!(refining >= 1, "{frames:?}");
     let (_, png) = http(&url, "GET", "/frame.png", &[], "");
-    assert_eq!(png, rendered(&[scene.to_str().unwrap()]));
+    assert_eq!(png, rendered(&[scene.to_str().unwrap(), "--spp", "16"]));
     preview.stop();
 }
 
