@@ -1,5 +1,6 @@
 //! `prism preview` without a browser: a client of its HTTP server receives the passes
-//! and the last equals `prism render`'s file byte for byte; a camera message renders
+//! and the last equals `prism render`'s file byte for byte (for the path model after
+//! sample passes of growing samples); a camera message renders
 //! what `prism render --look-from …` writes; a saved edit re-renders, a broken one
 //! shows its line and keeps the image; foreign hosts are refused; a burst of camera
 //! moves leaves one render and no extra threads.
@@ -90,7 +91,12 @@ static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// A preview of `scene` on a free port, and its address.
 fn start(scene: &Path) -> (Preview, String) {
-    let preview = Preview::start(scene, JobOptions::default(), [127, 0, 0, 1].into(), 0).unwrap();
+    start_with(scene, JobOptions::default())
+}
+
+/// [`start`] with options, as `prism preview`'s flags give them.
+fn start_with(scene: &Path, options: JobOptions) -> (Preview, String) {
+    let preview = Preview::start(scene, options, [127, 0, 0, 1].into(), 0).unwrap();
     let url = preview.url().to_string();
     (preview, url)
 }
@@ -156,6 +162,73 @@ fn passes_end_on_the_image_prism_render_writes_and_a_camera_message_moves_it() {
     assert_eq!((code, saved), (200, png));
     let (code, _) = http(&url, "POST", "/camera", &[], r#"{"from": [1, 2]}"#);
     assert_eq!(code, 400);
+    preview.stop();
+}
+
+/// The path model: after the coarse passes, full-size passes whose samples grow to
+/// the job's, the last `prism render`'s image byte for byte.
+#[test]
+fn the_path_model_refines_sample_pass_by_sample_pass_to_the_image_prism_render_writes() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    let path = SCENE.replace("aa = 2\n", "aa = 2\nintegrator = \"path\"\n");
+    std::fs::write(&scene, path).unwrap();
+    // `--spp 16`.
+    let mut options = JobOptions::default();
+    options.render.spp = Some(16);
+    let (preview, url) = start_with(&scene, options);
+    // Every frame a long poll sees (one published while the client is away is missed).
+    let mut frames = Vec::new();
+    let mut after = None;
+    let begun = Instant::now();
+    loop {
+        let s = status(&url, after);
+        after = s["version"].as_u64();
+        let f = s["frame"].clone();
+        if f.is_object() && frames.last() != Some(&f) {
+            frames.push(f.clone());
+        }
+        if f["final"] == true {
+            break;
+        }
+        assert!(
+            begun.elapsed() < Duration::from_secs(60),
+            "no final frame: {s}"
+        );
+    }
+    let field = |f: &serde_json::Value, k: &str| f[k].as_u64().unwrap();
+    // The page's settings are the render's, `--spp` included.
+    let s = status(&url, None);
+    assert_eq!(
+        (field(&s["settings"], "aa"), field(&s["settings"], "spp")),
+        (2, 16)
+    );
+    let last = frames.last().unwrap();
+    // Passes at 1/8, 1/4 and 1/2 of 96 x 64, then 1, 2, 4, 8 and 16 samples.
+    assert_eq!(
+        (field(last, "passes"), field(last, "samples")),
+        (8, 16),
+        "{last}"
+    );
+    for pair in frames.windows(2) {
+        assert!(
+            field(&pair[0], "pass") < field(&pair[1], "pass"),
+            "{pair:?}"
+        );
+        assert!(
+            field(&pair[0], "samples") <= field(&pair[1], "samples"),
+            "{pair:?}"
+        );
+    }
+    // The last pass takes as long as every pass before it: the one before is seen.
+    let refining = frames
+        .iter()
+        .filter(|f| field(f, "width") == 96 && field(f, "samples") < 16)
+        .count();
+    assert!(refining >= 1, "{frames:?}");
+    let (_, png) = http(&url, "GET", "/frame.png", &[], "");
+    assert_eq!(png, rendered(&[scene.to_str().unwrap(), "--spp", "16"]));
     preview.stop();
 }
 

@@ -158,6 +158,7 @@ fn status(session: &Session, after: Option<u64>) -> Value {
             "generation": f.generation,
             "pass": f.pass,
             "passes": f.passes,
+            "samples": f.samples,
             "final": f.is_final(),
             "width": f.width,
             "height": f.height,
@@ -169,8 +170,9 @@ fn status(session: &Session, after: Option<u64>) -> Value {
     let settings = state.job.as_ref().map(|job| {
         json!({
             "integrator": job.settings.integrator.name(),
-            "aa": job.camera.aa,
-            "spp": job.camera.spp,
+            // The render's own (`--aa`, `--spp`, `[render]`), else the camera's.
+            "aa": job.settings.aa.unwrap_or(job.camera.aa),
+            "spp": job.settings.spp.unwrap_or(job.camera.spp),
             "filter": job.settings.filter.name(),
             "exposure": job.output.develop.exposure,
             "tonemap": job.output.develop.tonemap.name(),

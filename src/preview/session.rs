@@ -6,7 +6,7 @@ use crate::accel::Accel;
 use crate::error::Result;
 use crate::film::{Image, file_bytes};
 use crate::job::{Job, JobOptions, LookAt};
-use crate::render::{Observer, RenderSettings, Renderer};
+use crate::render::{Observer, RenderSettings, RenderStats, Renderer};
 use crate::scene::Camera;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -14,7 +14,8 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 /// Downscaling of each pass, coarsest first; the last renders the job as it is, so the
-/// final image is bit for bit the one `prism render` makes.
+/// final image is bit for bit the one `prism render` makes (for the path model, in
+/// sample passes that end on it: [`sample_totals`]).
 const PASS_SCALES: [u32; 4] = [8, 4, 2, 1];
 /// A coarse pass is kept only while its image is at least this many pixels across.
 const MIN_PASS_SIDE: u32 = 8;
@@ -28,6 +29,9 @@ pub struct Frame {
     pub pass: u32,
     /// The passes of its generation.
     pub passes: u32,
+    /// Samples a pixel it holds: 1 for a coarse pass, the job's `spp` for the final
+    /// image, and the running total of the path model's sample passes between.
+    pub samples: u32,
     /// Its size in pixels (a coarse pass is smaller than the final image).
     pub width: u32,
     /// Its height in pixels.
@@ -303,53 +307,60 @@ impl Session {
             Ok(c) => c.unwrap_or_else(|| job.camera.clone()),
             Err(e) => return self.fail(e.to_string()),
         };
-        let full = match Renderer::new(&job.scene, &camera, job.settings.clone()) {
-            Ok(r) => (r.camera().width, r.camera().height),
+        let renderer = match Renderer::new(&job.scene, &camera, job.settings.clone()) {
+            Ok(r) => r,
             Err(e) => return self.fail(e.to_string()),
         };
-        let scales: Vec<u32> = PASS_SCALES
+        let full = (renderer.camera().width, renderer.camera().height);
+        let coarse: Vec<u32> = PASS_SCALES
             .into_iter()
-            .filter(|&s| s == 1 || (full.0 / s >= MIN_PASS_SIDE && full.1 / s >= MIN_PASS_SIDE))
+            .filter(|&s| s > 1 && full.0 / s >= MIN_PASS_SIDE && full.1 / s >= MIN_PASS_SIDE)
             .collect();
-        let passes = scales.len() as u32;
+        // The path model's full-size image comes in sample passes, each adding to the
+        // sums of the last; where the sums do not fit the memory budget, in one.
+        let mut sums = if renderer.spreads_samples() {
+            renderer.sample_sums().ok()
+        } else {
+            None
+        };
+        let totals = match sums {
+            Some(_) => sample_totals(renderer.spp()),
+            None => vec![renderer.spp()],
+        };
+        let passes = (coarse.len() + totals.len()) as u32;
         let start = Instant::now();
         let watch = Current {
             session: self,
             generation,
         };
-        for (i, &scale) in scales.iter().enumerate() {
-            let settings = if scale == 1 {
-                job.settings.clone()
-            } else {
-                // A coarse pass: a smaller frame of the same view, one sample a pixel.
-                RenderSettings {
-                    width: Some((full.0 / scale).max(1)),
-                    height: Some((full.1 / scale).max(1)),
-                    aa: Some(1),
-                    spp: Some(1),
-                    region: None,
-                    ..job.settings.clone()
-                }
-            };
-            let rendered = Renderer::new(&job.scene, &camera, settings)
-                .and_then(|r| r.render_with(accel, &watch));
+        // Publishes pass `pass`'s image, of `samples` a pixel, as the latest frame.
+        // False when the generation is over: a newer one started, or the render failed
+        // (and says so).
+        let publish = |pass: u32, samples: u32, rendered: Result<(Image, RenderStats)>| {
             let (image, stats) = match rendered {
                 Ok(out) => out,
-                Err(crate::error::Error::Interrupted) => return,
-                Err(e) => return self.fail(e.to_string()),
+                Err(crate::error::Error::Interrupted) => return false,
+                Err(e) => {
+                    self.fail(e.to_string());
+                    return false;
+                }
             };
             let png = match file_bytes(&image, "png", &job.output) {
                 Ok(png) => png,
-                Err(e) => return self.fail(e.to_string()),
+                Err(e) => {
+                    self.fail(e.to_string());
+                    return false;
+                }
             };
             let mut state = self.state();
             if self.generation() != generation {
-                return;
+                return false;
             }
             state.frame = Some(Frame {
                 generation,
-                pass: i as u32 + 1,
+                pass,
                 passes,
+                samples,
                 width: image.width,
                 height: image.height,
                 image: Arc::new(image),
@@ -360,8 +371,49 @@ impl Session {
             });
             state.version += 1;
             self.published.notify_all();
+            true
+        };
+        let mut pass = 0;
+        for &scale in &coarse {
+            // A coarse pass: a smaller frame of the same view, one sample a pixel.
+            let settings = RenderSettings {
+                width: Some((full.0 / scale).max(1)),
+                height: Some((full.1 / scale).max(1)),
+                aa: Some(1),
+                spp: Some(1),
+                region: None,
+                ..job.settings.clone()
+            };
+            let rendered = Renderer::new(&job.scene, &camera, settings)
+                .and_then(|r| r.render_with(accel, &watch));
+            pass += 1;
+            if !publish(pass, 1, rendered) {
+                return;
+            }
+        }
+        for to in totals {
+            let rendered = match &mut sums {
+                Some(sums) => renderer.render_samples(accel, sums, to, &watch),
+                None => renderer.render_with(accel, &watch),
+            };
+            pass += 1;
+            if !publish(pass, to, rendered) {
+                return;
+            }
         }
     }
+}
+
+/// Samples a pixel after each of the path model's full-size passes, for an image of
+/// `spp`: one, then doubling, then `spp`. Each pass adds as many samples as all before
+/// it, so each cuts the noise by about √2 for a wait as long as the picture so far, and
+/// the passes cost what one render of `spp` does.
+fn sample_totals(spp: u32) -> Vec<u32> {
+    let mut totals: Vec<u32> = std::iter::successors(Some(1u32), |&n| n.checked_mul(2))
+        .take_while(|&n| n < spp)
+        .collect();
+    totals.push(spp);
+    totals
 }
 
 /// Stops a render once its generation is no longer the current one.
@@ -407,4 +459,18 @@ fn read(path: &Path, options: &JobOptions, frame: u32) -> Result<(Job, Option<Ti
         frame,
     };
     Ok((anim.frame_job(frame)?, Some(timeline)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sample_totals;
+
+    #[test]
+    fn sample_passes_double_and_end_on_the_job_s_samples() {
+        assert_eq!(sample_totals(1), [1]);
+        assert_eq!(sample_totals(2), [1, 2]);
+        assert_eq!(sample_totals(12), [1, 2, 4, 8, 12]);
+        assert_eq!(sample_totals(256), [1, 2, 4, 8, 16, 32, 64, 128, 256]);
+        assert_eq!(sample_totals(u32::MAX).last(), Some(&u32::MAX));
+    }
 }

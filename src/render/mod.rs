@@ -179,16 +179,20 @@ impl<'a> Renderer<'a> {
                 crate::scene::MAX_SHAPES
             )));
         }
-        let region = plan.region;
-        let mut estimate =
-            memory::MemoryEstimate::of(scene, plan.accel, region.width, region.height, plan.aa);
-        if matches!(plan.integrator, IntegratorKind::Whitted)
-            && let Some(casters) = Casters::count(scene, &scene.resolved_surfaces())
-        {
-            estimate = estimate.with_casters(scene, plan.accel, casters);
-        }
-        estimate.check(plan.max_memory, plan.accel)?;
+        memory_estimate(scene, &plan).check(plan.max_memory, plan.accel)?;
         Ok(Renderer { scene, plan })
+    }
+
+    /// Whether the shading model spreads each pixel's samples over its area, each
+    /// sample its own random stream ([`Integrator::spreads_samples`]): the path model.
+    /// Only such a render can be made in sample passes ([`Renderer::render_samples`]).
+    pub fn spreads_samples(&self) -> bool {
+        matches!(self.plan.integrator, IntegratorKind::Path)
+    }
+
+    /// Samples per pixel of the finished image: the settings' `spp`.
+    pub fn spp(&self) -> u32 {
+        self.plan.spp
     }
 
     /// The camera after the settings' overrides.
@@ -231,11 +235,87 @@ impl<'a> Renderer<'a> {
         })
     }
 
+    /// The supersampled pixels the film reads for the window: `(x_lo, x_hi)` and
+    /// `(y_lo, y_hi)`, ends excluded.
+    fn traced_span(&self) -> ((u32, u32), (u32, u32)) {
+        let (wx, wy) = self.weights();
+        let r = self.plan.region;
+        (
+            wx.input_span(r.x, r.x + r.width),
+            wy.input_span(r.y, r.y + r.height),
+        )
+    }
+
     /// Renders the image (the region, if one is set), reporting to `observer` as it
     /// goes: the one render driver. Returns [`crate::error::Error::Interrupted`] if the
     /// observer cancelled it.
     pub fn render(&self, observer: &dyn Observer) -> Result<(Image, RenderStats)> {
-        self.drive(None, observer)
+        self.drive(None, None, observer)
+    }
+
+    /// Empty sums for rendering in sample passes ([`Renderer::render_samples`]): one
+    /// per supersampled pixel the film reads. Refused for a model that does not spread
+    /// its samples, and when the sums would not fit the memory budget.
+    pub fn sample_sums(&self) -> Result<SampleSums> {
+        if !self.spreads_samples() {
+            return Err(crate::error::Error::Settings(format!(
+                "the {} model does not render in sample passes",
+                self.plan.integrator.name()
+            )));
+        }
+        let ((x_lo, x_hi), (y_lo, y_hi)) = self.traced_span();
+        let (columns, rows) = ((x_hi - x_lo) as usize, (y_hi - y_lo) as usize);
+        let bytes = (columns * rows * size_of::<[f32; 4]>()) as u64;
+        let mut estimate = memory_estimate(self.scene, &self.plan);
+        estimate.film = estimate.film.saturating_add(bytes);
+        estimate.check(self.plan.max_memory, self.plan.accel)?;
+        Ok(SampleSums {
+            pixels: vec![[0.0; 4]; columns * rows],
+            origin: (x_lo, y_lo),
+            columns,
+            samples: 0,
+            torn: false,
+        })
+    }
+
+    /// One sample pass: adds samples `sums.samples()..to` of every pixel to `sums`
+    /// and returns the image of all the samples summed (their means, resampled as
+    /// [`Renderer::render`] resamples), through the same driver, observer and
+    /// cancellation. Passes that end at [`Renderer::spp`] give `render`'s image bit for
+    /// bit however the samples were split: each pixel's sum takes its samples in the
+    /// same order. `accel` is [`Renderer::build_accel`]'s; `sums` are this renderer's
+    /// ([`Renderer::sample_sums`]). A cancelled pass leaves some pixels with more
+    /// samples than others: its sums are refused from then on.
+    pub fn render_samples(
+        &self,
+        accel: &Accel,
+        sums: &mut SampleSums,
+        to: u32,
+        observer: &dyn Observer,
+    ) -> Result<(Image, RenderStats)> {
+        let refuse = |why: String| Err(crate::error::Error::Settings(why));
+        let ((x_lo, x_hi), (y_lo, y_hi)) = self.traced_span();
+        let size = (x_hi - x_lo) as usize * (y_hi - y_lo) as usize;
+        if sums.torn {
+            return refuse("these sample sums were left part-way by a cancelled pass".into());
+        }
+        if !self.spreads_samples() || sums.origin != (x_lo, y_lo) || sums.pixels.len() != size {
+            return refuse("these sample sums are not this render's".into());
+        }
+        if to < sums.samples || to > self.plan.spp {
+            return refuse(format!(
+                "a sample pass must end between the {} samples summed and the {} of the \
+                 image, found {to}",
+                sums.samples, self.plan.spp
+            ));
+        }
+        let out = self.drive(Some(accel), Some(SamplePass { sums, to }), observer);
+        match out {
+            Ok(_) => sums.samples = to,
+            Err(crate::error::Error::Interrupted) => sums.torn = true,
+            Err(_) => {}
+        }
+        out
     }
 
     /// Passes `aovs` of the image [`Renderer::render`] makes, through its camera
@@ -248,11 +328,12 @@ impl<'a> Renderer<'a> {
         Ok(pool.install(|| {
             let accel = Accel::build(self.plan.accel, &self.scene.shapes);
             let surfaces = self.scene.resolved_surfaces();
-            let spread = matches!(self.plan.integrator, IntegratorKind::Path);
+            let spread = self.spreads_samples();
             aovs.iter()
                 .map(|&aov| {
                     let tracer = aov::AovTracer::new(self.scene, &accel, &surfaces, aov, spread);
-                    self.render_frame(&tracer, &accel, Instant::now(), &()).0
+                    self.render_frame(&tracer, &accel, Instant::now(), &(), None)
+                        .0
                 })
                 .collect()
         }))
@@ -294,12 +375,14 @@ impl<'a> Renderer<'a> {
         accel: &Accel,
         observer: &dyn Observer,
     ) -> Result<(Image, RenderStats)> {
-        self.drive(Some(accel), observer)
+        self.drive(Some(accel), None, observer)
     }
 
+    /// The whole image, or with `pass` one sample pass of it.
     fn drive(
         &self,
         accel: Option<&Accel>,
+        pass: Option<SamplePass>,
         observer: &dyn Observer,
     ) -> Result<(Image, RenderStats)> {
         if let Some(accel) = accel
@@ -312,12 +395,18 @@ impl<'a> Renderer<'a> {
             )));
         }
         let start = Instant::now();
-        observer.begin(self.plan.region, self.rows_to_trace());
+        // A sample pass traces each supersampled row once, where bands under a wide
+        // filter share some.
+        let units = match &pass {
+            Some(pass) => pass.sums.rows() as u64,
+            None => self.rows_to_trace(),
+        };
+        observer.begin(self.plan.region, units);
         let out = self.pool()?.install(|| match accel {
-            Some(accel) => self.render_in_pool(accel, start, observer),
+            Some(accel) => self.render_in_pool(accel, start, observer, pass),
             None => {
                 let accel = Accel::build(self.plan.accel, &self.scene.shapes);
-                self.render_in_pool(&accel, start, observer)
+                self.render_in_pool(&accel, start, observer, pass)
             }
         });
         if observer.cancelled() {
@@ -339,12 +428,13 @@ impl<'a> Renderer<'a> {
         accel: &Accel,
         start: Instant,
         observer: &dyn Observer,
+        pass: Option<SamplePass>,
     ) -> (Image, RenderStats) {
         let plan = &self.plan;
         match plan.integrator {
             IntegratorKind::Classic => {
                 let classic = Classic::new(self.scene, accel, plan.camera.medium_ior);
-                self.render_frame(&classic, accel, start, observer)
+                self.render_frame(&classic, accel, start, observer, pass)
             }
             IntegratorKind::Whitted => {
                 let surfaces = self.scene.resolved_surfaces();
@@ -363,23 +453,26 @@ impl<'a> Renderer<'a> {
                     (Some(casters), Some(accel)) => whitted.with_casters(accel, casters),
                     _ => whitted,
                 };
-                self.render_frame(&whitted, accel, start, observer)
+                self.render_frame(&whitted, accel, start, observer, pass)
             }
             IntegratorKind::Path => {
                 let surfaces = self.scene.resolved_surfaces();
                 let path = Path::new(self.scene, accel, &surfaces, plan.max_depth);
-                self.render_frame(&path, accel, start, observer)
+                self.render_frame(&path, accel, start, observer, pass)
             }
         }
     }
 
-    /// The band loop, for one shading model (static dispatch: one copy per model).
+    /// The band loop, for one shading model (static dispatch: one copy per model). A
+    /// sample pass first adds its samples to every pixel's sums; its bands are then
+    /// made of the sums' means, where a whole render traces them.
     fn render_frame<I: Integrator>(
         &self,
         integrator: &I,
         accel: &Accel,
         start: Instant,
         observer: &dyn Observer,
+        pass: Option<SamplePass>,
     ) -> (Image, RenderStats) {
         let plan = &self.plan;
         let rays = CameraRays::new(&plan.camera, plan.aa, plan.spp);
@@ -431,17 +524,18 @@ impl<'a> Renderer<'a> {
                         .to_array();
                 }
             }
-            if plan.aa == 1 {
-                // `+ 0` is what a one-tap resample adds (`0 + 1 p`, turning -0 into
-                // +0), so tracing straight into the image below gives the same bits.
-                for out in strip.iter_mut() {
-                    *out = (Vec3::from_array(*out) + Vec3::ZERO).to_array();
-                }
-            }
             total_rays.fetch_add(count.rays, Ordering::Relaxed);
             if !observer.cancelled() {
                 observer.progress((strip.len() / row_len) as u64);
             }
+        };
+        let sums = pass.map(|pass| {
+            self.sum_samples(integrator, &rays, pass.sums, pass.to, &total_rays, observer);
+            &*pass.sums
+        });
+        let fill_strip = |y0: u32, strip: &mut [[f32; 3]]| match sums {
+            Some(sums) => sums.means_into(y0, strip),
+            None => trace_strip(y0, strip),
         };
         if plan.aa == 1 {
             // One traced pixel to each output pixel: no band buffers to fill and copy.
@@ -452,8 +546,13 @@ impl<'a> Renderer<'a> {
                 .with_max_len(1)
                 .for_each(|(i, strip)| {
                     let y = (i * TILE_ROWS) as u32;
-                    trace_strip(region.y + y, strip);
+                    fill_strip(region.y + y, strip);
                     if !observer.cancelled() {
+                        // `+ 0` is what a one-tap resample adds (`0 + 1 p`, turning -0
+                        // into +0), so filling the image straight gives the same bits.
+                        for out in strip.iter_mut() {
+                            *out = (Vec3::from_array(*out) + Vec3::ZERO).to_array();
+                        }
                         observer.rows(y, strip);
                     }
                 });
@@ -488,7 +587,7 @@ impl<'a> Renderer<'a> {
                 band.par_chunks_mut(row_len * TILE_ROWS)
                     .enumerate()
                     .with_max_len(1)
-                    .for_each(|(i, strip)| trace_strip(lo + (i * TILE_ROWS) as u32, strip));
+                    .for_each(|(i, strip)| fill_strip(lo + (i * TILE_ROWS) as u32, strip));
                 if observer.cancelled() {
                     return;
                 }
@@ -557,8 +656,7 @@ impl<'a> Renderer<'a> {
     }
 
     /// Colour of supersampled pixel `(x, y)` as the mean of `spp` samples spread over
-    /// its area, sample `i` drawing from its own stream: the pixel position, then the
-    /// lens point, then what the model draws.
+    /// its area.
     #[inline]
     fn spread_pixel<I: Integrator>(
         &self,
@@ -569,14 +667,68 @@ impl<'a> Renderer<'a> {
         count: &mut RayCount,
     ) -> Vec3 {
         let mut acc = WeightedColor::default();
-        for i in 0..self.plan.spp {
+        self.add_samples(integrator, rays, x, y, 0..self.plan.spp, &mut acc, count);
+        acc.mean()
+    }
+
+    /// Adds samples `samples` of supersampled pixel `(x, y)` to `acc`, in order, sample
+    /// `i` drawing from its own stream: the pixel position, then the lens point, then
+    /// what the model draws.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn add_samples<I: Integrator>(
+        &self,
+        integrator: &I,
+        rays: &CameraRays,
+        x: u32,
+        y: u32,
+        samples: std::ops::Range<u32>,
+        acc: &mut WeightedColor,
+        count: &mut RayCount,
+    ) {
+        for i in samples {
             let mut sampler = PixelSampler::for_sample(self.plan.seed, x, y, i);
             let jitter = sampler.next_2d();
             let lens = sampler.next_2d();
             let ray = rays.through(x, y, jitter, lens);
-            integrator.trace_camera_ray(ray, &mut sampler, &mut acc, count);
+            integrator.trace_camera_ray(ray, &mut sampler, acc, count);
         }
-        acc.mean()
+    }
+
+    /// Adds samples `sums.samples..to` of every pixel to `sums`, a strip of
+    /// [`TILE_ROWS`] rows at a time, reporting each strip as progress.
+    fn sum_samples<I: Integrator>(
+        &self,
+        integrator: &I,
+        rays: &CameraRays,
+        sums: &mut SampleSums,
+        to: u32,
+        total_rays: &AtomicU64,
+        observer: &dyn Observer,
+    ) {
+        let (from, (x_lo, y_lo), columns) = (sums.samples, sums.origin, sums.columns);
+        sums.pixels
+            .par_chunks_mut(columns * TILE_ROWS)
+            .enumerate()
+            .with_max_len(1)
+            .for_each(|(i, strip)| {
+                let mut count = RayCount::default();
+                for (k, sum) in strip.iter_mut().enumerate() {
+                    // Checked pixel by pixel, as a whole render's spread pixels are.
+                    if observer.cancelled() {
+                        return;
+                    }
+                    let x = x_lo + (k % columns) as u32;
+                    let y = y_lo + (i * TILE_ROWS + k / columns) as u32;
+                    let mut acc = sum_of(*sum);
+                    self.add_samples(integrator, rays, x, y, from..to, &mut acc, &mut count);
+                    *sum = stored(acc);
+                }
+                total_rays.fetch_add(count.rays, Ordering::Relaxed);
+                if !observer.cancelled() {
+                    observer.progress((strip.len() / columns) as u64);
+                }
+            });
     }
 
     /// A strip of supersampled rows (starting at pixel `origin`, `row_len` pixels
@@ -637,6 +789,79 @@ impl<'a> Renderer<'a> {
             }
         }
     }
+}
+
+/// The running sums of a render in sample passes (a progressive render's
+/// accumulation buffer): for every supersampled pixel the film reads, the weighted sum
+/// of the samples traced so far, kept as sums rather than means so that the last pass
+/// ends on the very floats a whole render adds up. Made by [`Renderer::sample_sums`],
+/// filled by [`Renderer::render_samples`].
+pub struct SampleSums {
+    /// Per pixel, row after row: the sum's colour and its weight, 16 bytes where a
+    /// [`WeightedColor`] takes 32 (a 1080p frame at aa 2 keeps 130 MB rather than 260).
+    pixels: Vec<[f32; 4]>,
+    /// The first pixel's place in the supersampled frame.
+    origin: (u32, u32),
+    /// Pixels a row.
+    columns: usize,
+    /// Samples of every pixel summed so far.
+    samples: u32,
+    /// A pass was cancelled part-way: pixels hold different numbers of samples.
+    torn: bool,
+}
+
+impl SampleSums {
+    /// Samples of every pixel summed so far.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    fn rows(&self) -> usize {
+        self.pixels.len() / self.columns.max(1)
+    }
+
+    /// The means of the strip of rows from supersampled row `y0` (whole rows of the
+    /// sums), what [`Renderer::spread_pixel`] gives for the samples summed.
+    fn means_into(&self, y0: u32, strip: &mut [[f32; 3]]) {
+        let first = (y0 - self.origin.1) as usize * self.columns;
+        for (out, &sum) in strip.iter_mut().zip(&self.pixels[first..]) {
+            *out = sum_of(sum).mean().to_array();
+        }
+    }
+}
+
+/// A stored sum as the [`WeightedColor`] it was (every float as it was).
+#[inline]
+fn sum_of([r, g, b, weight]: [f32; 4]) -> WeightedColor {
+    WeightedColor {
+        sum: Vec3::new(r, g, b),
+        weight,
+    }
+}
+
+/// A [`WeightedColor`] as it is stored.
+#[inline]
+fn stored(acc: WeightedColor) -> [f32; 4] {
+    [acc.sum.x, acc.sum.y, acc.sum.z, acc.weight]
+}
+
+/// Samples `sums.samples..to` of every pixel, added to `sums`.
+struct SamplePass<'s> {
+    sums: &'s mut SampleSums,
+    to: u32,
+}
+
+/// The big allocations of rendering `scene` as `plan` says.
+fn memory_estimate(scene: &Scene, plan: &Plan) -> memory::MemoryEstimate {
+    let region = plan.region;
+    let estimate =
+        memory::MemoryEstimate::of(scene, plan.accel, region.width, region.height, plan.aa);
+    if matches!(plan.integrator, IntegratorKind::Whitted)
+        && let Some(casters) = Casters::count(scene, &scene.resolved_surfaces())
+    {
+        return estimate.with_casters(scene, plan.accel, casters);
+    }
+    estimate
 }
 
 /// Traces `batch` as one packet, then shades each ray in order.
