@@ -66,6 +66,7 @@ pub fn job_options(
                 o.render.exposure = Some(checked.map_err(PyValueError::new_err)?);
             }
             "tonemap" => o.render.tonemap = Some(parse(&value)?),
+            "denoise" => o.render.denoise = Some(value.extract()?),
             "png_bits" => {
                 let bits: u32 = value.extract()?;
                 o.png_bits = bits.to_string().parse().map_err(PyValueError::new_err)?;

@@ -92,6 +92,10 @@ pub fn render<'py>(
         || renderer.render(&watch),
     )?;
     let (image, _stats) = result.map_err(|e| to_py(py, e))?;
+    // Denoised when the options ask (a Prism without OIDN refused them as they resolved).
+    let image = py
+        .detach(|| job.denoised(&renderer, image, &[]))
+        .py_err(py)?;
     let (w, h) = (image.width, image.height);
     let display = srgb || previewing;
     let rgb8 = if display {

@@ -95,3 +95,14 @@ def test_without_pyoidn_the_error_says_how_to_get_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "pyoidn", None)
     with pytest.raises(ImportError, match="pip install pyoidn"):
         prism.denoise(np.zeros((4, 6, 3), np.float32))
+
+
+def test_render_with_denoise_is_refused_by_a_prism_without_oidn():
+    """`denoise=True` asks the renderer itself (Intel Open Image Denoise linked in, the
+    `oidn` feature), not pyoidn: the extension the tests build has no OIDN, so the job
+    is refused as it resolves, before anything renders, saying how to get one."""
+    with pytest.raises(prism.PrismError, match="oidn"):
+        prism.render(box_scene(), width=32, height=32, integrator="path", denoise=True)
+    # Asked not to, it renders as ever.
+    image = prism.render(box_scene(), width=32, height=32, integrator="path", denoise=False)
+    assert image.shape == (32, 32, 3)

@@ -362,6 +362,7 @@ pub struct RawRender {
     pub integrator: S<String>,
     pub exposure: S<Num>,
     pub tonemap: S<String>,
+    pub denoise: S<bool>,
 }
 
 /// An animation track (docs/animation.md); its keys are checked by the animation

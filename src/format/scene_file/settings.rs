@@ -54,8 +54,7 @@ pub fn render(source: &Source, raw: &RawRender) -> Result<RenderOptions> {
         integrator,
         exposure: raw.exposure.as_ref().map(|e| e.get_ref().f32()),
         tonemap: parsed(source, &raw.tonemap)?,
-        // Not a key of the file (yet): denoising is asked for by the caller.
-        denoise: None,
+        denoise: raw.denoise.as_ref().map(|d| *d.get_ref()),
     })
 }
 
