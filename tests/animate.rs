@@ -210,7 +210,9 @@ fn mp4_has_the_frames_size_and_rate_and_plays() {
         .arg(&mp4)
         .output();
     match probe {
-        Err(e) => println!("skipped the ffprobe check: ffprobe cannot run here ({e})"),
+        Err(e) => skipped(format_args!(
+            "the ffprobe check: ffprobe cannot run here ({e})"
+        )),
         Ok(p) => {
             let text = String::from_utf8_lossy(&p.stdout);
             assert!(p.status.success(), "{}", String::from_utf8_lossy(&p.stderr));
@@ -572,4 +574,11 @@ fn a_gltf_scene_animates_its_nodes_with_its_own_camera() {
         "{}",
         stderr(&o)
     );
+}
+
+/// Says why a test skipped where `cargo test` shows it: the harness keeps what a
+/// passing test prints with `println!` or `eprintln!`, not what it writes to stderr.
+fn skipped(why: impl std::fmt::Display) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "skipped: {why}");
 }

@@ -165,7 +165,7 @@ fn a_full_disk_is_a_clear_error_and_leaves_no_file() {
         .arg(&mount)
         .output();
     if !mounted.is_ok_and(|o| o.status.success()) {
-        eprintln!("skipped: cannot mount a small tmpfs here (needs root)");
+        skipped("cannot mount a small tmpfs here (needs root)");
         return;
     }
     struct Unmount<'a>(&'a Path);
@@ -366,4 +366,11 @@ fn one_bit_png(w: u32, h: u32) -> Vec<u8> {
     png_chunk(&mut png, b"IDAT", &zlib_zeros(row * h as usize));
     png_chunk(&mut png, b"IEND", &[]);
     png
+}
+
+/// Says why a test skipped where `cargo test` shows it: the harness keeps what a
+/// passing test prints with `println!` or `eprintln!`, not what it writes to stderr.
+fn skipped(why: impl std::fmt::Display) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "skipped: {why}");
 }

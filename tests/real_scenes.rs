@@ -289,7 +289,7 @@ fn an_output_folder_that_cannot_be_written_is_refused_before_rendering() {
     std::fs::create_dir(&locked).unwrap();
     std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
     if std::fs::write(locked.join("probe"), b"").is_ok() {
-        println!("skipped: this user writes into read-only folders (root)");
+        skipped("this user writes into read-only folders (root)");
         return;
     }
     let obj = write(dir.path(), "t.obj", RIGHT_TRIANGLE);
@@ -307,4 +307,11 @@ fn an_output_folder_that_cannot_be_written_is_refused_before_rendering() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// Says why a test skipped where `cargo test` shows it: the harness keeps what a
+/// passing test prints with `println!` or `eprintln!`, not what it writes to stderr.
+fn skipped(why: impl std::fmt::Display) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "skipped: {why}");
 }

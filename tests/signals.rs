@@ -178,7 +178,7 @@ fn fifos_devices_and_folders_in_a_scene_are_refused_without_waiting() {
     let fifo = dir.path().join("pipe");
     let made = Command::new("mkfifo").arg(&fifo).status();
     if !made.is_ok_and(|s| s.success()) {
-        eprintln!("skipped: mkfifo is not available");
+        skipped("mkfifo is not available");
         return;
     }
     let scene = std::fs::read_to_string(example("example.objx")).unwrap();
@@ -233,4 +233,11 @@ fn refused_at_once(scene_path: &Path, camera: &Path, what: &str, bad: &str) {
     assert_eq!(wait(child), Some(2), "{what} {bad}");
     assert!(start.elapsed() < Duration::from_secs(10), "{what} {bad}");
     assert!(!out.exists());
+}
+
+/// Says why a test skipped where `cargo test` shows it: the harness keeps what a
+/// passing test prints with `println!` or `eprintln!`, not what it writes to stderr.
+fn skipped(why: impl std::fmt::Display) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "skipped: {why}");
 }

@@ -8,3 +8,11 @@ pub mod hdr;
 pub mod image;
 pub mod limits;
 pub mod text;
+
+/// Says why a test skipped where `cargo test` shows it: the harness keeps what a
+/// passing test prints with `println!` or `eprintln!`, not what it writes to stderr.
+#[cfg(test)]
+pub(crate) fn skipped(why: impl std::fmt::Display) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "skipped: {why}");
+}

@@ -466,10 +466,10 @@ fn real_models_load_with_their_face_counts() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models");
     let bunny = root.join("stanford-bunny/stanford-bunny.obj");
     if !bunny.exists() {
-        println!(
-            "skipped: {} is absent (../shared is not beside the repo)",
+        crate::util::skipped(format_args!(
+            "{} is absent (../shared is not beside the repo)",
             bunny.display()
-        );
+        ));
         return;
     }
     assert_eq!(load(&bunny).unwrap().shapes.len(), 69451);

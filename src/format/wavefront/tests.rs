@@ -165,7 +165,7 @@ fn the_cornell_box_has_its_ceiling_light_as_an_area_light() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../shared/models/cornell-box/CornellBox-Original.obj");
     if !path.exists() {
-        println!("skipped: {} is absent", path.display());
+        crate::util::skipped(format_args!("{} is absent", path.display()));
         return;
     }
     let file = load(&path).unwrap();

@@ -374,7 +374,7 @@ fn shared_model(path: &str) -> Option<Vec<u8>> {
     match std::fs::read(&path) {
         Ok(bytes) => Some(bytes),
         Err(e) => {
-            println!("skipped: {} cannot be read ({e})", path.display());
+            crate::util::skipped(format_args!("{} cannot be read ({e})", path.display()));
             None
         }
     }
