@@ -60,6 +60,21 @@ fn skipped(why: &str) {
     let _ = writeln!(std::io::stderr(), "python_suite skipped: {why}");
 }
 
+/// Whether pip installed `packages` into `venv` from the package index.
+fn pip_install(venv: &Path, packages: &[&str]) -> bool {
+    in_venv(venv, "python")
+        .args([
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+        ])
+        .args(packages)
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
 /// The tools the suite needs, installed into `venv` from the package index.
 const TOOLS: [&str; 5] = ["maturin", "numpy", "pytest", "tqdm", "selenium"];
 
@@ -95,17 +110,7 @@ fn python_suite() {
     };
     if !has_tools(&python) {
         // A fresh machine: set the environment up, once (later runs find it).
-        let installed = in_venv(&venv, "python")
-            .args([
-                "-m",
-                "pip",
-                "install",
-                "--quiet",
-                "--disable-pip-version-check",
-            ])
-            .args(TOOLS)
-            .status()
-            .is_ok_and(|s| s.success());
+        let installed = pip_install(&venv, &TOOLS);
         if !installed || !has_tools(&python) {
             skipped(&format!(
                 "the Python tests need {} in {}, and pip could not install them: \
@@ -120,17 +125,7 @@ fn python_suite() {
     }
     let wants_oidn = std::env::var("PRISM_TEST_OIDN").is_ok_and(|v| v == "1");
     if wants_oidn && !runs(&python, &["-c", "import pyoidn"]) {
-        let installed = in_venv(&venv, "python")
-            .args([
-                "-m",
-                "pip",
-                "install",
-                "--quiet",
-                "--disable-pip-version-check",
-            ])
-            .arg(OIDN_PACKAGE)
-            .status()
-            .is_ok_and(|s| s.success());
+        let installed = pip_install(&venv, &[OIDN_PACKAGE]);
         assert!(
             installed && runs(&python, &["-c", "import pyoidn"]),
             "PRISM_TEST_OIDN=1 asks for the denoising tests, and pip could not install \

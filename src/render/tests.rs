@@ -11,6 +11,20 @@ fn with_unit_ball(mut scene: crate::scene::Scene) -> crate::scene::Scene {
     scene
 }
 
+/// Adds a floor of material `material` one unit below the origin, 8 units square.
+fn add_floor(scene: &mut crate::scene::Scene, material: u32) {
+    use crate::math::Vec3;
+    let floor = crate::scene::Shape::Rectangle(crate::scene::Rectangle {
+        v: [
+            Vec3::new(-4.0, -1.0, 4.0),
+            Vec3::new(4.0, -1.0, 4.0),
+            Vec3::new(4.0, -1.0, -4.0),
+            Vec3::new(-4.0, -1.0, -4.0),
+        ],
+    });
+    scene.push_shape(floor, material);
+}
+
 mod cancel_tests {
     use crate::render::*;
     use crate::scene::Material;
@@ -193,7 +207,7 @@ mod cancel_tests {
 
 mod lens_packet_tests {
     use crate::render::*;
-    use crate::scene::{Light, LightKind, Material, Rectangle, Shape, Surface};
+    use crate::scene::{Light, LightKind, Material, Surface};
 
     /// A pixel's lens rays traced as packets (where the model allows) give the pixel
     /// each ray gives traced alone, in order, from the pixel's stream.
@@ -224,15 +238,7 @@ mod lens_packet_tests {
             surfaces: vec![glass, Surface::default()],
             ..Scene::default()
         });
-        let floor = Shape::Rectangle(Rectangle {
-            v: [
-                Vec3::new(-4.0, -1.0, 4.0),
-                Vec3::new(4.0, -1.0, 4.0),
-                Vec3::new(4.0, -1.0, -4.0),
-                Vec3::new(-4.0, -1.0, -4.0),
-            ],
-        });
-        scene.push_shape(floor, 1);
+        super::add_floor(&mut scene, 1);
         let mut camera =
             Camera::look_at(Vec3::new(0.5, 1.0, 4.0), Vec3::ZERO, Vec3::Y, 50.0, 12, 10);
         camera.aperture = 0.2;
@@ -454,7 +460,7 @@ mod sample_pass_tests {
     use crate::film::Image;
     use crate::options::Filter;
     use crate::render::*;
-    use crate::scene::{Light, LightKind, Material, Rectangle, Shape, Surface};
+    use crate::scene::{Light, LightKind, Material, Surface};
     use std::sync::atomic::AtomicBool;
 
     /// A glass ball on a floor under a quad light, seen through a lens: every sample of
@@ -479,15 +485,7 @@ mod sample_pass_tests {
             }],
             ..Scene::default()
         });
-        let floor = Shape::Rectangle(Rectangle {
-            v: [
-                Vec3::new(-4.0, -1.0, 4.0),
-                Vec3::new(4.0, -1.0, 4.0),
-                Vec3::new(4.0, -1.0, -4.0),
-                Vec3::new(-4.0, -1.0, -4.0),
-            ],
-        });
-        scene.push_shape(floor, 1);
+        super::add_floor(&mut scene, 1);
         let mut camera = Camera::look_at(
             Vec3::new(0.5, 1.0, 4.0),
             Vec3::ZERO,
