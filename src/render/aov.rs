@@ -49,10 +49,10 @@ impl<'a> AovTracer<'a> {
         match self.aov {
             Aov::Albedo => self.scene.albedo(s, &sp, shape) * sp.color,
             Aov::Normal => {
-                let sp = match &s.normal_map {
-                    Some(map) => self.scene.normal_mapped(sp, shape, map, s.normal_scale),
-                    None => sp,
-                };
+                let mut sp = sp;
+                if let Some(map) = &s.normal_map {
+                    sp.n = self.scene.normal_mapped(&sp, shape, map, s.normal_scale);
+                }
                 if ray.dir.dot(sp.ng) < 0.0 {
                     sp.n
                 } else {

@@ -162,12 +162,12 @@ impl<'a> Whitted<'a> {
         };
         let s = self.surface(hit.shape);
         let d = ray.dir;
-        let sp = match &s.normal_map {
-            Some(slot) => self
+        let mut sp = sp;
+        if let Some(slot) = &s.normal_map {
+            sp.n = self
                 .scene
-                .normal_mapped(sp, hit.shape, slot, s.normal_scale),
-            None => sp,
-        };
+                .normal_mapped(&sp, hit.shape, slot, s.normal_scale);
+        }
         // Inside/outside from the geometric normal; shading normals turned to the ray.
         let entering = d.dot(sp.ng) < 0.0;
         let (ng, n) = if entering {

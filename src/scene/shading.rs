@@ -19,22 +19,22 @@ impl Scene {
     }
 
     /// The shading normal bent by a tangent-space normal map (texel `2 c - 1` in the
-    /// frame of dP/du, N x dP/du and N). Kept as it was where the surface has no
+    /// frame of dP/du, N x dP/du and N). `sp.n` as it was where the surface has no
     /// tangent or the map would turn it past the geometric surface.
     pub fn normal_mapped(
         &self,
-        mut sp: SurfacePoint,
+        sp: &SurfacePoint,
         shape: u32,
         slot: &TextureSlot,
         scale: f32,
-    ) -> SurfacePoint {
-        let Some(dpdu) = self.dpdu(shape) else {
-            return sp;
-        };
+    ) -> Vec3 {
         let n = sp.n;
+        let Some(dpdu) = self.dpdu(shape) else {
+            return n;
+        };
         let t = (dpdu - n * n.dot(dpdu)).normalize_or_zero();
         if t == Vec3::ZERO {
-            return sp;
+            return n;
         }
         let b = cross(n, t);
         let c = self.images[slot.image as usize].sample_slot(slot, sp.uv);
@@ -44,10 +44,7 @@ impl Scene {
             m.y *= scale;
         }
         let bent = (t * m.x + b * m.y + n * m.z).normalize_or_zero();
-        if bent.dot(sp.ng) > 0.0 {
-            sp.n = bent;
-        }
-        sp
+        if bent.dot(sp.ng) > 0.0 { bent } else { n }
     }
 
     /// Whether `s`'s alpha map cuts the surface out at the hit: rays pass there.
