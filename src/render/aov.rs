@@ -91,15 +91,15 @@ impl Integrator for AovTracer<'_> {
         &self,
         rays: &[Ray],
         hits: &[Option<Hit>],
-        samplers: &mut [PixelSampler],
+        _samplers: &mut [PixelSampler],
         accs: &mut [WeightedColor],
         count: &mut RayCount,
     ) {
         for (i, (ray, &hit)) in rays.iter().zip(hits).enumerate() {
             count.rays += 1;
-            let k = slot(samplers, i);
-            accs[k].sum += self.value(ray, hit);
-            accs[k].weight += 1.0;
+            let acc = &mut accs[slot(accs, i)];
+            acc.sum += self.value(ray, hit);
+            acc.weight += 1.0;
         }
     }
 }

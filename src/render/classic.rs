@@ -377,7 +377,7 @@ impl Integrator for Classic<'_> {
         &self,
         rays: &[Ray],
         hits: &[Option<Hit>],
-        samplers: &mut [PixelSampler],
+        _samplers: &mut [PixelSampler],
         accs: &mut [WeightedColor],
         count: &mut RayCount,
     ) {
@@ -425,7 +425,7 @@ impl Integrator for Classic<'_> {
             let Some(hit) = found[i].hit else {
                 continue;
             };
-            let k = slot(samplers, i);
+            let k = slot(accs, i);
             let (p, normal) = at[i];
             let r = camera_ray(i);
             self.shade_surface(

@@ -106,8 +106,9 @@ pub trait Integrator: Sync {
 
     /// [`Integrator::trace_camera_ray`] for up to [`PACKET_RAYS`] camera rays whose
     /// closest hits were found together, shaded in order: ray `i` draws from
-    /// `samplers[i]` and adds to `accs[i]`, or every ray from the one sampler and
-    /// accumulator when only one is given (the lens rays of a pixel). The model may
+    /// `samplers[i]` and adds to `accs[i]`; where only one sampler or one accumulator
+    /// is given, every ray shares it (the lens rays of a pixel share both, the spread
+    /// samples of a pixel their accumulator). The model may
     /// trace the hits' own rays (shadow, reflected, refracted) together as well.
     fn trace_camera_packet(
         &self,
@@ -497,7 +498,7 @@ impl<'a> Renderer<'a> {
                     let x = x_lo + (k % row_len) as u32;
                     let y = y0 + (k / row_len) as u32;
                     *out = self
-                        .spread_pixel(integrator, &rays, x, y, &mut count)
+                        .spread_pixel(integrator, accel, &rays, x, y, &mut count)
                         .to_array();
                 }
             } else if rays.spp() == 1 {
@@ -530,7 +531,15 @@ impl<'a> Renderer<'a> {
             }
         };
         let sums = pass.map(|pass| {
-            self.sum_samples(integrator, &rays, pass.sums, pass.to, &total_rays, observer);
+            self.sum_samples(
+                integrator,
+                accel,
+                &rays,
+                pass.sums,
+                pass.to,
+                &total_rays,
+                observer,
+            );
             &*pass.sums
         });
         let fill_strip = |y0: u32, strip: &mut [[f32; 3]]| match sums {
@@ -661,45 +670,74 @@ impl<'a> Renderer<'a> {
     fn spread_pixel<I: Integrator>(
         &self,
         integrator: &I,
+        accel: &Accel,
         rays: &CameraRays,
         x: u32,
         y: u32,
         count: &mut RayCount,
     ) -> Vec3 {
         let mut acc = WeightedColor::default();
-        self.add_samples(integrator, rays, x, y, 0..self.plan.spp, &mut acc, count);
+        let samples = 0..self.plan.spp;
+        self.add_samples(integrator, accel, rays, (x, y), samples, &mut acc, count);
         acc.mean()
     }
 
     /// Adds samples `samples` of supersampled pixel `(x, y)` to `acc`, in order, sample
     /// `i` drawing from its own stream: the pixel position, then the lens point, then
-    /// what the model draws.
+    /// what the model draws. The camera rays of up to [`PACKET_RAYS`] samples are drawn
+    /// first and traced as one packet (rays through one pixel are the most coherent
+    /// there are); each sample's stream is its own, so drawing them ahead of the
+    /// shading changes no number.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn add_samples<I: Integrator>(
         &self,
         integrator: &I,
+        accel: &Accel,
         rays: &CameraRays,
-        x: u32,
-        y: u32,
+        (x, y): (u32, u32),
         samples: std::ops::Range<u32>,
         acc: &mut WeightedColor,
         count: &mut RayCount,
     ) {
-        for i in samples {
-            let mut sampler = PixelSampler::for_sample(self.plan.seed, x, y, i);
-            let jitter = sampler.next_2d();
-            let lens = sampler.next_2d();
-            let ray = rays.through(x, y, jitter, lens);
-            integrator.trace_camera_ray(ray, &mut sampler, acc, count);
+        let seed = self.plan.seed;
+        let mut first = samples.start;
+        while first < samples.end {
+            let n = (samples.end - first).min(PACKET_RAYS as u32) as usize;
+            if n == 1 {
+                let mut sampler = PixelSampler::for_sample(seed, x, y, first);
+                let ray = rays.through(x, y, sampler.next_2d(), sampler.next_2d());
+                integrator.trace_camera_ray(ray, &mut sampler, acc, count);
+                break;
+            }
+            let mut samplers: [PixelSampler; PACKET_RAYS] =
+                std::array::from_fn(|k| PixelSampler::for_sample(seed, x, y, first + k as u32));
+            let mut batch = [NO_RAY; PACKET_RAYS];
+            for (ray, sampler) in batch.iter_mut().zip(&mut samplers).take(n) {
+                let jitter = sampler.next_2d();
+                let lens = sampler.next_2d();
+                *ray = rays.through(x, y, jitter, lens);
+            }
+            let mut hits = [None; PACKET_RAYS];
+            accel.closest_packet(&batch[..n], f32::INFINITY, &mut hits[..n]);
+            integrator.trace_camera_packet(
+                &batch[..n],
+                &hits[..n],
+                &mut samplers[..n],
+                std::slice::from_mut(acc),
+                count,
+            );
+            first += n as u32;
         }
     }
 
     /// Adds samples `sums.samples..to` of every pixel to `sums`, a strip of
     /// [`TILE_ROWS`] rows at a time, reporting each strip as progress.
+    #[allow(clippy::too_many_arguments)]
     fn sum_samples<I: Integrator>(
         &self,
         integrator: &I,
+        accel: &Accel,
         rays: &CameraRays,
         sums: &mut SampleSums,
         to: u32,
@@ -721,7 +759,10 @@ impl<'a> Renderer<'a> {
                     let x = x_lo + (k % columns) as u32;
                     let y = y_lo + (i * TILE_ROWS + k / columns) as u32;
                     let mut acc = sum_of(*sum);
-                    self.add_samples(integrator, rays, x, y, from..to, &mut acc, &mut count);
+                    let (samples, pixel) = (from..to, (x, y));
+                    self.add_samples(
+                        integrator, accel, rays, pixel, samples, &mut acc, &mut count,
+                    );
                     *sum = stored(acc);
                 }
                 total_rays.fetch_add(count.rays, Ordering::Relaxed);

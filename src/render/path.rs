@@ -446,10 +446,10 @@ impl Integrator for Path<'_> {
         count: &mut RayCount,
     ) {
         for (i, (ray, &hit)) in rays.iter().zip(hits).enumerate() {
-            let k = slot(samplers, i);
-            let l = self.radiance(*ray, hit, &mut samplers[k], count);
-            accs[k].sum += l;
-            accs[k].weight += 1.0;
+            let l = self.radiance(*ray, hit, &mut samplers[slot(samplers, i)], count);
+            let acc = &mut accs[slot(accs, i)];
+            acc.sum += l;
+            acc.weight += 1.0;
         }
     }
 }

@@ -436,7 +436,7 @@ mod band_tests {
                                 renderer.pixel(&whitted, &accel, &rays, x, y, &mut count)
                             }
                             IntegratorKind::Path => {
-                                renderer.spread_pixel(&path, &rays, x, y, &mut count)
+                                renderer.spread_pixel(&path, &accel, &rays, x, y, &mut count)
                             }
                         };
                         traced.push(p.to_array());

@@ -336,9 +336,9 @@ impl Integrator for Whitted<'_> {
         count: &mut RayCount,
     ) {
         for (i, (ray, &hit)) in rays.iter().zip(hits).enumerate() {
-            let k = slot(samplers, i);
-            let l = self.radiance_from(ray, hit, 0, Vec3::ONE, &mut samplers[k], count);
-            add_camera_sample(&mut accs[k], l);
+            let sampler = &mut samplers[slot(samplers, i)];
+            let l = self.radiance_from(ray, hit, 0, Vec3::ONE, sampler, count);
+            add_camera_sample(&mut accs[slot(accs, i)], l);
         }
     }
 }
