@@ -29,16 +29,16 @@ pub fn first_uncut(
             None => accel.closest(&r, f32::INFINITY),
         }?;
         let s = &surfaces[scene.material_of[hit.shape as usize] as usize];
-        let sp = scene.surface_point(hit.shape, &r, hit.t, s.reads_texture_coords());
+        let uv = s.reads_texture_coords();
+        let t = travelled + hit.t;
+        if s.alpha_map.is_none() {
+            // Made where it is returned: a shading point is two hundred bytes to copy.
+            let sp = scene.surface_point(hit.shape, &r, hit.t, uv);
+            return Some((Hit { t, ..hit }, sp));
+        }
+        let sp = scene.surface_point(hit.shape, &r, hit.t, uv);
         if !scene.cut_out(s, &sp) {
-            let t = travelled + hit.t;
-            return Some((
-                Hit {
-                    t,
-                    shape: hit.shape,
-                },
-                sp,
-            ));
+            return Some((Hit { t, ..hit }, sp));
         }
         travelled += hit.t;
         r.origin = offset_origin(sp.p, sp.ng, r.dir);
