@@ -441,6 +441,67 @@ fn passes_are_layers_of_the_exr_with_the_floor_s_albedo_normal_and_distance() {
     assert!(!dir.path().join("out.png").exists());
 }
 
+/// The albedo pass looks through perfect mirrors and glass to the first surface with a
+/// colour of its own, tinted by what it passed (a denoiser reads a mirror's reflection
+/// as the mirror's texture): a mirror floor showing a red ceiling, a glass pane over a
+/// blue floor.
+#[test]
+fn the_albedo_pass_shows_what_mirrors_and_glass_show() {
+    let dir = tempfile::tempdir().unwrap();
+    let camera = "[camera]\nfrom = [0, 2, 0]\nat = [0, 0, 0]\nup = [0, 0, -1]\nfov = 20\n\
+                  [render]\nwidth = 4\nheight = 4\n\
+                  [[light]]\ntype = \"point\"\nposition = [0, 3, 0]\n";
+    let cases = [
+        (
+            "mirror",
+            "[[object]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\n\
+             material = { color = [0, 0, 0], diffuse = 0, reflection = 0.5 }\n\
+             [[object]]\ntype = \"plane\"\npoint = [0, 4, 0]\nnormal = [0, -1, 0]\n\
+             material = { color = [0.8, 0.2, 0.1] }\n",
+            [0.4, 0.1, 0.05],
+        ),
+        (
+            "glass",
+            "[[object]]\ntype = \"plane\"\npoint = [0, 1, 0]\nnormal = [0, 1, 0]\n\
+             material = { color = [0, 0, 0], diffuse = 0, transmission = 0.5, ior = 1.5, \
+             fresnel = true }\n\
+             [[object]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\n\
+             material = { color = [0.25, 0.5, 0.75] }\n",
+            [0.125, 0.25, 0.375],
+        ),
+    ];
+    for (name, objects, want) in cases {
+        let scene = dir.path().join(format!("{name}.toml"));
+        fs::write(&scene, format!("{camera}{objects}")).unwrap();
+        for integrator in ["whitted", "path"] {
+            let out = dir.path().join(format!("{name}-{integrator}.exr"));
+            let o = run(prism()
+                .arg("render")
+                .arg(&scene)
+                .arg(&out)
+                .args(["--integrator", integrator, "--quiet"])
+                .args(["--aov", "albedo", "--exr-precision", "float"]));
+            assert!(o.status.success(), "{}", stderr(&o));
+            let image = exr::prelude::read_all_flat_layers_from_file(&out).unwrap();
+            let albedo = &image.layer_data[1];
+            for (channel, want) in ["R", "G", "B"].into_iter().zip(want) {
+                let c = albedo
+                    .channel_data
+                    .list
+                    .iter()
+                    .find(|c| c.name.to_string() == channel)
+                    .unwrap();
+                for v in c.sample_data.values_as_f32() {
+                    assert!(
+                        (v - want).abs() < 1e-6,
+                        "{name} {integrator} {channel}: {v}"
+                    );
+                }
+            }
+        }
+    }
+}
+
 fn showcase() -> std::path::PathBuf {
     repo().join("scenes/showcase/showcase.toml")
 }

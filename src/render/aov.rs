@@ -5,9 +5,15 @@
 use super::cut_outs::first_uncut;
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::{Ray, Vec3};
+use crate::math::{Ray, Vec3, offset_origin, reflect};
 use crate::options::Aov;
-use crate::scene::{Scene, Surface};
+use crate::scene::{Scene, Surface, SurfacePoint};
+
+use super::optics::refract;
+
+/// Perfect mirrors and panes of glass the albedo pass looks through, at most, before it
+/// takes the surface it stands on.
+const MAX_SPECULAR_BOUNCES: u32 = 8;
 
 /// An integrator whose "radiance" is one pass's value at the first surface.
 pub struct AovTracer<'a> {
@@ -47,7 +53,7 @@ impl<'a> AovTracer<'a> {
         let (t, shape) = (hit.t, hit.shape);
         let s = &self.surfaces[self.scene.material_of[shape as usize] as usize];
         match self.aov {
-            Aov::Albedo => self.scene.albedo(s, &sp, shape) * sp.color,
+            Aov::Albedo => self.albedo_seen(*ray, hit, sp),
             Aov::Normal => {
                 let mut sp = sp;
                 if let Some(map) = &s.normal_map {
@@ -62,6 +68,61 @@ impl<'a> AovTracer<'a> {
             Aov::Depth => Vec3::splat(t),
         }
     }
+}
+
+impl AovTracer<'_> {
+    /// The albedo of the first surface along `ray` that is not a perfect mirror or a
+    /// pane of glass (which have no colour of their own to show a denoiser), tinted by
+    /// those it is seen through: what Open Image Denoise asks of its albedo pass.
+    /// Glass is looked through where light can cross it, else into. `hit` and `sp` are
+    /// the ray's first surface.
+    fn albedo_seen(&self, mut ray: Ray, mut hit: Hit, mut sp: SurfacePoint) -> Vec3 {
+        let mut tint = Vec3::ONE;
+        for bounce in 0..=MAX_SPECULAR_BOUNCES {
+            let s = &self.surfaces[self.scene.material_of[hit.shape as usize] as usize];
+            let albedo = self.scene.albedo(s, &sp, hit.shape) * sp.color;
+            if !is_specular_only(s) || bounce == MAX_SPECULAR_BOUNCES {
+                return (tint * albedo).clamp(Vec3::ZERO, Vec3::ONE);
+            }
+            let entering = ray.dir.dot(sp.ng) < 0.0;
+            let n = if entering { sp.n } else { -sp.n };
+            let (eta_i, eta_t) = if entering { (1.0, s.ior) } else { (s.ior, 1.0) };
+            let crossing = (s.transmission != Vec3::ZERO)
+                .then(|| refract(ray.dir, n, eta_i, eta_t))
+                .flatten();
+            let dir = match crossing {
+                Some(dir) => {
+                    tint *= s.transmission;
+                    dir
+                }
+                None => {
+                    // A mirror, or glass reflecting all it receives.
+                    tint *= if s.reflection != Vec3::ZERO {
+                        s.reflection
+                    } else {
+                        s.transmission
+                    };
+                    reflect(ray.dir, n)
+                }
+            };
+            ray = Ray::new(offset_origin(sp.p, sp.ng, dir), dir);
+            let Some(next) = first_uncut(self.scene, self.accel, self.surfaces, &ray, None) else {
+                return Vec3::ZERO;
+            };
+            (hit, sp) = next;
+        }
+        Vec3::ZERO
+    }
+}
+
+/// Whether a surface only mirrors or refracts (no diffuse or highlight lobe): it shows
+/// what it reflects or lets through, not a colour of its own.
+fn is_specular_only(s: &Surface) -> bool {
+    s.lit
+        && s.metallic_roughness.is_none()
+        && s.diffuse <= 0.0
+        && s.specular == Vec3::ZERO
+        && (s.reflection != Vec3::ZERO || s.transmission != Vec3::ZERO)
 }
 
 impl Integrator for AovTracer<'_> {
