@@ -11,7 +11,7 @@ use crate::scene::{Scene, Surface, SurfacePoint};
 
 use super::optics::refract;
 
-/// Perfect mirrors and panes of glass the albedo pass looks through, at most, before it
+/// Mirrors and panes of glass the albedo pass looks through, at most, before it
 /// takes the surface it stands on.
 const MAX_SPECULAR_BOUNCES: u32 = 8;
 
@@ -71,9 +71,10 @@ impl<'a> AovTracer<'a> {
 }
 
 impl AovTracer<'_> {
-    /// The albedo of the first surface along `ray` that is not a perfect mirror or a
-    /// pane of glass (which have no colour of their own to show a denoiser), tinted by
-    /// those it is seen through: what Open Image Denoise asks of its albedo pass.
+    /// The albedo of the first surface along `ray` that is not a mirror or a pane of
+    /// glass without a diffuse lobe (which have no colour of their own to show a
+    /// denoiser), tinted by those it is seen through: what Open Image Denoise asks of
+    /// its albedo pass.
     /// Glass is looked through where light can cross it, else into. `hit` and `sp` are
     /// the ray's first surface.
     fn albedo_seen(&self, mut ray: Ray, mut hit: Hit, mut sp: SurfacePoint) -> Vec3 {
@@ -81,7 +82,7 @@ impl AovTracer<'_> {
         for bounce in 0..=MAX_SPECULAR_BOUNCES {
             let s = &self.surfaces[self.scene.material_of[hit.shape as usize] as usize];
             let albedo = self.scene.albedo(s, &sp, hit.shape) * sp.color;
-            if !is_specular_only(s) || bounce == MAX_SPECULAR_BOUNCES {
+            if !looks_through(s, albedo) || bounce == MAX_SPECULAR_BOUNCES {
                 return (tint * albedo).clamp(Vec3::ZERO, Vec3::ONE);
             }
             let entering = ray.dir.dot(sp.ng) < 0.0;
@@ -115,13 +116,14 @@ impl AovTracer<'_> {
     }
 }
 
-/// Whether a surface only mirrors or refracts (no diffuse or highlight lobe): it shows
-/// what it reflects or lets through, not a colour of its own.
-fn is_specular_only(s: &Surface) -> bool {
+/// Whether the albedo pass looks through a surface of albedo `albedo` at a hit: one
+/// with no diffuse lobe that mirrors or refracts, and so shows what it reflects or lets
+/// through rather than a colour of its own (a highlight it may have is a light's
+/// reflection, not a colour either).
+fn looks_through(s: &Surface, albedo: Vec3) -> bool {
     s.lit
         && s.metallic_roughness.is_none()
-        && s.diffuse <= 0.0
-        && s.specular == Vec3::ZERO
+        && (s.diffuse <= 0.0 || albedo == Vec3::ZERO)
         && (s.reflection != Vec3::ZERO || s.transmission != Vec3::ZERO)
 }
 
