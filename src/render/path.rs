@@ -152,8 +152,22 @@ impl<'a> Path<'a> {
         let mut depth = 0;
         loop {
             count.rays += 1;
-            let mut found = first_uncut(self.scene, self.accel, self.surfaces, &ray, known.take());
-            let t_scene = found.as_ref().map_or(f32::INFINITY, |(h, _)| h.t);
+            // Without cut-outs the closest hit is the surface, and its shading point is
+            // made in place below: passed through an `Option` it was copied, two
+            // hundred bytes a vertex.
+            let (hit, cut_point) = if self.cuts_out {
+                match first_uncut(self.scene, self.accel, self.surfaces, &ray, known.take()) {
+                    Some((hit, sp)) => (Some(hit), Some(sp)),
+                    None => (None, None),
+                }
+            } else {
+                let hit = match known.take() {
+                    Some(hit) => hit,
+                    None => self.accel.closest(&ray, f32::INFINITY),
+                };
+                (hit, None)
+            };
+            let t_scene = hit.map_or(f32::INFINITY, |h| h.t);
             if let Some((light, t, normal)) = self.shaped_light_hit(&ray, t_scene) {
                 let le = light.color * light.intensity;
                 let w = last.map_or(1.0, |(p, pdf)| {
@@ -163,8 +177,7 @@ impl<'a> Path<'a> {
                 l += beta * le * w;
                 break;
             }
-            // Borrowed, not moved: a shading point is two hundred bytes.
-            let Some((hit, sp)) = found.as_mut() else {
+            let Some(hit) = hit else {
                 if let Some(env) = &self.environment {
                     let le = env.radiance(self.scene, ray.dir);
                     let w = last.map_or(1.0, |(_, pdf)| {
@@ -175,12 +188,18 @@ impl<'a> Path<'a> {
                 break;
             };
             let s = self.surface(hit.shape);
+            let mut sp = match cut_point {
+                Some(sp) => sp,
+                None => self
+                    .scene
+                    .surface_point(hit.shape, &ray, hit.t, s.reads_texture_coords()),
+            };
             if let Some(slot) = &s.normal_map {
                 sp.n = self
                     .scene
-                    .normal_mapped(sp, hit.shape, slot, s.normal_scale);
+                    .normal_mapped(&sp, hit.shape, slot, s.normal_scale);
             }
-            let (hit, sp) = (*hit, &*sp);
+            let sp = &sp;
             let entering = ray.dir.dot(sp.ng) < 0.0;
             let (ng, n) = if entering {
                 (sp.ng, sp.n)
