@@ -94,6 +94,53 @@ fn furnace_a_diffuse_sphere_in_a_uniform_environment_shows_its_albedo_times_the_
     }
 }
 
+/// A pane cut out everywhere is not there: camera rays, BSDF rays and shadow rays all
+/// pass it, and the furnace still shows the sphere's albedo times the light. (Scenes
+/// with cut-outs take their own way through the path loop.)
+#[test]
+fn a_pane_cut_out_everywhere_leaves_the_furnace_as_it_was() {
+    use crate::scene::{ImageTexture, Texels, TextureSlot};
+    let pane = Surface {
+        alpha_map: Some(TextureSlot::new(0)),
+        ..matte(0.9)
+    };
+    let mut s = scene(
+        vec![
+            (
+                Shape::Sphere(Sphere {
+                    center: Vec3::ZERO,
+                    radius: 1.0,
+                }),
+                matte(0.5),
+            ),
+            (
+                Shape::Rectangle(Rectangle {
+                    v: [
+                        Vec3::new(-4.0, -4.0, 3.0),
+                        Vec3::new(4.0, -4.0, 3.0),
+                        Vec3::new(4.0, 4.0, 3.0),
+                        Vec3::new(-4.0, 4.0, 3.0),
+                    ],
+                }),
+                pane,
+            ),
+        ],
+        vec![],
+        Background::Color(Vec3::splat(2.0)),
+    );
+    s.images.push(ImageTexture {
+        name: "holes".into(),
+        width: 2,
+        height: 2,
+        texels: Texels::RgbaF32(vec![[1.0, 1.0, 1.0, 0.0]; 4]),
+    });
+    for x in [0.0, 0.9] {
+        let ray = Ray::new(Vec3::new(x, 0.0, 5.0), -Vec3::Z);
+        let l = mean_radiance(&s, ray, 8000);
+        assert_near(l, 1.0, 0.03, &format!("x {x}"));
+    }
+}
+
 /// A floor of albedo 0.8 at y = 0, seen straight down at its origin.
 fn floor_under(lights: Vec<Light>, extra: Vec<(Shape, Surface)>) -> Vec3 {
     let mut shapes = vec![(
