@@ -62,11 +62,16 @@ impl Scene {
         };
         match s {
             Shape::Triangle(tri) => {
+                let mesh = self.mesh_of(shape);
+                if !texture_coords && mesh.is_none() {
+                    // A bare triangle read for lighting alone: no barycentrics needed.
+                    return sp;
+                }
                 let b = barycentrics(tri.v, p);
                 if texture_coords {
                     sp.uv = [b[1], b[2]];
                 }
-                if let Some((mesh, i)) = self.mesh_of(shape) {
+                if let Some((mesh, i)) = mesh {
                     if let Some(n) = mesh.normal(i, b) {
                         // Vertex normals may be wound against the triangle: follow ng.
                         sp.n = if n.dot(ng) < 0.0 { -n } else { n };
