@@ -582,3 +582,63 @@ fn skipped(why: impl std::fmt::Display) {
     use std::io::Write as _;
     let _ = writeln!(std::io::stderr(), "skipped: {why}");
 }
+
+/// `--denoise` in a Prism without Open Image Denoise is refused before any frame is
+/// rendered: exit 2, the reason and how to build it, no frame folder.
+#[cfg(not(feature = "oidn"))]
+#[test]
+fn without_oidn_denoised_frames_are_refused_before_the_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 2);
+    let out = dir.path().join("f");
+    let o = animate(&anim, &out, &["--denoise"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.starts_with(
+            "error: cannot denoise: this Prism was built without Intel Open Image Denoise"
+        ) && e.contains("--features oidn"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    // So is an animation file that asks for it.
+    let text = fs::read_to_string(&anim).unwrap();
+    fs::write(
+        &anim,
+        text.replace("[render]\n", "[render]\ndenoise = true\n"),
+    )
+    .unwrap();
+    let o = animate(&anim, &out, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!out.exists());
+}
+
+/// `--denoise` writes every frame denoised (other pixels than the plain run's, the same
+/// size) into a folder of its own kind, which a denoised run resumes.
+#[cfg(feature = "oidn")]
+#[test]
+fn denoised_frames_are_written_whole_and_resume() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = small_turntable(dir.path(), 2);
+    let (plain, denoised) = (dir.path().join("plain"), dir.path().join("denoised"));
+    let o = animate(&anim, &plain, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = animate(&anim, &denoised, &["--denoise", "--frames", "0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = animate(&anim, &denoised, &["--denoise", "--stats"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("frames 1 rendered, 1 skipped"), "{stdout}");
+    assert_eq!(names(&denoised), names(&plain));
+    for name in names(&plain) {
+        let (a, b) = (
+            load_rgb(&plain.join(&name)),
+            load_rgb(&denoised.join(&name)),
+        );
+        assert_eq!(a.dimensions(), b.dimensions());
+        assert_ne!(a, b, "{name}");
+    }
+    // The plain folder is not resumed by a denoised run.
+    let o = animate(&anim, &plain, &["--denoise"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}

@@ -50,6 +50,7 @@ struct RawRender {
     spp: Option<u32>,
     filter: Option<Spanned<String>>,
     seed: Option<u64>,
+    denoise: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -212,6 +213,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         settings,
         output,
         dialect,
+        denoise,
         ..
     } = job;
     let mut fingerprint = fnv1a(FNV_OFFSET, text.as_bytes());
@@ -248,6 +250,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Animation> {
         tracks,
         output,
         dialect,
+        denoise,
         cancel: None,
         fingerprint,
     })
@@ -307,6 +310,7 @@ fn parse_scene_file(text: &str, path: &Path) -> Result<Animation> {
         tracks,
         output: job.output,
         dialect: job.dialect,
+        denoise: job.denoise,
         cancel: None,
         fingerprint: fnv1a(FNV_OFFSET, text.as_bytes()),
     })
@@ -435,6 +439,7 @@ fn render_options(lines: &Lines, render: Option<&Spanned<RawRender>>) -> Result<
         filter,
         spp: raw.spp,
         seed: raw.seed,
+        denoise: raw.denoise,
         ..RenderOptions::default()
     })
 }

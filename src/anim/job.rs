@@ -29,7 +29,9 @@ pub struct FrameObserver<'a> {
 struct FrameWatch<'a> {
     frame: u32,
     observer: &'a FrameObserver<'a>,
-    file: &'a OutputFile,
+    /// Where rows go as they come; `None` when the frame is denoised, and so written
+    /// whole once it is.
+    file: Option<&'a OutputFile>,
 }
 
 impl crate::render::Observer for FrameWatch<'_> {
@@ -41,7 +43,9 @@ impl crate::render::Observer for FrameWatch<'_> {
     }
     fn rows(&self, first_row: u32, pixels: &[[f32; 3]]) {
         // A PNG frame is compressed while the frame renders.
-        self.file.rows(first_row, pixels)
+        if let Some(file) = self.file {
+            file.rows(first_row, pixels)
+        }
     }
 }
 
@@ -88,8 +92,10 @@ const STALE_PART: std::time::Duration = std::time::Duration::from_secs(600);
 pub const MANIFEST: &str = ".prism-animation";
 
 fn manifest_text(anim: &Animation) -> String {
+    // Denoised frames are other frames: a folder holds one kind.
+    let denoised = if anim.denoise { "denoised\n" } else { "" };
     format!(
-        "prism animation frames\nfingerprint {:016x}\n",
+        "prism animation frames\nfingerprint {:016x}\n{denoised}",
         anim.fingerprint
     )
 }
@@ -180,12 +186,16 @@ pub fn render_frames(
             still = Some(anim.still_geometry()?);
         }
         let size = anim.frame_size()?;
-        // A PNG frame is compressed while the frame renders.
-        let file = OutputFile::create(&path, size.0, size.1, &anim.output)?;
+        // A PNG frame is compressed while the frame renders, unless it is denoised.
+        let file = if anim.denoise {
+            None
+        } else {
+            Some(OutputFile::create(&path, size.0, size.1, &anim.output)?)
+        };
         let watch = FrameWatch {
             frame: k,
             observer,
-            file: &file,
+            file: file.as_ref(),
         };
         let (image, stats) = anim.render_frame_in(
             k,
@@ -196,7 +206,10 @@ pub fn render_frames(
         if anim.cancelled() {
             return Err(Error::Interrupted);
         }
-        file.finish(&image)?;
+        match file {
+            Some(file) => file.finish(&image)?,
+            None => crate::film::write_image(&image, &path, &anim.output)?,
+        }
         report.rendered += 1;
         report.rays += stats.rays;
         (observer.frame_done)(k, false);

@@ -61,6 +61,11 @@ pub struct Animation {
     pub output: crate::film::OutputOptions,
     /// The dialect its scene was read as.
     pub dialect: crate::format::SceneDialect,
+    /// Whether each frame is denoised once rendered (`[render] denoise`, `prism animate
+    /// --denoise`): its albedo and normal passes rendered and Open Image Denoise run on
+    /// it before its file is written. Frames of a folder are all denoised or none (the
+    /// folder's manifest says which).
+    pub denoise: bool,
     /// Set from any thread (a signal handler) to stop: the frame being rendered is
     /// abandoned, none after it starts, and a video being encoded is not written.
     pub cancel: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
@@ -148,7 +153,7 @@ impl Animation {
             output: self.output,
             dialect: self.dialect,
             warnings: Vec::new(),
-            denoise: false,
+            denoise: self.denoise,
         })
     }
 
@@ -178,10 +183,14 @@ impl Animation {
         let renderer = Renderer::new(posed, &camera, self.settings.clone())?;
         let never = AtomicBool::new(false);
         let watch = (CancelOn(self.cancel.as_deref().unwrap_or(&never)), observer);
-        match still {
-            Some(accel) => renderer.render_with(accel, &watch),
-            None => renderer.render(&watch),
+        let (image, stats) = match still {
+            Some(accel) => renderer.render_with(accel, &watch)?,
+            None => renderer.render(&watch)?,
+        };
+        if self.denoise && !self.cancelled() {
+            return Ok((renderer.denoise(&image, &[])?, stats));
         }
+        Ok((image, stats))
     }
 
     /// The intersector every frame can share when no track moves a shape (the camera

@@ -600,3 +600,43 @@ fn moving_one_triangle_of_a_mesh_leaves_its_neighbour_in_place() {
         assert!(posed.shapes.positions().len() <= 4 + 3, "frame {k}");
     }
 }
+
+/// `[render] denoise` asks for denoised frames; a folder of frames made without it is
+/// not resumed by a run with it, before anything is rendered (nor the other way).
+#[test]
+fn denoise_is_a_render_key_and_denoised_frames_are_another_folder() {
+    let size = "frames = 2\n[render]\nwidth = 8\nheight = 8\n";
+    let plain = parse_str(size).unwrap();
+    assert!(!plain.denoise);
+    // Resolved as a still's job is: a Prism that cannot denoise refuses the file.
+    let asked = parse_str(&format!("{size}denoise = true\n"));
+    if crate::film::denoise::AVAILABLE {
+        assert!(asked.unwrap().denoise);
+    } else {
+        assert!(matches!(asked, Err(crate::Error::Denoise(_))));
+    }
+    let denoised = Animation {
+        denoise: true,
+        ..plain.clone()
+    };
+    assert!(plain.frame_job(0).map(|j| !j.denoise).unwrap());
+    assert!(denoised.frame_job(0).map(|j| j.denoise).unwrap());
+    let dir = tempfile::tempdir().unwrap();
+    let output = output::Output::from_path(&dir.path().join("frames")).unwrap();
+    let observer = job::FrameObserver {
+        frame_start: &|_, _| {},
+        rows: &|_| {},
+        frame_done: &|_, _| {},
+    };
+    let report = job::render_frames(&plain, 0..1, output.frames(), &observer).unwrap();
+    assert_eq!(report.rendered, 1);
+    for (anim, frames) in [(&denoised, 1..2), (&plain, 1..2)] {
+        let got = job::render_frames(anim, frames, output.frames(), &observer);
+        if anim.denoise {
+            let e = got.unwrap_err().to_string();
+            assert!(e.contains("another version of the animation"), "{e}");
+        } else {
+            assert_eq!(got.unwrap().rendered, 1);
+        }
+    }
+}

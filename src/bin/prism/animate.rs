@@ -39,6 +39,11 @@ pub struct AnimateArgs {
     /// before the first starts. Default: half of the machine's memory.
     #[arg(long, value_name = "SIZE", value_parser = crate::parse_memory)]
     pub max_memory: Option<u64>,
+    /// Denoise each frame with Intel Open Image Denoise, guided by its albedo and
+    /// normal passes, before its file is written (a Prism built with the `oidn`
+    /// feature; docs/output.md). Also `[render] denoise = true` in the file.
+    #[arg(long)]
+    pub denoise: bool,
     #[command(flatten)]
     pub limits: crate::ReadLimits,
 }
@@ -51,6 +56,11 @@ pub fn run(args: &AnimateArgs, interrupt: &crate::Interrupt) -> prism::Result<()
     anim.settings.threads = args.threads;
     anim.settings.max_memory = args.max_memory;
     anim.settings.accel = args.accel;
+    anim.denoise |= args.denoise;
+    if anim.denoise {
+        // Refused now, before any frame is rendered.
+        prism::film::denoise::check_available()?;
+    }
     anim.cancel = Some(std::sync::Arc::clone(&interrupt.stop));
     let frames = match &args.frames {
         Some(text) => parse_frame_range(text, anim.frames)?,
