@@ -710,8 +710,15 @@ impl<'a> Renderer<'a> {
                 integrator.trace_camera_ray(ray, &mut sampler, acc, count);
                 break;
             }
-            let mut samplers: [PixelSampler; PACKET_RAYS] =
-                std::array::from_fn(|k| PixelSampler::for_sample(seed, x, y, first + k as u32));
+            // Streams past the last sample are never drawn from: an idle one costs
+            // nothing to make.
+            let mut samplers: [PixelSampler; PACKET_RAYS] = std::array::from_fn(|k| {
+                if k < n {
+                    PixelSampler::for_sample(seed, x, y, first + k as u32)
+                } else {
+                    PixelSampler::idle()
+                }
+            });
             let mut batch = [NO_RAY; PACKET_RAYS];
             for (ray, sampler) in batch.iter_mut().zip(&mut samplers).take(n) {
                 let jitter = sampler.next_2d();

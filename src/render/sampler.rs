@@ -51,6 +51,15 @@ impl PixelSampler {
         }
     }
 
+    /// A stream that stands in a packet's unused places: made without hashing.
+    #[inline]
+    pub fn idle() -> PixelSampler {
+        PixelSampler {
+            rng: Pcg32::new(0, 0xda3e_39cb_94b9_5bdb),
+            sobol: None,
+        }
+    }
+
     /// Two uniform numbers in [0, 1): the sample's next pair of Sobol dimensions while
     /// there are any, then two from PCG.
     #[inline]
