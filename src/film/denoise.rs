@@ -41,7 +41,15 @@ pub fn check_available() -> Result<()> {
 /// more than one surface or colour (edges, distant textures, depth of field), and
 /// trusting them there leaves that roughness in the image (on the showcase at 4
 /// samples, 13 % more error than with `cleanAux` off).
-pub fn denoise(image: &Image, albedo: Option<&Image>, normal: Option<&Image>) -> Result<Image> {
+///
+/// `threads` caps the CPU threads OIDN runs on, as a render's own are capped; `None`
+/// lets it use every core.
+pub fn denoise(
+    image: &Image,
+    albedo: Option<&Image>,
+    normal: Option<&Image>,
+    threads: Option<usize>,
+) -> Result<Image> {
     check_available()?;
     for (name, pass) in [("albedo", albedo), ("normal", normal)] {
         if let Some(pass) = pass
@@ -58,21 +66,24 @@ pub fn denoise(image: &Image, albedo: Option<&Image>, normal: Option<&Image>) ->
             "a normal pass guides the denoiser only with an albedo pass".into(),
         ));
     }
-    filter(image, albedo, normal)
+    filter(image, albedo, normal, threads)
 }
 
 /// OIDN's `RT` filter over the checked images.
 #[cfg(feature = "oidn")]
-fn filter(image: &Image, albedo: Option<&Image>, normal: Option<&Image>) -> Result<Image> {
+fn filter(
+    image: &Image,
+    albedo: Option<&Image>,
+    normal: Option<&Image>,
+    threads: Option<usize>,
+) -> Result<Image> {
     let failed = |e: oidn::Error| Error::Denoise(format!("Open Image Denoise failed: {e}"));
     // OIDN wants finite, non-negative colours (a Lanczos or bicubic filter rings below
     // zero beside a bright edge; one NaN would spread over the network's whole field)
     // and albedos within 0..1.
     let colour = flat(image, |v| if v.is_finite() { v.max(0.0) } else { 0.0 });
     let (w, h) = (image.width as usize, image.height as usize);
-    // The default device is the fastest there is: a GPU where OIDN has one, else the
-    // CPU, on all its cores.
-    let device = oidn::Device::new().map_err(failed)?;
+    let device = device(threads).map_err(failed)?;
     let mut rt = oidn::RayTracing::try_new(&device).map_err(failed)?;
     rt.hdr(true).clean_aux(false).image_dimensions(w, h);
     if let Some(albedo) = albedo {
@@ -101,9 +112,38 @@ fn filter(image: &Image, albedo: Option<&Image>, normal: Option<&Image>) -> Resu
     Ok(Image::new(image.width, image.height, pixels))
 }
 
+/// The device to denoise on. Without a thread cap, the default device: the fastest
+/// there is, a GPU where OIDN has one, else the CPU on all its cores. With one, the CPU
+/// on that many threads (OIDN's `numThreads`, which only its CPU device takes: a cap
+/// asks for a share of this machine's cores).
+#[cfg(feature = "oidn")]
+fn device(threads: Option<usize>) -> std::result::Result<oidn::Device, oidn::Error> {
+    let Some(threads) = threads else {
+        return oidn::Device::new();
+    };
+    let threads = i32::try_from(threads).unwrap_or(i32::MAX);
+    // SAFETY: the handle is checked for null before use, set and committed before it
+    // is wrapped (as `from_raw` asks), and released on the error path; the parameter
+    // name is a NUL-terminated literal.
+    unsafe {
+        use oidn::sys::*;
+        let raw = oidnNewDevice(OIDNDeviceType_OIDN_DEVICE_TYPE_CPU);
+        if raw.is_null() {
+            // Device creation failed before there was a device to ask why: the
+            // checked constructor reports the reason.
+            return oidn::Device::cpu();
+        }
+        oidnSetDeviceInt(raw, c"numThreads".as_ptr(), threads);
+        oidnCommitDevice(raw);
+        let device = oidn::Device::from_raw(raw);
+        device.get_error()?;
+        Ok(device)
+    }
+}
+
 /// Never called: [`check_available`] refuses first.
 #[cfg(not(feature = "oidn"))]
-fn filter(_: &Image, _: Option<&Image>, _: Option<&Image>) -> Result<Image> {
+fn filter(_: &Image, _: Option<&Image>, _: Option<&Image>, _: Option<usize>) -> Result<Image> {
     Err(Error::Denoise(WITHOUT_OIDN.into()))
 }
 
@@ -121,7 +161,7 @@ mod tests {
     #[test]
     fn without_oidn_the_error_says_how_to_build_a_prism_that_has_it() {
         let image = Image::new(1, 1, vec![[0.5; 3]]);
-        let e = denoise(&image, None, None).unwrap_err().to_string();
+        let e = denoise(&image, None, None, None).unwrap_err().to_string();
         assert!(
             e.starts_with("cannot denoise: this Prism was built without"),
             "{e}"
@@ -166,8 +206,9 @@ mod tests {
         let before = rmse(&noisy.pixels);
         let grey = Image::new(w, h, vec![[0.5; 3]; (w * h) as usize]);
         let facing = Image::new(w, h, vec![[0.0, 0.0, 1.0]; (w * h) as usize]);
-        for (albedo, normal) in [(None, None), (Some(&grey), Some(&facing))] {
-            let denoised = denoise(&noisy, albedo, normal).unwrap();
+        let guides = [(None, None), (Some(&grey), Some(&facing))];
+        for ((albedo, normal), threads) in guides.into_iter().zip([None, Some(1)]) {
+            let denoised = denoise(&noisy, albedo, normal, threads).unwrap();
             assert_eq!((denoised.width, denoised.height), (w, h));
             let after = rmse(&denoised.pixels);
             assert!(before > 0.25, "{before}");
@@ -180,9 +221,25 @@ mod tests {
     fn passes_of_another_size_or_normals_alone_are_refused() {
         let image = Image::new(4, 4, vec![[0.5; 3]; 16]);
         let small = Image::new(2, 2, vec![[0.5; 3]; 4]);
-        let e = denoise(&image, Some(&small), None).unwrap_err().to_string();
+        let e = denoise(&image, Some(&small), None, None)
+            .unwrap_err()
+            .to_string();
         assert_eq!(e, "cannot denoise: the albedo pass is 2x2, the image 4x4");
-        let e = denoise(&image, None, Some(&image)).unwrap_err().to_string();
+        let e = denoise(&image, None, Some(&image), None)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("only with an albedo pass"), "{e}");
+    }
+
+    /// A render's thread cap reaches the denoiser: its CPU device runs on that many.
+    #[cfg(feature = "oidn")]
+    #[test]
+    fn a_thread_cap_makes_a_cpu_device_of_that_many_threads() {
+        for n in [1, 2] {
+            let device = device(Some(n)).unwrap();
+            // SAFETY: a live, committed device and a NUL-terminated name.
+            let got = unsafe { oidn::sys::oidnGetDeviceInt(device.raw(), c"numThreads".as_ptr()) };
+            assert_eq!(got, n as i32);
+        }
     }
 }

@@ -358,7 +358,12 @@ impl<'a> Renderer<'a> {
                 rendered.get(i)
             })
         };
-        crate::film::denoise(image, pass(Aov::Albedo), pass(Aov::Normal))
+        crate::film::denoise(
+            image,
+            pass(Aov::Albedo),
+            pass(Aov::Normal),
+            self.plan.threads,
+        )
     }
 
     /// Builds the intersector [`Renderer::render`] would, on the renderer's threads.
