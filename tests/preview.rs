@@ -421,3 +421,66 @@ fn a_flood_of_idle_connections_starts_no_threads() {
     drop(idle);
     preview.stop();
 }
+
+/// `--denoise` in a Prism without Open Image Denoise is refused before the preview
+/// starts, as `prism render --denoise` is.
+#[cfg(not(feature = "oidn"))]
+#[test]
+fn without_oidn_a_denoised_preview_is_refused_before_it_starts() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_in(dir.path());
+    let o = run(prism().arg("preview").arg(&scene).arg("--denoise"));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).starts_with(
+            "error: cannot denoise: this Prism was built without Intel Open Image Denoise"
+        ),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// A denoised preview of the path model: the coarse passes as they are, every
+/// full-size pass denoised, and the last `prism render --denoise`'s image byte for byte.
+#[cfg(feature = "oidn")]
+#[test]
+fn a_denoised_preview_denoises_its_full_size_passes_and_ends_on_the_denoised_render() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    let path = SCENE.replace("aa = 2\n", "aa = 2\nintegrator = \"path\"\n");
+    std::fs::write(&scene, path).unwrap();
+    let mut options = JobOptions::default();
+    options.render.spp = Some(4);
+    options.render.denoise = Some(true);
+    let (preview, url) = start_with(&scene, options);
+    let mut frames = Vec::new();
+    let mut after = None;
+    let begun = Instant::now();
+    loop {
+        let s = status(&url, after);
+        after = s["version"].as_u64();
+        let f = s["frame"].clone();
+        if f.is_object() && frames.last() != Some(&f) {
+            frames.push(f.clone());
+        }
+        if f["final"] == true {
+            break;
+        }
+        assert!(
+            begun.elapsed() < Duration::from_secs(60),
+            "no final frame: {s}"
+        );
+    }
+    for f in &frames {
+        let full = f["width"].as_u64() == Some(96);
+        assert_eq!(f["denoised"].as_bool(), Some(full), "{f}");
+    }
+    let (_, png) = http(&url, "GET", "/frame.png", &[], "");
+    assert_eq!(
+        png,
+        rendered(&[scene.to_str().unwrap(), "--spp", "4", "--denoise"])
+    );
+    assert_ne!(png, rendered(&[scene.to_str().unwrap(), "--spp", "4"]));
+    preview.stop();
+}

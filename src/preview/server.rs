@@ -160,6 +160,7 @@ fn status(session: &Session, after: Option<u64>) -> Value {
             "passes": f.passes,
             "samples": f.samples,
             "final": f.is_final(),
+            "denoised": f.denoised,
             "width": f.width,
             "height": f.height,
             "elapsed": f.elapsed,

@@ -6,6 +6,7 @@ use crate::accel::Accel;
 use crate::error::Result;
 use crate::film::{Image, file_bytes};
 use crate::job::{Job, JobOptions, LookAt};
+use crate::options::Aov;
 use crate::render::{Observer, RenderSettings, RenderStats, Renderer};
 use crate::scene::Camera;
 use std::path::{Path, PathBuf};
@@ -19,6 +20,8 @@ use std::time::{Duration, Instant};
 const PASS_SCALES: [u32; 4] = [8, 4, 2, 1];
 /// A coarse pass is kept only while its image is at least this many pixels across.
 const MIN_PASS_SIDE: u32 = 8;
+/// The passes that guide the denoiser, in the order [`Renderer::denoise`] renders them.
+const GUIDES: [Aov; 2] = [Aov::Albedo, Aov::Normal];
 
 /// One image of the render loop.
 #[derive(Clone)]
@@ -46,6 +49,8 @@ pub struct Frame {
     pub rays: u64,
     /// Seconds the pass took.
     pub seconds: f64,
+    /// Whether the image was denoised (a full-size pass of a job that asks).
+    pub denoised: bool,
 }
 
 impl Frame {
@@ -336,43 +341,45 @@ impl Session {
         // Publishes pass `pass`'s image, of `samples` a pixel, as the latest frame.
         // False when the generation is over: a newer one started, or the render failed
         // (and says so).
-        let publish = |pass: u32, samples: u32, rendered: Result<(Image, RenderStats)>| {
-            let (image, stats) = match rendered {
-                Ok(out) => out,
-                Err(crate::error::Error::Interrupted) => return false,
-                Err(e) => {
-                    self.fail(e.to_string());
+        let publish =
+            |pass: u32, samples: u32, denoised: bool, rendered: Result<(Image, RenderStats)>| {
+                let (image, stats) = match rendered {
+                    Ok(out) => out,
+                    Err(crate::error::Error::Interrupted) => return false,
+                    Err(e) => {
+                        self.fail(e.to_string());
+                        return false;
+                    }
+                };
+                let png = match file_bytes(&image, "png", &job.output) {
+                    Ok(png) => png,
+                    Err(e) => {
+                        self.fail(e.to_string());
+                        return false;
+                    }
+                };
+                let mut state = self.state();
+                if self.generation() != generation {
                     return false;
                 }
+                state.frame = Some(Frame {
+                    generation,
+                    pass,
+                    passes,
+                    samples,
+                    width: image.width,
+                    height: image.height,
+                    image: Arc::new(image),
+                    png: Arc::new(png),
+                    elapsed: start.elapsed().as_secs_f64(),
+                    rays: stats.rays,
+                    seconds: stats.elapsed.as_secs_f64(),
+                    denoised,
+                });
+                state.version += 1;
+                self.published.notify_all();
+                true
             };
-            let png = match file_bytes(&image, "png", &job.output) {
-                Ok(png) => png,
-                Err(e) => {
-                    self.fail(e.to_string());
-                    return false;
-                }
-            };
-            let mut state = self.state();
-            if self.generation() != generation {
-                return false;
-            }
-            state.frame = Some(Frame {
-                generation,
-                pass,
-                passes,
-                samples,
-                width: image.width,
-                height: image.height,
-                image: Arc::new(image),
-                png: Arc::new(png),
-                elapsed: start.elapsed().as_secs_f64(),
-                rays: stats.rays,
-                seconds: stats.elapsed.as_secs_f64(),
-            });
-            state.version += 1;
-            self.published.notify_all();
-            true
-        };
         let mut pass = 0;
         for &scale in &coarse {
             // A coarse pass: a smaller frame of the same view, one sample a pixel.
@@ -387,8 +394,18 @@ impl Session {
             let rendered = Renderer::new(&job.scene, &camera, settings)
                 .and_then(|r| r.render_with(accel, &watch));
             pass += 1;
-            if !publish(pass, 1, rendered) {
+            if !publish(pass, 1, false, rendered) {
                 return;
+            }
+        }
+        // A job that asks is denoised at every full-size pass, so the image forms
+        // denoised and ends on `prism render --denoise`'s. The guiding passes do not
+        // change with the samples: they are rendered once.
+        let mut guides = Vec::new();
+        if job.denoise {
+            match renderer.render_aovs(&GUIDES) {
+                Ok(images) => guides = GUIDES.into_iter().zip(images).collect(),
+                Err(e) => return self.fail(e.to_string()),
             }
         }
         for to in totals {
@@ -396,8 +413,10 @@ impl Session {
                 Some(sums) => renderer.render_samples(accel, sums, to, &watch),
                 None => renderer.render_with(accel, &watch),
             };
+            let rendered = rendered
+                .and_then(|(image, stats)| Ok((job.denoised(&renderer, image, &guides)?, stats)));
             pass += 1;
-            if !publish(pass, to, rendered) {
+            if !publish(pass, to, job.denoise, rendered) {
                 return;
             }
         }

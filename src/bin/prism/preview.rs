@@ -24,6 +24,10 @@ pub struct PreviewArgs {
     /// Open the page in the default browser.
     #[arg(long)]
     pub open: bool,
+    /// Denoise every full-size pass (Intel Open Image Denoise, guided by the albedo and
+    /// normal passes); needs a Prism built with the `oidn` feature.
+    #[arg(long)]
+    pub denoise: bool,
     #[command(flatten)]
     pub job: JobArgs,
     #[command(flatten)]
@@ -38,7 +42,10 @@ pub fn run(args: &PreviewArgs, interrupt: &crate::Interrupt) -> prism::Result<()
         ));
     }
     let camera = args.camera_path.clone().or(args.job.camera.clone());
-    let options = args.job.options(camera)?;
+    let mut options = args.job.options(camera)?;
+    if args.denoise {
+        options.render.denoise = Some(true);
+    }
     prism::render::check_threads(args.job.threads)?;
     if !args.bind.is_loopback() {
         eprintln!(
