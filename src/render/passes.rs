@@ -1,0 +1,184 @@
+//! Rendering in sample passes (a progressive render): each pass adds samples to every
+//! pixel's running sum, and its image is the means of the sums so far. The preview and
+//! the Python API refine a path-traced image this way; passes that end on the job's
+//! samples give a whole render's image bit for bit.
+
+use super::{
+    CameraRays, Integrator, RayCount, RenderStats, Renderer, TILE_ROWS, WeightedColor,
+    memory_estimate,
+};
+use crate::accel::Accel;
+use crate::error::Result;
+use crate::film::Image;
+use crate::math::Vec3;
+use crate::render::observer::Observer;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+impl Renderer<'_> {
+    /// Empty sums for rendering in sample passes ([`Renderer::render_samples`]): one
+    /// per supersampled pixel the film reads. Refused for a model that does not spread
+    /// its samples, and when the sums would not fit the memory budget.
+    pub fn sample_sums(&self) -> Result<SampleSums> {
+        if !self.spreads_samples() {
+            return Err(crate::error::Error::Settings(format!(
+                "the {} model does not render in sample passes",
+                self.plan.integrator.name()
+            )));
+        }
+        let ((x_lo, x_hi), (y_lo, y_hi)) = self.traced_span();
+        let (columns, rows) = ((x_hi - x_lo) as usize, (y_hi - y_lo) as usize);
+        let bytes = (columns * rows * size_of::<[f32; 4]>()) as u64;
+        let mut estimate = memory_estimate(self.scene, &self.plan);
+        estimate.film = estimate.film.saturating_add(bytes);
+        estimate.check(self.plan.max_memory, self.plan.accel)?;
+        Ok(SampleSums {
+            pixels: vec![[0.0; 4]; columns * rows],
+            origin: (x_lo, y_lo),
+            columns,
+            samples: 0,
+            torn: false,
+        })
+    }
+
+    /// One sample pass: adds samples `sums.samples()..to` of every pixel to `sums`
+    /// and returns the image of all the samples summed (their means, resampled as
+    /// [`Renderer::render`] resamples), through the same driver, observer and
+    /// cancellation. Passes that end at [`Renderer::spp`] give `render`'s image bit for
+    /// bit however the samples were split: each pixel's sum takes its samples in the
+    /// same order. `accel` is [`Renderer::build_accel`]'s; `sums` are this renderer's
+    /// ([`Renderer::sample_sums`]). A cancelled pass leaves some pixels with more
+    /// samples than others: its sums are refused from then on.
+    pub fn render_samples(
+        &self,
+        accel: &Accel,
+        sums: &mut SampleSums,
+        to: u32,
+        observer: &dyn Observer,
+    ) -> Result<(Image, RenderStats)> {
+        let refuse = |why: String| Err(crate::error::Error::Settings(why));
+        let ((x_lo, x_hi), (y_lo, y_hi)) = self.traced_span();
+        let size = (x_hi - x_lo) as usize * (y_hi - y_lo) as usize;
+        if sums.torn {
+            return refuse("these sample sums were left part-way by a cancelled pass".into());
+        }
+        if !self.spreads_samples() || sums.origin != (x_lo, y_lo) || sums.pixels.len() != size {
+            return refuse("these sample sums are not this render's".into());
+        }
+        if to < sums.samples || to > self.plan.spp {
+            return refuse(format!(
+                "a sample pass must end between the {} samples summed and the {} of the \
+                 image, found {to}",
+                sums.samples, self.plan.spp
+            ));
+        }
+        let out = self.drive(Some(accel), Some(SamplePass { sums, to }), observer);
+        match out {
+            Ok(_) => sums.samples = to,
+            Err(crate::error::Error::Interrupted) => sums.torn = true,
+            Err(_) => {}
+        }
+        out
+    }
+
+    /// Adds samples `sums.samples..to` of every pixel to `sums`, a strip of
+    /// [`TILE_ROWS`] rows at a time, reporting each strip as progress.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn sum_samples<I: Integrator>(
+        &self,
+        integrator: &I,
+        accel: &Accel,
+        rays: &CameraRays,
+        sums: &mut SampleSums,
+        to: u32,
+        total_rays: &AtomicU64,
+        observer: &dyn Observer,
+    ) {
+        let (from, (x_lo, y_lo), columns) = (sums.samples, sums.origin, sums.columns);
+        sums.pixels
+            .par_chunks_mut(columns * TILE_ROWS)
+            .enumerate()
+            .with_max_len(1)
+            .for_each(|(i, strip)| {
+                let mut count = RayCount::default();
+                for (k, sum) in strip.iter_mut().enumerate() {
+                    // Checked pixel by pixel, as a whole render's spread pixels are.
+                    if observer.cancelled() {
+                        return;
+                    }
+                    let x = x_lo + (k % columns) as u32;
+                    let y = y_lo + (i * TILE_ROWS + k / columns) as u32;
+                    let mut acc = sum_of(*sum);
+                    let (samples, pixel) = (from..to, (x, y));
+                    self.add_samples(
+                        integrator, accel, rays, pixel, samples, &mut acc, &mut count,
+                    );
+                    *sum = stored(acc);
+                }
+                total_rays.fetch_add(count.rays, Ordering::Relaxed);
+                if !observer.cancelled() {
+                    observer.progress((strip.len() / columns) as u64);
+                }
+            });
+    }
+}
+
+/// The running sums of a render in sample passes (a progressive render's
+/// accumulation buffer): for every supersampled pixel the film reads, the weighted sum
+/// of the samples traced so far, kept as sums rather than means so that the last pass
+/// ends on the very floats a whole render adds up. Made by [`Renderer::sample_sums`],
+/// filled by [`Renderer::render_samples`].
+pub struct SampleSums {
+    /// Per pixel, row after row: the sum's colour and its weight, 16 bytes where a
+    /// [`WeightedColor`] takes 32 (a 1080p frame at aa 2 keeps 130 MB rather than 260).
+    pixels: Vec<[f32; 4]>,
+    /// The first pixel's place in the supersampled frame.
+    origin: (u32, u32),
+    /// Pixels a row.
+    columns: usize,
+    /// Samples of every pixel summed so far.
+    samples: u32,
+    /// A pass was cancelled part-way: pixels hold different numbers of samples.
+    torn: bool,
+}
+
+impl SampleSums {
+    /// Samples of every pixel summed so far.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    pub(super) fn rows(&self) -> usize {
+        self.pixels.len() / self.columns.max(1)
+    }
+
+    /// The means of the strip of rows from supersampled row `y0` (whole rows of the
+    /// sums), what [`Renderer::spread_pixel`] gives for the samples summed.
+    pub(super) fn means_into(&self, y0: u32, strip: &mut [[f32; 3]]) {
+        let first = (y0 - self.origin.1) as usize * self.columns;
+        for (out, &sum) in strip.iter_mut().zip(&self.pixels[first..]) {
+            *out = sum_of(sum).mean().to_array();
+        }
+    }
+}
+
+/// A stored sum as the [`WeightedColor`] it was (every float as it was).
+#[inline]
+fn sum_of([r, g, b, weight]: [f32; 4]) -> WeightedColor {
+    WeightedColor {
+        sum: Vec3::new(r, g, b),
+        weight,
+    }
+}
+
+/// A [`WeightedColor`] as it is stored.
+#[inline]
+fn stored(acc: WeightedColor) -> [f32; 4] {
+    [acc.sum.x, acc.sum.y, acc.sum.z, acc.weight]
+}
+
+/// Samples `sums.samples..to` of every pixel, added to `sums`.
+pub(super) struct SamplePass<'s> {
+    pub(super) sums: &'s mut SampleSums,
+    pub(super) to: u32,
+}
