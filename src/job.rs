@@ -127,6 +127,19 @@ impl Job {
         }
     }
 
+    /// The passes that guide the denoiser, rendered by `renderer` (made of this job)
+    /// for a job that asks to be denoised, none for one that does not: for a front end
+    /// that denoises several images of one view (sample passes), which do not change
+    /// them, so they are rendered once.
+    pub fn denoise_guides(&self, renderer: &Renderer) -> Result<Vec<(Aov, Image)>> {
+        if !self.denoise {
+            return Ok(Vec::new());
+        }
+        const GUIDES: [Aov; 2] = [Aov::Albedo, Aov::Normal];
+        let images = renderer.render_aovs(&GUIDES)?;
+        Ok(GUIDES.into_iter().zip(images).collect())
+    }
+
     /// Writes `image` to `path` as this job develops it, in the format the extension
     /// names.
     pub fn write(&self, image: &Image, path: &Path) -> Result<()> {

@@ -18,7 +18,7 @@ pyoidn``).
 """
 
 from os import PathLike
-from typing import Any, Callable, Dict, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Iterator, Optional, Tuple, Union
 
 import numpy as np
 
@@ -40,6 +40,7 @@ __all__ = [
     "load_scene",
     "render",
     "render_passes",
+    "render_progressive",
     "scene_from_dict",
     "restrict_paths",
     "show",
@@ -237,6 +238,36 @@ def render(
     finally:
         close()
     return np.frombuffer(data, dtype=np.dtype(dtype)).reshape(h, w, 3)
+
+
+def render_progressive(
+    scene: Scene, camera: Optional[Camera] = None, **options: Any
+) -> Iterator[Tuple[int, np.ndarray]]:
+    """The image :func:`render` makes with the same options, in sample passes: yields
+    ``(samples, image)`` after 1, 2, 4, 8 … samples a pixel and last after the job's
+    ``spp``, each ``image`` (H x W x 3 ``float32``, linear) the mean of all samples so
+    far, so the noise falls pass by pass and the last is :func:`render`'s image bit
+    for bit. The path model renders this way; the others (and a path render whose sums
+    would not fit ``max_memory``) yield one image, the whole render. With
+    ``denoise=True`` every image is denoised.
+
+    The next pass renders while the caller looks at the last; stop early by leaving
+    the loop (or ``close()`` on the iterator). Bad options raise here, not at the first
+    pass. Waiting releases the GIL; Ctrl-C raises ``KeyboardInterrupt`` promptly::
+
+        for spp, image in prism.render_progressive(scene, integrator="path", spp=256):
+            prism.write_image(image, f"pass-{spp}.exr")
+    """
+    passes = _prism.render_progressive(scene, camera, options)
+
+    def images() -> Iterator[Tuple[int, np.ndarray]]:
+        try:
+            for samples, data, w, h in passes:
+                yield samples, np.frombuffer(data, dtype=np.float32).reshape(h, w, 3)
+        finally:
+            passes.close()
+
+    return images()
 
 
 def render_passes(

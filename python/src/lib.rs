@@ -8,6 +8,7 @@
 //! - [`options`]: a Python dict of render options to `JobOptions`;
 //! - [`scene`], [`camera`]: the loaded scene file and the camera choice;
 //! - [`still`]: rendering one image (or a region of it);
+//! - [`progressive`]: an image in sample passes, as an iterator;
 //! - [`image`]: writing pixels in every output format;
 //! - [`animation`]: the frames of an animation, one or all, and the video.
 
@@ -16,6 +17,7 @@ mod camera;
 mod errors;
 mod image;
 mod options;
+mod progressive;
 mod scene;
 mod still;
 mod watch;
@@ -34,11 +36,13 @@ fn _prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::Scene>()?;
     m.add_class::<camera::Camera>()?;
     m.add_class::<animation::Animation>()?;
+    m.add_class::<progressive::SamplePasses>()?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::scene_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(still::render, m)?)?;
     m.add_function(wrap_pyfunction!(still::render_passes, m)?)?;
     m.add_function(wrap_pyfunction!(still::plan, m)?)?;
+    m.add_function(wrap_pyfunction!(progressive::render_progressive, m)?)?;
     m.add_function(wrap_pyfunction!(image::write_image, m)?)?;
     m.add_function(wrap_pyfunction!(image::encode_png, m)?)?;
     m.add_function(wrap_pyfunction!(restrict_paths, m)?)?;

@@ -16,7 +16,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-fn resolve(
+pub(crate) fn resolve(
     py: Python<'_>,
     scene: &Scene,
     camera: Option<&Camera>,

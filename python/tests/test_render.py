@@ -273,3 +273,51 @@ def test_passes_line_up_with_the_image_and_say_what_each_pixel_sees():
     assert (passes["albedo"][~seen] == 0).all() and (lengths[~seen] == 0).all()
     with pytest.raises(ValueError, match="albedo, normal or depth"):
         prism.render_passes(scene, ("shadows",), **options)
+
+
+def test_progressive_passes_refine_to_the_rendered_image():
+    scene = prism.load_scene(SHOWCASE)
+    options = dict(width=48, aa=1, integrator="path", spp=6, seed=3)
+    passes = list(prism.render_progressive(scene, **options))
+    assert [spp for spp, _ in passes] == [1, 2, 4, 6]
+    assert all(image.shape == (27, 48, 3) for _, image in passes)
+    # Each pass is the mean of the samples so far: the first is a render of one
+    # sample, the last the render of all, bit for bit.
+    assert np.array_equal(passes[0][1], prism.render(scene, **dict(options, spp=1)))
+    assert np.array_equal(passes[-1][1], prism.render(scene, **options))
+    assert not np.array_equal(passes[0][1], passes[-1][1])
+    # A model that does not spread its samples gives one pass: the whole render.
+    whitted = list(prism.render_progressive(scene, width=48, aa=1, integrator="whitted"))
+    assert len(whitted) == 1
+    assert np.array_equal(whitted[0][1], prism.render(scene, width=48, aa=1, integrator="whitted"))
+
+
+def test_progressive_bad_options_raise_at_the_call_and_leaving_early_stops():
+    scene = prism.load_scene(SHOWCASE)
+    with pytest.raises(prism.SettingsError):
+        prism.render_progressive(scene, integrator="path", spp=0)
+    passes = prism.render_progressive(scene, width=1920, aa=2, integrator="path", spp=4096)
+    spp, _ = next(passes)
+    assert spp == 1
+    # Closing (as leaving a loop does) stops the pass being rendered behind it and
+    # waits for its thread: promptly, not after the 4096 samples.
+    started = time.monotonic()
+    passes.close()
+    assert time.monotonic() - started < 2.0
+    assert list(passes) == []
+
+
+def test_ctrl_c_stops_a_progressive_render_promptly():
+    scene, options = big_render()
+    passes = prism.render_progressive(scene, integrator="path", spp=64, **options)
+    fired = []
+
+    def interrupt():
+        fired.append(time.monotonic())
+        _thread.interrupt_main()
+
+    threading.Timer(0.3, interrupt).start()
+    with pytest.raises(KeyboardInterrupt):
+        for _ in passes:
+            pass
+    assert time.monotonic() - fired[0] < 2.0

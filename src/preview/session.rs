@@ -6,7 +6,6 @@ use crate::accel::Accel;
 use crate::error::Result;
 use crate::film::{Image, file_bytes};
 use crate::job::{Job, JobOptions, LookAt};
-use crate::options::Aov;
 use crate::render::{Observer, RenderSettings, RenderStats, Renderer};
 use crate::scene::Camera;
 use std::path::{Path, PathBuf};
@@ -16,12 +15,10 @@ use std::time::{Duration, Instant};
 
 /// Downscaling of each pass, coarsest first; the last renders the job as it is, so the
 /// final image is bit for bit the one `prism render` makes (for the path model, in
-/// sample passes that end on it: [`sample_totals`]).
+/// sample passes that end on it: [`crate::render::sample_totals`]).
 const PASS_SCALES: [u32; 4] = [8, 4, 2, 1];
 /// A coarse pass is kept only while its image is at least this many pixels across.
 const MIN_PASS_SIDE: u32 = 8;
-/// The passes that guide the denoiser, in the order [`Renderer::denoise`] renders them.
-const GUIDES: [Aov; 2] = [Aov::Albedo, Aov::Normal];
 
 /// One image of the render loop.
 #[derive(Clone)]
@@ -323,16 +320,8 @@ impl Session {
             .collect();
         // The path model's full-size image comes in sample passes, each adding to the
         // sums of the last; where the sums do not fit the memory budget, in one.
-        let mut sums = if renderer.spreads_samples() {
-            renderer.sample_sums().ok()
-        } else {
-            None
-        };
-        let totals = match sums {
-            Some(_) => sample_totals(renderer.spp()),
-            None => vec![renderer.spp()],
-        };
-        let passes = (coarse.len() + totals.len()) as u32;
+        let mut progressive = renderer.progressive();
+        let passes = (coarse.len() + progressive.totals().len()) as u32;
         let start = Instant::now();
         let watch = Current {
             session: self,
@@ -399,20 +388,12 @@ impl Session {
             }
         }
         // A job that asks is denoised at every full-size pass, so the image forms
-        // denoised and ends on `prism render --denoise`'s. The guiding passes do not
-        // change with the samples: they are rendered once.
-        let mut guides = Vec::new();
-        if job.denoise {
-            match renderer.render_aovs(&GUIDES) {
-                Ok(images) => guides = GUIDES.into_iter().zip(images).collect(),
-                Err(e) => return self.fail(e.to_string()),
-            }
-        }
-        for to in totals {
-            let rendered = match &mut sums {
-                Some(sums) => renderer.render_samples(accel, sums, to, &watch),
-                None => renderer.render_with(accel, &watch),
-            };
+        // denoised and ends on `prism render --denoise`'s.
+        let guides = match job.denoise_guides(&renderer) {
+            Ok(guides) => guides,
+            Err(e) => return self.fail(e.to_string()),
+        };
+        while let Some((to, rendered)) = progressive.next_pass(&renderer, accel, &watch) {
             let rendered = rendered
                 .and_then(|(image, stats)| Ok((job.denoised(&renderer, image, &guides)?, stats)));
             pass += 1;
@@ -421,18 +402,6 @@ impl Session {
             }
         }
     }
-}
-
-/// Samples a pixel after each of the path model's full-size passes, for an image of
-/// `spp`: one, then doubling, then `spp`. Each pass adds as many samples as all before
-/// it, so each cuts the noise by about √2 for a wait as long as the picture so far, and
-/// the passes cost what one render of `spp` does.
-fn sample_totals(spp: u32) -> Vec<u32> {
-    let mut totals: Vec<u32> = std::iter::successors(Some(1u32), |&n| n.checked_mul(2))
-        .take_while(|&n| n < spp)
-        .collect();
-    totals.push(spp);
-    totals
 }
 
 /// Stops a render once its generation is no longer the current one.
@@ -478,18 +447,4 @@ fn read(path: &Path, options: &JobOptions, frame: u32) -> Result<(Job, Option<Ti
         frame,
     };
     Ok((anim.frame_job(frame)?, Some(timeline)))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::sample_totals;
-
-    #[test]
-    fn sample_passes_double_and_end_on_the_job_s_samples() {
-        assert_eq!(sample_totals(1), [1]);
-        assert_eq!(sample_totals(2), [1, 2]);
-        assert_eq!(sample_totals(12), [1, 2, 4, 8, 12]);
-        assert_eq!(sample_totals(256), [1, 2, 4, 8, 16, 32, 64, 128, 256]);
-        assert_eq!(sample_totals(u32::MAX).last(), Some(&u32::MAX));
-    }
 }

@@ -21,7 +21,7 @@ pub use camera::CameraRays;
 pub use classic::Classic;
 pub use observer::{CancelOn, Observer, Progress, Rows};
 use passes::SamplePass;
-pub use passes::SampleSums;
+pub use passes::{Progressive, SampleSums, sample_totals};
 pub use path::Path;
 pub use sampler::PixelSampler;
 use settings::Plan;

@@ -15,7 +15,73 @@ use crate::render::observer::Observer;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+/// A render in sample passes as a front end drives it (the preview, Python): the
+/// samples a pixel after each pass, and the sums between them. A model that does not
+/// spread its samples, or sums that would not fit the memory budget, give one pass: the
+/// whole render.
+pub struct Progressive {
+    sums: Option<SampleSums>,
+    totals: Vec<u32>,
+    next: usize,
+}
+
+impl Progressive {
+    /// Samples a pixel after each pass, the last the render's own.
+    pub fn totals(&self) -> &[u32] {
+        &self.totals
+    }
+
+    /// The next pass's samples a pixel and image (the means of all samples so far,
+    /// [`Renderer::render_samples`]); `None` after the last. `renderer` and `accel` are
+    /// those [`Renderer::progressive`] was asked of.
+    pub fn next_pass(
+        &mut self,
+        renderer: &Renderer,
+        accel: &Accel,
+        observer: &dyn Observer,
+    ) -> Option<(u32, Result<(Image, RenderStats)>)> {
+        let &to = self.totals.get(self.next)?;
+        self.next += 1;
+        let rendered = match &mut self.sums {
+            Some(sums) => renderer.render_samples(accel, sums, to, observer),
+            None => renderer.render_with(accel, observer),
+        };
+        Some((to, rendered))
+    }
+}
+
+/// Samples a pixel after each sample pass of an image of `spp`: one, then doubling,
+/// then `spp`. Each pass adds as many samples as all before it, so each cuts the noise
+/// by about √2 for a wait as long as the picture so far, and the passes cost what one
+/// render of `spp` does.
+pub fn sample_totals(spp: u32) -> Vec<u32> {
+    let mut totals: Vec<u32> = std::iter::successors(Some(1u32), |&n| n.checked_mul(2))
+        .take_while(|&n| n < spp)
+        .collect();
+    totals.push(spp);
+    totals
+}
+
 impl Renderer<'_> {
+    /// This render in sample passes ([`sample_totals`]) where its model spreads its
+    /// samples and the sums fit the memory budget; else in one pass.
+    pub fn progressive(&self) -> Progressive {
+        let sums = if self.spreads_samples() {
+            self.sample_sums().ok()
+        } else {
+            None
+        };
+        let totals = match sums {
+            Some(_) => sample_totals(self.spp()),
+            None => vec![self.spp()],
+        };
+        Progressive {
+            sums,
+            totals,
+            next: 0,
+        }
+    }
+
     /// Empty sums for rendering in sample passes ([`Renderer::render_samples`]): one
     /// per supersampled pixel the film reads. Refused for a model that does not spread
     /// its samples, and when the sums would not fit the memory budget.
@@ -181,4 +247,18 @@ fn stored(acc: WeightedColor) -> [f32; 4] {
 pub(super) struct SamplePass<'s> {
     pub(super) sums: &'s mut SampleSums,
     pub(super) to: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sample_totals;
+
+    #[test]
+    fn sample_passes_double_and_end_on_the_job_s_samples() {
+        assert_eq!(sample_totals(1), [1]);
+        assert_eq!(sample_totals(2), [1, 2]);
+        assert_eq!(sample_totals(12), [1, 2, 4, 8, 12]);
+        assert_eq!(sample_totals(256), [1, 2, 4, 8, 16, 32, 64, 128, 256]);
+        assert_eq!(sample_totals(u32::MAX).last(), Some(&u32::MAX));
+    }
 }
