@@ -86,6 +86,29 @@ fn final_after(url: &str, generation: u64, within: Duration) -> serde_json::Valu
     }
 }
 
+/// Every frame a long poll sees up to the first final one (a frame published while
+/// the client is away is missed).
+fn frames_until_final(url: &str) -> Vec<serde_json::Value> {
+    let mut frames = Vec::new();
+    let mut after = None;
+    let begun = Instant::now();
+    loop {
+        let s = status(url, after);
+        after = s["version"].as_u64();
+        let f = s["frame"].clone();
+        if f.is_object() && frames.last() != Some(&f) {
+            frames.push(f.clone());
+        }
+        if f["final"] == true {
+            return frames;
+        }
+        assert!(
+            begun.elapsed() < Duration::from_secs(60),
+            "no final frame: {s}"
+        );
+    }
+}
+
 /// The tests of this file one at a time: two of them count the process's threads.
 static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
@@ -111,6 +134,14 @@ const SCENE: &str = "[camera]\nfrom = [0, 1.5, 6]\nat = [0, 0.5, 0]\nfov = 50\n\
 fn scene_in(dir: &Path) -> std::path::PathBuf {
     let p = dir.join("scene.toml");
     std::fs::write(&p, SCENE).unwrap();
+    p
+}
+
+/// [`SCENE`] with the path model.
+fn path_scene_in(dir: &Path) -> std::path::PathBuf {
+    let p = dir.join("scene.toml");
+    let path = SCENE.replace("aa = 2\n", "aa = 2\nintegrator = \"path\"\n");
+    std::fs::write(&p, path).unwrap();
     p
 }
 
@@ -171,32 +202,12 @@ fn passes_end_on_the_image_prism_render_writes_and_a_camera_message_moves_it() {
 fn the_path_model_refines_sample_pass_by_sample_pass_to_the_image_prism_render_writes() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("scene.toml");
-    let path = SCENE.replace("aa = 2\n", "aa = 2\nintegrator = \"path\"\n");
-    std::fs::write(&scene, path).unwrap();
+    let scene = path_scene_in(dir.path());
     // `--spp 16`.
     let mut options = JobOptions::default();
     options.render.spp = Some(16);
     let (preview, url) = start_with(&scene, options);
-    // Every frame a long poll sees (one published while the client is away is missed).
-    let mut frames = Vec::new();
-    let mut after = None;
-    let begun = Instant::now();
-    loop {
-        let s = status(&url, after);
-        after = s["version"].as_u64();
-        let f = s["frame"].clone();
-        if f.is_object() && frames.last() != Some(&f) {
-            frames.push(f.clone());
-        }
-        if f["final"] == true {
-            break;
-        }
-        assert!(
-            begun.elapsed() < Duration::from_secs(60),
-            "no final frame: {s}"
-        );
-    }
+    let frames = frames_until_final(&url);
     let field = |f: &serde_json::Value, k: &str| f[k].as_u64().unwrap();
     // The page's settings are the render's, `--spp` included.
     let s = status(&url, None);
@@ -447,31 +458,12 @@ fn without_oidn_a_denoised_preview_is_refused_before_it_starts() {
 fn a_denoised_preview_denoises_its_full_size_passes_and_ends_on_the_denoised_render() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("scene.toml");
-    let path = SCENE.replace("aa = 2\n", "aa = 2\nintegrator = \"path\"\n");
-    std::fs::write(&scene, path).unwrap();
+    let scene = path_scene_in(dir.path());
     let mut options = JobOptions::default();
     options.render.spp = Some(4);
     options.render.denoise = Some(true);
     let (preview, url) = start_with(&scene, options);
-    let mut frames = Vec::new();
-    let mut after = None;
-    let begun = Instant::now();
-    loop {
-        let s = status(&url, after);
-        after = s["version"].as_u64();
-        let f = s["frame"].clone();
-        if f.is_object() && frames.last() != Some(&f) {
-            frames.push(f.clone());
-        }
-        if f["final"] == true {
-            break;
-        }
-        assert!(
-            begun.elapsed() < Duration::from_secs(60),
-            "no final frame: {s}"
-        );
-    }
+    let frames = frames_until_final(&url);
     for f in &frames {
         let full = f["width"].as_u64() == Some(96);
         assert_eq!(f["denoised"].as_bool(), Some(full), "{f}");

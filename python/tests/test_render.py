@@ -149,8 +149,8 @@ def test_the_gil_is_released_while_rendering():
     assert len(ticks) >= 20  # the other thread ran all along
 
 
-def test_ctrl_c_stops_a_render_promptly():
-    scene, options = big_render()
+def interrupt_soon():
+    """Ctrl-C in 0.3 s; the list it returns gets the time it was pressed."""
     fired = []
 
     def interrupt():
@@ -158,6 +158,12 @@ def test_ctrl_c_stops_a_render_promptly():
         _thread.interrupt_main()
 
     threading.Timer(0.3, interrupt).start()
+    return fired
+
+
+def test_ctrl_c_stops_a_render_promptly():
+    scene, options = big_render()
+    fired = interrupt_soon()
     with pytest.raises(KeyboardInterrupt):
         prism.render(scene, **options)
     assert time.monotonic() - fired[0] < 2.0
@@ -310,13 +316,7 @@ def test_progressive_bad_options_raise_at_the_call_and_leaving_early_stops():
 def test_ctrl_c_stops_a_progressive_render_promptly():
     scene, options = big_render()
     passes = prism.render_progressive(scene, integrator="path", spp=64, **options)
-    fired = []
-
-    def interrupt():
-        fired.append(time.monotonic())
-        _thread.interrupt_main()
-
-    threading.Timer(0.3, interrupt).start()
+    fired = interrupt_soon()
     with pytest.raises(KeyboardInterrupt):
         for _ in passes:
             pass
