@@ -4,6 +4,38 @@ mod common;
 use common::*;
 use std::fs;
 
+/// A layer of an EXR file: its name ("" for an unnamed one) and its channels' names
+/// and values, in file order.
+type ExrLayer = (String, Vec<(String, Vec<f32>)>);
+
+/// The layers of an EXR file.
+fn exr_layers(path: &std::path::Path) -> Vec<ExrLayer> {
+    let image = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
+    image
+        .layer_data
+        .iter()
+        .map(|l| {
+            let name = l
+                .attributes
+                .layer_name
+                .as_ref()
+                .map_or(String::new(), |n| n.to_string());
+            let channels = l
+                .channel_data
+                .list
+                .iter()
+                .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
+                .collect();
+            (name, channels)
+        })
+        .collect()
+}
+
+/// Channel `name` of a layer from [`exr_layers`].
+fn exr_channel<'l>(layer: &'l ExrLayer, name: &str) -> &'l [f32] {
+    &layer.1.iter().find(|(n, _)| n == name).unwrap().1
+}
+
 #[test]
 fn report_command_line_and_render_subcommand_give_the_same_image() {
     let dir = tempfile::tempdir().unwrap();
@@ -393,28 +425,10 @@ fn passes_are_layers_of_the_exr_with_the_floor_s_albedo_normal_and_distance() {
             .args(["--integrator", integrator, "--spp", "4", "--quiet"])
             .args(["--aov", "albedo,normal,depth", "--exr-precision", "float"]));
         assert!(o.status.success(), "{}", stderr(&o));
-        let image = exr::prelude::read_all_flat_layers_from_file(&out).unwrap();
-        let names: Vec<String> = image
-            .layer_data
-            .iter()
-            .map(|l| {
-                l.attributes
-                    .layer_name
-                    .as_ref()
-                    .map_or(String::new(), |n| n.to_string())
-            })
-            .collect();
+        let layers = exr_layers(&out);
+        let names: Vec<&str> = layers.iter().map(|(n, _)| n.as_str()).collect();
         assert_eq!(names, ["image", "albedo", "normal", "depth"]);
-        let channel = |layer: usize, name: &str| -> Vec<f32> {
-            let l = &image.layer_data[layer];
-            let c = l
-                .channel_data
-                .list
-                .iter()
-                .find(|c| c.name.to_string() == name)
-                .unwrap();
-            c.sample_data.values_as_f32().collect()
-        };
+        let channel = |layer: usize, name: &str| exr_channel(&layers[layer], name);
         for (name, want) in [("R", 0.25), ("G", 0.5), ("B", 0.75)] {
             assert!(
                 channel(1, name).iter().all(|&v| (v - want).abs() < 1e-6),
@@ -482,16 +496,9 @@ fn the_albedo_pass_shows_what_mirrors_and_glass_show() {
                 .args(["--integrator", integrator, "--quiet"])
                 .args(["--aov", "albedo", "--exr-precision", "float"]));
             assert!(o.status.success(), "{}", stderr(&o));
-            let image = exr::prelude::read_all_flat_layers_from_file(&out).unwrap();
-            let albedo = &image.layer_data[1];
+            let layers = exr_layers(&out);
             for (channel, want) in ["R", "G", "B"].into_iter().zip(want) {
-                let c = albedo
-                    .channel_data
-                    .list
-                    .iter()
-                    .find(|c| c.name.to_string() == channel)
-                    .unwrap();
-                for v in c.sample_data.values_as_f32() {
+                for &v in exr_channel(&layers[1], channel) {
                     assert!(
                         (v - want).abs() < 1e-6,
                         "{name} {integrator} {channel}: {v}"
@@ -569,25 +576,11 @@ fn denoise_writes_the_denoised_image_and_the_passes_as_before() {
     let (a, b) = (load_rgb(&png), load_rgb(&noisy));
     assert_eq!(a.dimensions(), (64, 36));
     assert_ne!(a, b);
+    // Each layer's name and all its values, channel after channel.
     let layers = |path: &std::path::Path| -> Vec<(String, Vec<f32>)> {
-        let image = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
-        image
-            .layer_data
-            .iter()
-            .map(|l| {
-                let name = l
-                    .attributes
-                    .layer_name
-                    .as_ref()
-                    .map_or(String::new(), |n| n.to_string());
-                let values = l
-                    .channel_data
-                    .list
-                    .iter()
-                    .flat_map(|c| c.sample_data.values_as_f32())
-                    .collect();
-                (name, values)
-            })
+        exr_layers(path)
+            .into_iter()
+            .map(|(name, channels)| (name, channels.into_iter().flat_map(|(_, v)| v).collect()))
             .collect()
     };
     let aov = ["--aov", "albedo,normal,depth"];
