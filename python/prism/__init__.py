@@ -241,7 +241,11 @@ def render(
 
 
 def render_progressive(
-    scene: Scene, camera: Optional[Camera] = None, **options: Any
+    scene: Scene,
+    camera: Optional[Camera] = None,
+    srgb: bool = False,
+    show: bool = False,
+    **options: Any,
 ) -> Iterator[Tuple[int, np.ndarray]]:
     """The image :func:`render` makes with the same options, in sample passes: yields
     ``(samples, image)`` after 1, 2, 4, 8 … samples a pixel and last after the job's
@@ -249,7 +253,9 @@ def render_progressive(
     far, so the noise falls pass by pass and the last is :func:`render`'s image bit
     for bit. The path model renders this way; the others (and a path render whose sums
     would not fit ``max_memory``) yield one image, the whole render. With
-    ``denoise=True`` every image is denoised.
+    ``denoise=True`` every image is denoised. ``srgb=True`` yields the ``uint8``
+    images :func:`render` gives with it; ``show=True`` in a notebook shows each pass in
+    the cell, one image refined in place.
 
     The next pass renders while the caller looks at the last; stop early by leaving
     the loop (or ``close()`` on the iterator). Bad options raise here, not at the first
@@ -258,12 +264,18 @@ def render_progressive(
         for spp, image in prism.render_progressive(scene, integrator="path", spp=256):
             prism.write_image(image, f"pass-{spp}.exr")
     """
-    passes = _prism.render_progressive(scene, camera, options)
+    preview = _cell_preview() if show else None
+    passes = _prism.render_progressive(scene, camera, options, srgb or show)
 
     def images() -> Iterator[Tuple[int, np.ndarray]]:
         try:
-            for samples, data, w, h in passes:
-                yield samples, np.frombuffer(data, dtype=np.float32).reshape(h, w, 3)
+            for samples, data, rgb8, w, h in passes:
+                if preview is not None:
+                    preview(rgb8, w, h)
+                if srgb:
+                    yield samples, np.frombuffer(rgb8, dtype=np.uint8).reshape(h, w, 3)
+                else:
+                    yield samples, np.frombuffer(data, dtype=np.float32).reshape(h, w, 3)
         finally:
             passes.close()
 

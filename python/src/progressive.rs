@@ -11,10 +11,10 @@
 use crate::camera::Camera;
 use crate::errors::{IntoPy, to_py};
 use crate::scene::Scene;
-use prism::film::Image;
+use prism::film::{Develop, Image};
 use prism::render::CancelOn;
 use pyo3::prelude::*;
-use pyo3::types::{PyByteArray, PyDict};
+use pyo3::types::{PyByteArray, PyBytes, PyDict};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, sync_channel};
 use std::sync::{Arc, Mutex};
@@ -27,8 +27,15 @@ const POLL: Duration = Duration::from_millis(50);
 /// One pass: its samples a pixel and its linear image.
 type Pass = prism::Result<(u32, Image)>;
 
-/// A pass as Python receives it: samples a pixel, f32 pixels, width, height.
-type PyPass<'py> = (u32, Bound<'py, PyByteArray>, u32, u32);
+/// A pass as Python receives it: samples a pixel, f32 pixels, the 8-bit pixels
+/// `prism render` would write (when asked for), width, height.
+type PyPass<'py> = (
+    u32,
+    Bound<'py, PyByteArray>,
+    Option<Bound<'py, PyBytes>>,
+    u32,
+    u32,
+);
 
 /// The sample passes of one render, in order.
 #[pyclass(module = "prism._prism")]
@@ -39,18 +46,24 @@ pub struct SamplePasses {
     worker: Mutex<Option<JoinHandle<()>>>,
     /// Samples a pixel after each pass.
     totals: Vec<u32>,
+    /// How each pass is developed to 8 bits, when it is asked for.
+    develop: Option<Develop>,
 }
 
-/// Starts rendering the passes of the image `render` would make with these options.
+/// Starts rendering the passes of the image `render` would make with these options;
+/// with `developed`, each pass comes with its 8-bit pixels too, developed as `render`'s
+/// `srgb=True` develops them.
 #[pyfunction]
-#[pyo3(signature = (scene, camera = None, options = None))]
+#[pyo3(signature = (scene, camera = None, options = None, developed = false))]
 pub fn render_progressive(
     py: Python<'_>,
     scene: &Scene,
     camera: Option<&Camera>,
     options: Option<&Bound<'_, PyDict>>,
+    developed: bool,
 ) -> PyResult<SamplePasses> {
     let job = crate::still::resolve(py, scene, camera, options)?;
+    let develop = developed.then_some(job.output.develop);
     // Asked here so that bad settings raise at the call, not at the first pass.
     let totals = {
         let renderer = job.renderer().py_err(py)?;
@@ -75,6 +88,7 @@ pub fn render_progressive(
         passes: Mutex::new(Some(rx)),
         worker: Mutex::new(Some(worker)),
         totals,
+        develop,
     })
 }
 
@@ -134,12 +148,11 @@ impl SamplePasses {
                 Ok(Ok((to, image))) => {
                     *self.passes.lock().unwrap_or_else(|e| e.into_inner()) = Some(rx);
                     let bytes: &[u8] = bytemuck::cast_slice(&image.pixels);
-                    return Ok(Some((
-                        to,
-                        PyByteArray::new(py, bytes),
-                        image.width,
-                        image.height,
-                    )));
+                    let rgb8 = self
+                        .develop
+                        .map(|develop| PyBytes::new(py, &develop.to_rgb8(&image)));
+                    let pixels = PyByteArray::new(py, bytes);
+                    return Ok(Some((to, pixels, rgb8, image.width, image.height)));
                 }
                 Ok(Err(e)) => {
                     self.stop();

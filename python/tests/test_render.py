@@ -246,6 +246,14 @@ def test_show_updates_one_image_in_the_notebook_cell(example, monkeypatch):
     pixels = prism.render(scene, camera, width=64, show=True)
     assert pixels.dtype == np.float32
     assert shown and all(fmt == "png" and png[:8] == b"\x89PNG\r\n\x1a\n" for fmt, png in shown)
+    # Sample passes: one image per pass, the first displayed and the rest updating it.
+    shown.clear()
+    passes = prism.render_progressive(scene, camera, width=32, integrator="path", spp=4, show=True)
+    assert [spp for spp, image in passes] == [1, 2, 4]
+    assert len(shown) == 3 and all(fmt == "png" for fmt, _ in shown)
+    final = prism.render(scene, camera, width=32, integrator="path", spp=4, srgb=True)
+    h, w, _ = final.shape
+    assert shown[-1][1] == prism._prism.encode_png(final.tobytes(), w, h)
     monkeypatch.delitem(sys.modules, "IPython.display")
     monkeypatch.setitem(sys.modules, "IPython", None)
     with pytest.raises(ImportError, match="IPython"):
@@ -292,6 +300,10 @@ def test_progressive_passes_refine_to_the_rendered_image():
     assert np.array_equal(passes[0][1], prism.render(scene, **dict(options, spp=1)))
     assert np.array_equal(passes[-1][1], prism.render(scene, **options))
     assert not np.array_equal(passes[0][1], passes[-1][1])
+    # Developed as render(srgb=True) develops.
+    developed = list(prism.render_progressive(scene, srgb=True, **options))
+    assert developed[-1][1].dtype == np.uint8
+    assert np.array_equal(developed[-1][1], prism.render(scene, srgb=True, **options))
     # A model that does not spread its samples gives one pass: the whole render.
     whitted = list(prism.render_progressive(scene, width=48, aa=1, integrator="whitted"))
     assert len(whitted) == 1
