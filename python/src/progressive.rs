@@ -65,10 +65,7 @@ pub fn render_progressive(
     let job = crate::still::resolve(py, scene, camera, options)?;
     let develop = developed.then_some(job.output.develop);
     // Asked here so that bad settings raise at the call, not at the first pass.
-    let totals = {
-        let renderer = job.renderer().py_err(py)?;
-        renderer.progressive().totals().to_vec()
-    };
+    let totals = job.renderer().py_err(py)?.pass_totals();
     let cancel = Arc::new(AtomicBool::new(false));
     // No room in the channel: a pass is handed over only when Python asks, and the
     // worker renders the next one while Python looks at it.

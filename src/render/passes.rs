@@ -92,12 +92,9 @@ impl Renderer<'_> {
                 self.plan.integrator.name()
             )));
         }
+        self.check_sums_fit()?;
         let ((x_lo, x_hi), (y_lo, y_hi)) = self.traced_span();
         let (columns, rows) = ((x_hi - x_lo) as usize, (y_hi - y_lo) as usize);
-        let bytes = (columns * rows * size_of::<[f32; 4]>()) as u64;
-        let mut estimate = memory_estimate(self.scene, &self.plan);
-        estimate.film = estimate.film.saturating_add(bytes);
-        estimate.check(self.plan.max_memory, self.plan.accel)?;
         Ok(SampleSums {
             pixels: vec![[0.0; 4]; columns * rows],
             origin: (x_lo, y_lo),
@@ -105,6 +102,27 @@ impl Renderer<'_> {
             samples: 0,
             torn: false,
         })
+    }
+
+    /// Whether sample sums for this render fit its memory budget beside the rest of
+    /// the render: the error [`Renderer::sample_sums`] would give, without making them.
+    fn check_sums_fit(&self) -> Result<()> {
+        let ((x_lo, x_hi), (y_lo, y_hi)) = self.traced_span();
+        let pixels = u64::from(x_hi - x_lo) * u64::from(y_hi - y_lo);
+        let bytes = pixels.saturating_mul(size_of::<[f32; 4]>() as u64);
+        let mut estimate = memory_estimate(self.scene, &self.plan);
+        estimate.film = estimate.film.saturating_add(bytes);
+        estimate.check(self.plan.max_memory, self.plan.accel)
+    }
+
+    /// Samples a pixel after each pass of [`Renderer::progressive`], worked out
+    /// without making its sums: what a front end shows before the first pass.
+    pub fn pass_totals(&self) -> Vec<u32> {
+        if self.spreads_samples() && self.check_sums_fit().is_ok() {
+            sample_totals(self.spp())
+        } else {
+            vec![self.spp()]
+        }
     }
 
     /// One sample pass: adds samples `sums.samples()..to` of every pixel to `sums`

@@ -676,4 +676,47 @@ mod sample_pass_tests {
             "{e}"
         );
     }
+
+    /// A progressive render: sample passes doubling to the image's samples, the last
+    /// the whole render's image bit for bit; one pass, the whole render, for a model
+    /// that does not spread its samples or sums over the memory budget. The totals a
+    /// front end is told before the first pass are those the passes then take.
+    #[test]
+    fn a_progressive_render_doubles_its_samples_or_renders_once() {
+        let (scene, camera) = scene_and_camera(24, 18);
+        let whole = |settings: &RenderSettings| {
+            let r = Renderer::new(&scene, &camera, settings.clone()).unwrap();
+            r.render(&()).unwrap().0
+        };
+        let roomy = Renderer::new(&scene, &camera, path(6, 1, Filter::Area, None, 2)).unwrap();
+        let tight = RenderSettings {
+            // Room for the render, not for 16 bytes of sums a pixel more.
+            max_memory: Some(crate::render::memory_estimate(&scene, &roomy.plan).total() + 16),
+            ..path(6, 1, Filter::Area, None, 2)
+        };
+        let whitted = RenderSettings {
+            integrator: IntegratorKind::Whitted,
+            ..path(6, 1, Filter::Area, None, 2)
+        };
+        for (settings, want) in [
+            (path(6, 1, Filter::Area, None, 2), vec![1, 2, 4, 6]),
+            (tight, vec![6]),
+            (whitted, vec![6]),
+        ] {
+            let Ok(renderer) = Renderer::new(&scene, &camera, settings.clone()) else {
+                panic!("{settings:?}");
+            };
+            let accel = renderer.build_accel().unwrap();
+            assert_eq!(renderer.pass_totals(), want, "{settings:?}");
+            let mut progressive = renderer.progressive();
+            assert_eq!(progressive.totals(), want);
+            let mut last = None;
+            while let Some((to, rendered)) = progressive.next_pass(&renderer, &accel, &()) {
+                last = Some((to, rendered.unwrap().0));
+            }
+            let (to, image) = last.unwrap();
+            assert_eq!(to, *want.last().unwrap());
+            assert_eq!(image.pixels, whole(&settings).pixels, "{settings:?}");
+        }
+    }
 }
