@@ -14,7 +14,7 @@ use crate::film::{ExrPrecision, Image, OutputOptions, PngBits};
 use crate::format::{self, SceneDialect, SceneFile};
 use crate::math::Vec3;
 use crate::options::{Aov, Region, RenderOptions};
-use crate::render::{RenderSettings, RenderStats, Renderer};
+use crate::render::{Observer, RenderSettings, RenderStats, Renderer};
 use crate::scene::framing::{self, DEFAULT_SIZE};
 use crate::scene::{Camera, Scene};
 use std::path::{Path, PathBuf};
@@ -128,15 +128,21 @@ impl Job {
     }
 
     /// The passes that guide the denoiser, rendered by `renderer` (made of this job)
-    /// for a job that asks to be denoised, none for one that does not: for a front end
-    /// that denoises several images of one view (sample passes), which do not change
-    /// them, so they are rendered once.
-    pub fn denoise_guides(&self, renderer: &Renderer) -> Result<Vec<(Aov, Image)>> {
+    /// with `accel` (its [`Renderer::build_accel`]) for a job that asks to be
+    /// denoised, none for one that does not: for a front end that denoises several
+    /// images of one view (sample passes), which do not change them, so they are
+    /// rendered once. `observer` may cancel them.
+    pub fn denoise_guides(
+        &self,
+        renderer: &Renderer,
+        accel: &crate::accel::Accel,
+        observer: &dyn Observer,
+    ) -> Result<Vec<(Aov, Image)>> {
         if !self.denoise {
             return Ok(Vec::new());
         }
         const GUIDES: [Aov; 2] = [Aov::Albedo, Aov::Normal];
-        let images = renderer.render_aovs(&GUIDES)?;
+        let images = renderer.render_aovs_with(accel, &GUIDES, observer)?;
         Ok(GUIDES.into_iter().zip(images).collect())
     }
 

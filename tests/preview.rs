@@ -440,15 +440,24 @@ fn a_flood_of_idle_connections_starts_no_threads() {
 fn without_oidn_a_denoised_preview_is_refused_before_it_starts() {
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_in(dir.path());
-    let o = run(prism().arg("preview").arg(&scene).arg("--denoise"));
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).starts_with(
-            "error: cannot denoise: this Prism was built without Intel Open Image Denoise"
-        ),
-        "{}",
-        stderr(&o)
-    );
+    let anim = dir.path().join("orbit.toml");
+    std::fs::write(
+        &anim,
+        "scene = \"scene.toml\"\nframes = 4\nfps = 4\n[render]\nwidth = 32\nheight = 24\n",
+    )
+    .unwrap();
+    // A still scene and an animation alike.
+    for file in [&scene, &anim] {
+        let o = run(prism().arg("preview").arg(file).arg("--denoise"));
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(
+            stderr(&o).starts_with(
+                "error: cannot denoise: this Prism was built without Intel Open Image Denoise"
+            ),
+            "{}",
+            stderr(&o)
+        );
+    }
 }
 
 /// A denoised preview of the path model: the coarse passes as they are, every

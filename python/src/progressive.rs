@@ -95,11 +95,14 @@ fn render_passes(job: &prism::job::Job, cancel: &AtomicBool, tx: &SyncSender<Pas
     let run = || -> prism::Result<()> {
         let renderer = job.renderer()?;
         let accel = renderer.build_accel()?;
-        let guides = job.denoise_guides(&renderer)?;
-        let mut progressive = renderer.progressive();
         let watch = CancelOn(cancel);
+        let guides = job.denoise_guides(&renderer, &accel, &watch)?;
+        let mut progressive = renderer.progressive();
         while let Some((to, rendered)) = progressive.next_pass(&renderer, &accel, &watch) {
             let (image, _) = rendered?;
+            if cancel.load(Ordering::Relaxed) {
+                break;
+            }
             let image = job.denoised(&renderer, image, &guides)?;
             if tx.send(Ok((to, image))).is_err() {
                 break;
@@ -113,6 +116,16 @@ fn render_passes(job: &prism::job::Job, cancel: &AtomicBool, tx: &SyncSender<Pas
 }
 
 impl SamplePasses {
+    /// Returns the receiver `__next__` waited on, unless the render was stopped
+    /// meanwhile (by `close` on another thread): then it is dropped, which frees a
+    /// worker waiting to hand over a pass, so that `close` can join it.
+    fn put_back(&self, rx: Receiver<Pass>) {
+        let mut passes = self.passes.lock().unwrap_or_else(|e| e.into_inner());
+        if !self.cancel.load(Ordering::Relaxed) {
+            *passes = Some(rx);
+        }
+    }
+
     /// Stops the render and waits for its thread.
     fn stop(&self) {
         self.cancel.store(true, Ordering::Relaxed);
@@ -135,7 +148,12 @@ impl SamplePasses {
     fn __next__<'py>(&self, py: Python<'py>) -> PyResult<Option<PyPass<'py>>> {
         loop {
             let Some(rx) = self.passes.lock().unwrap_or_else(|e| e.into_inner()).take() else {
-                return Ok(None);
+                if self.cancel.load(Ordering::Relaxed) {
+                    return Ok(None);
+                }
+                return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                    "another thread is waiting for this render's next pass",
+                ));
             };
             let (rx, got) = py.detach(move || {
                 let got = rx.recv_timeout(POLL);
@@ -143,11 +161,14 @@ impl SamplePasses {
             });
             match got {
                 Ok(Ok((to, image))) => {
-                    *self.passes.lock().unwrap_or_else(|e| e.into_inner()) = Some(rx);
+                    self.put_back(rx);
+                    let develop = self.develop;
+                    let (image, rgb8) = py.detach(move || {
+                        let rgb8 = develop.map(|d| d.to_rgb8(&image));
+                        (image, rgb8)
+                    });
                     let bytes: &[u8] = bytemuck::cast_slice(&image.pixels);
-                    let rgb8 = self
-                        .develop
-                        .map(|develop| PyBytes::new(py, &develop.to_rgb8(&image)));
+                    let rgb8 = rgb8.map(|rgb8| PyBytes::new(py, &rgb8));
                     let pixels = PyByteArray::new(py, bytes);
                     return Ok(Some((to, pixels, rgb8, image.width, image.height)));
                 }
@@ -161,7 +182,7 @@ impl SamplePasses {
                     return Ok(None);
                 }
                 Err(RecvTimeoutError::Timeout) => {
-                    *self.passes.lock().unwrap_or_else(|e| e.into_inner()) = Some(rx);
+                    self.put_back(rx);
                     if let Err(e) = py.check_signals() {
                         py.detach(|| self.stop());
                         return Err(e);
@@ -184,7 +205,9 @@ impl SamplePasses {
 }
 
 impl Drop for SamplePasses {
+    /// Waits for the worker with the GIL released: a pass past its last cancel check
+    /// (a denoise) may take a moment, and other Python threads go on meanwhile.
     fn drop(&mut self) {
-        self.stop();
+        Python::attach(|py| py.detach(|| self.stop()));
     }
 }

@@ -83,7 +83,7 @@ fn filter(
     // and albedos within 0..1.
     let colour = flat(image, |v| if v.is_finite() { v.max(0.0) } else { 0.0 });
     let (w, h) = (image.width as usize, image.height as usize);
-    let device = device(threads).map_err(failed)?;
+    let device = device(threads)?;
     let mut rt = oidn::RayTracing::try_new(&device).map_err(failed)?;
     rt.hdr(true).clean_aux(false).image_dimensions(w, h);
     if let Some(albedo) = albedo {
@@ -117,9 +117,10 @@ fn filter(
 /// on that many threads (OIDN's `numThreads`, which only its CPU device takes: a cap
 /// asks for a share of this machine's cores).
 #[cfg(feature = "oidn")]
-fn device(threads: Option<usize>) -> std::result::Result<oidn::Device, oidn::Error> {
+fn device(threads: Option<usize>) -> Result<oidn::Device> {
+    let failed = |e: oidn::Error| Error::Denoise(format!("Open Image Denoise failed: {e}"));
     let Some(threads) = threads else {
-        return oidn::Device::new();
+        return oidn::Device::new().map_err(failed);
     };
     let threads = i32::try_from(threads).unwrap_or(i32::MAX);
     // SAFETY: the handle is checked for null before use, set and committed before it
@@ -129,14 +130,15 @@ fn device(threads: Option<usize>) -> std::result::Result<oidn::Device, oidn::Err
         use oidn::sys::*;
         let raw = oidnNewDevice(OIDNDeviceType_OIDN_DEVICE_TYPE_CPU);
         if raw.is_null() {
-            // Device creation failed before there was a device to ask why: the
-            // checked constructor reports the reason.
-            return oidn::Device::cpu();
+            // No device to ask why; a device made another way would not keep the cap.
+            return Err(Error::Denoise(
+                "Open Image Denoise could not make a CPU device".into(),
+            ));
         }
         oidnSetDeviceInt(raw, c"numThreads".as_ptr(), threads);
         oidnCommitDevice(raw);
         let device = oidn::Device::from_raw(raw);
-        device.get_error()?;
+        device.get_error().map_err(failed)?;
         Ok(device)
     }
 }

@@ -389,13 +389,19 @@ impl Session {
         }
         // A job that asks is denoised at every full-size pass, so the image forms
         // denoised and ends on `prism render --denoise`'s.
-        let guides = match job.denoise_guides(&renderer) {
+        let guides = match job.denoise_guides(&renderer, accel, &watch) {
             Ok(guides) => guides,
+            Err(crate::error::Error::Interrupted) => return,
             Err(e) => return self.fail(e.to_string()),
         };
         while let Some((to, rendered)) = progressive.next_pass(&renderer, accel, &watch) {
-            let rendered = rendered
-                .and_then(|(image, stats)| Ok((job.denoised(&renderer, image, &guides)?, stats)));
+            // Denoising cannot be stopped part-way: a newer generation skips it.
+            let rendered = rendered.and_then(|(image, stats)| {
+                if watch.cancelled() {
+                    return Err(crate::error::Error::Interrupted);
+                }
+                Ok((job.denoised(&renderer, image, &guides)?, stats))
+            });
             pass += 1;
             if !publish(pass, to, job.denoise, rendered) {
                 return;
@@ -429,7 +435,7 @@ fn is_animation(path: &Path) -> bool {
 }
 
 /// The job to render: the scene file's, or frame `frame` of an animation (its own
-/// settings, with the caller's threads, intersector and memory budget).
+/// settings, with the caller's threads, intersector, memory budget and denoising).
 fn read(path: &Path, options: &JobOptions, frame: u32) -> Result<(Job, Option<Timeline>)> {
     if !is_animation(path) {
         return Ok((crate::job::prepare(path, options)?, None));
@@ -440,6 +446,10 @@ fn read(path: &Path, options: &JobOptions, frame: u32) -> Result<(Job, Option<Ti
         anim.settings.accel = accel;
     }
     anim.settings.max_memory = options.max_memory;
+    if options.render.denoise == Some(true) {
+        crate::film::denoise::check_available()?;
+        anim.denoise = true;
+    }
     let frame = frame.min(anim.frames.saturating_sub(1));
     let timeline = Timeline {
         frames: anim.frames,

@@ -263,19 +263,41 @@ impl<'a> Renderer<'a> {
         if aovs.is_empty() {
             return Ok(Vec::new());
         }
+        let accel = self.build_accel()?;
+        self.render_aovs_with(&accel, aovs, &())
+    }
+
+    /// [`Renderer::render_aovs`] with an intersector built earlier
+    /// ([`Renderer::build_accel`]) and an observer that may cancel it
+    /// ([`crate::error::Error::Interrupted`]): a front end rendering passes while its
+    /// user waits (the preview's denoiser guides).
+    pub fn render_aovs_with(
+        &self,
+        accel: &Accel,
+        aovs: &[Aov],
+        observer: &dyn Observer,
+    ) -> Result<Vec<Image>> {
         let pool = self.pool()?;
-        Ok(pool.install(|| {
-            let accel = Accel::build(self.plan.accel, &self.scene.shapes);
+        let images: Vec<Image> = pool.install(|| {
             let surfaces = self.scene.resolved_surfaces();
             let spread = self.spreads_samples();
             aovs.iter()
-                .map(|&aov| {
-                    let tracer = aov::AovTracer::new(self.scene, &accel, &surfaces, aov, spread);
-                    self.render_frame(&tracer, &accel, Instant::now(), &(), None)
-                        .0
+                .map_while(|&aov| {
+                    if observer.cancelled() {
+                        return None;
+                    }
+                    let tracer = aov::AovTracer::new(self.scene, accel, &surfaces, aov, spread);
+                    Some(
+                        self.render_frame(&tracer, accel, Instant::now(), observer, None)
+                            .0,
+                    )
                 })
                 .collect()
-        }))
+        });
+        if observer.cancelled() {
+            return Err(crate::error::Error::Interrupted);
+        }
+        Ok(images)
     }
 
     /// `image`, which [`Renderer::render`] made, denoised ([`crate::film::denoise()`])

@@ -719,4 +719,25 @@ mod sample_pass_tests {
             assert_eq!(image.pixels, whole(&settings).pixels, "{settings:?}");
         }
     }
+
+    /// Passes rendered with an intersector built earlier are those `render_aovs`
+    /// makes; a cancelled observer stops them with `Interrupted`.
+    #[test]
+    fn passes_with_a_given_intersector_match_and_stop_when_cancelled() {
+        let (scene, camera) = scene_and_camera(24, 18);
+        let renderer = Renderer::new(&scene, &camera, path(2, 1, Filter::Area, None, 2)).unwrap();
+        let accel = renderer.build_accel().unwrap();
+        let aovs = [Aov::Albedo, Aov::Normal];
+        let own = renderer.render_aovs(&aovs).unwrap();
+        let given = renderer.render_aovs_with(&accel, &aovs, &()).unwrap();
+        assert_eq!(own.len(), 2);
+        for (a, b) in own.iter().zip(&given) {
+            assert_eq!(a.pixels, b.pixels);
+        }
+        let stop = AtomicBool::new(true);
+        let e = renderer
+            .render_aovs_with(&accel, &aovs, &CancelOn(&stop))
+            .unwrap_err();
+        assert!(matches!(e, crate::error::Error::Interrupted), "{e}");
+    }
 }
