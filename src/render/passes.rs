@@ -66,11 +66,9 @@ impl Renderer<'_> {
     /// This render in sample passes ([`sample_totals`]) where its model spreads its
     /// samples and the sums fit the memory budget; else in one pass.
     pub fn progressive(&self) -> Progressive {
-        let sums = if self.spreads_samples() {
-            self.sample_sums().ok()
-        } else {
-            None
-        };
+        // Sums are refused to a model that does not spread its samples, and over the
+        // memory budget: the two cases of one pass.
+        let sums = self.sample_sums().ok();
         let totals = match sums {
             Some(_) => sample_totals(self.spp()),
             None => vec![self.spp()],
