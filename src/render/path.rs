@@ -10,6 +10,7 @@
 
 mod bsdf;
 mod environment;
+mod lanes;
 #[cfg(test)]
 mod tests;
 
@@ -47,6 +48,8 @@ pub struct Path<'a> {
     environment: Option<Environment>,
     /// How light that two strategies can find is weighed between them.
     weighing: Weighing,
+    /// Whether a pixel's samples may be traced side by side ([`Path::lanes_apply`]).
+    lanes: Option<lanes::LaneLights>,
 }
 
 /// How the light that both a light's samples and the BSDF's can find is shared between
@@ -112,6 +115,7 @@ impl<'a> Path<'a> {
             cuts_out: surfaces.iter().any(|s| s.alpha_map.is_some()),
             environment: Environment::of(scene),
             weighing: Weighing::PowerHeuristic,
+            lanes: Path::lanes_apply(scene, surfaces),
         }
     }
 
@@ -464,6 +468,21 @@ impl Integrator for Path<'_> {
         accs: &mut [WeightedColor],
         count: &mut RayCount,
     ) {
+        if let Some(lights) = &self.lanes
+            && self.weighing == Weighing::PowerHeuristic
+            && samplers.len() == rays.len()
+        {
+            for (rays, hits, samplers, first) in chunks_of_lanes(rays, hits, samplers) {
+                let mut l = [Vec3::ZERO; lanes::LANES];
+                self.radiance_lanes(lights, rays, hits, samplers, count, &mut l);
+                for (k, l) in l.iter().take(rays.len()).enumerate() {
+                    let acc = &mut accs[slot(accs, first + k)];
+                    acc.sum += *l;
+                    acc.weight += 1.0;
+                }
+            }
+            return;
+        }
         for (i, (ray, &hit)) in rays.iter().zip(hits).enumerate() {
             let l = self.radiance(*ray, hit, &mut samplers[slot(samplers, i)], count);
             let acc = &mut accs[slot(accs, i)];
@@ -471,4 +490,18 @@ impl Integrator for Path<'_> {
             acc.weight += 1.0;
         }
     }
+}
+
+/// `rays`, their hits and samplers in runs of at most [`lanes::LANES`], each with the
+/// index of its first ray.
+fn chunks_of_lanes<'r, 's>(
+    rays: &'r [Ray],
+    hits: &'r [Option<Hit>],
+    samplers: &'s mut [PixelSampler],
+) -> impl Iterator<Item = (&'r [Ray], &'r [Option<Hit>], &'s mut [PixelSampler], usize)> {
+    rays.chunks(lanes::LANES)
+        .zip(hits.chunks(lanes::LANES))
+        .zip(samplers.chunks_mut(lanes::LANES))
+        .enumerate()
+        .map(|(k, ((r, h), s))| (r, h, s, k * lanes::LANES))
 }

@@ -1,0 +1,279 @@
+//! The lanes held to the path at a time: the same radiance bit for bit, and the same
+//! rays traced, for every lane of every packet size and depth.
+
+use super::super::Path;
+use super::LANES;
+use crate::accel::{Accel, AccelKind};
+use crate::math::{Ray, Vec3, normalize};
+use crate::render::{PixelSampler, RayCount};
+use crate::scene::{Albedo, Background, Light, Material, Scene, Shape, Sphere, Surface, Triangle};
+use rand_core::Rng;
+use rand_pcg::Pcg32;
+
+fn matte(albedo: Vec3) -> Surface {
+    Surface {
+        albedo: Albedo::Color(albedo),
+        ..Surface::default()
+    }
+}
+
+fn emitter(le: Vec3) -> Surface {
+    Surface {
+        emission: le,
+        ..matte(Vec3::splat(0.3))
+    }
+}
+
+/// A box open at +z with walls of several reflectances (brighter than white, coloured,
+/// one without red), a black sphere, a square light under the ceiling and a small triangle light
+/// on the back wall.
+fn room() -> Scene {
+    let mut s = Scene {
+        background: Background::Black,
+        ..Scene::default()
+    };
+    let add = |s: &mut Scene, shape: Shape, surface: Surface| {
+        let m = s.materials.len() as u32;
+        s.materials.push(Material::default_white());
+        s.surfaces.push(surface);
+        s.push_shape(shape, m);
+        s.shapes.len() as u32 - 1
+    };
+    let quad = |s: &mut Scene, c: [Vec3; 4], surface: Surface| -> [u32; 2] {
+        [
+            add(
+                s,
+                Shape::Triangle(Triangle {
+                    v: [c[0], c[1], c[2]],
+                }),
+                surface.clone(),
+            ),
+            add(
+                s,
+                Shape::Triangle(Triangle {
+                    v: [c[0], c[2], c[3]],
+                }),
+                surface,
+            ),
+        ]
+    };
+    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    // Floor, ceiling, back, left, right: normals into the room.
+    quad(
+        &mut s,
+        [
+            v(-1., -1., -1.),
+            v(-1., -1., 1.),
+            v(1., -1., 1.),
+            v(1., -1., -1.),
+        ],
+        matte(Vec3::new(0.7, 0.6, 0.5)),
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., 1., -1.),
+            v(1., 1., -1.),
+            v(1., 1., 1.),
+            v(-1., 1., 1.),
+        ],
+        matte(Vec3::splat(1.5)),
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., -1., -1.),
+            v(1., -1., -1.),
+            v(1., 1., -1.),
+            v(-1., 1., -1.),
+        ],
+        matte(Vec3::new(0.0, 0.5, 0.5)),
+    );
+    quad(
+        &mut s,
+        [
+            v(-1., -1., -1.),
+            v(-1., 1., -1.),
+            v(-1., 1., 1.),
+            v(-1., -1., 1.),
+        ],
+        matte(Vec3::new(0.6, 0.1, 0.1)),
+    );
+    quad(
+        &mut s,
+        [
+            v(1., -1., -1.),
+            v(1., -1., 1.),
+            v(1., 1., 1.),
+            v(1., 1., -1.),
+        ],
+        matte(Vec3::new(0.1, 0.6, 0.1)),
+    );
+    add(
+        &mut s,
+        Shape::Sphere(Sphere {
+            center: v(0.2, -0.5, -0.2),
+            radius: 0.45,
+        }),
+        matte(Vec3::ZERO),
+    );
+    let ceiling_light = quad(
+        &mut s,
+        [
+            v(-0.3, 0.99, -0.3),
+            v(0.3, 0.99, -0.3),
+            v(0.3, 0.99, 0.3),
+            v(-0.3, 0.99, 0.3),
+        ],
+        emitter(Vec3::new(8.0, 7.0, 5.0)),
+    );
+    let wall_light = add(
+        &mut s,
+        Shape::Triangle(Triangle {
+            v: [
+                v(-0.9, -0.2, -0.99),
+                v(-0.5, -0.2, -0.99),
+                v(-0.7, 0.2, -0.99),
+            ],
+        }),
+        emitter(Vec3::new(0.5, 1.0, 3.0)),
+    );
+    let mut light = Light::mesh(&s.shapes, &ceiling_light).unwrap();
+    light.intensity = 1.5;
+    s.lights.push(light);
+    s.lights
+        .push(Light::mesh(&s.shapes, &[wall_light]).unwrap());
+    s
+}
+
+/// Camera-like rays from the open side into the room.
+fn rays(rng: &mut Pcg32, n: usize) -> Vec<Ray> {
+    let mut u = || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
+    (0..n)
+        .map(|_| {
+            let origin = Vec3::new(u() - 0.5, u() - 0.5, 2.5);
+            let target = Vec3::new(2.0 * u() - 1.0, 2.0 * u() - 1.0, -1.0);
+            Ray {
+                origin,
+                dir: normalize(target - origin),
+            }
+        })
+        .collect()
+}
+
+/// One way to trace lanes.
+type Trace = fn(
+    &Path,
+    &super::LaneLights,
+    &[Ray],
+    &[Option<crate::accel::Hit>],
+    &mut [PixelSampler],
+    &mut RayCount,
+    &mut [Vec3],
+);
+
+/// Each instruction set the lanes are compiled for that this processor runs.
+fn variants() -> Vec<(&'static str, Trace)> {
+    let mut v: Vec<(&'static str, Trace)> = vec![("baseline", |p, l, r, h, s, c, o| {
+        p.radiance_lanes_in(l, r, h, s, c, o)
+    })];
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the processor runs AVX2 and FMA.
+            v.push(("avx2", |p, l, r, h, s, c, o| unsafe {
+                p.radiance_lanes_avx2(l, r, h, s, c, o)
+            }));
+        }
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the processor runs AVX-512F.
+            v.push(("avx512", |p, l, r, h, s, c, o| unsafe {
+                p.radiance_lanes_avx512(l, r, h, s, c, o)
+            }));
+        }
+    }
+    v
+}
+
+#[test]
+fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
+    let s = room();
+    let accel = Accel::build(AccelKind::Bvh, &s.shapes);
+    let surfaces = s.resolved_surfaces();
+    let mut rng = Pcg32::new(7, 0xa02b_db2e_3f0c_4d6d);
+    let (mut lit, mut total) = (0, 0);
+    for max_depth in [0, 1, 2, 6, crate::options::MAX_PATH_DEPTH] {
+        let path = Path::new(&s, &accel, &surfaces, max_depth);
+        let lights = path
+            .lanes
+            .as_ref()
+            .expect("a Lambertian room lit by meshes");
+        for n in [1, 5, LANES - 1, LANES] {
+            for packet in 0..24u32 {
+                let rays = rays(&mut rng, n);
+                let hits: Vec<_> = rays
+                    .iter()
+                    .map(|r| accel.closest(r, f32::INFINITY))
+                    .collect();
+                let streams = |k: usize| PixelSampler::for_sample(3, packet, max_depth, k as u32);
+                let mut alone = RayCount::default();
+                let want: Vec<Vec3> = (0..n)
+                    .map(|k| path.radiance(rays[k], hits[k], &mut streams(k), &mut alone))
+                    .collect();
+                for (variant, trace) in variants() {
+                    let mut samplers: Vec<_> = (0..n).map(streams).collect();
+                    let mut together = RayCount::default();
+                    let mut got = [Vec3::ZERO; LANES];
+                    trace(
+                        &path,
+                        lights,
+                        &rays,
+                        &hits,
+                        &mut samplers,
+                        &mut together,
+                        &mut got,
+                    );
+                    for k in 0..n {
+                        assert_eq!(
+                            got[k].to_array().map(f32::to_bits),
+                            want[k].to_array().map(f32::to_bits),
+                            "{variant}: lane {k} of {n}, depth {max_depth}: {} against {}",
+                            got[k],
+                            want[k]
+                        );
+                    }
+                    assert_eq!(
+                        together.rays, alone.rays,
+                        "{variant}: rays, {n} lanes, depth {max_depth}"
+                    );
+                }
+                lit += want.iter().filter(|l| l.max_element() > 0.0).count();
+                total += n;
+            }
+        }
+    }
+    // Most paths carry light: the comparison is not of zeros.
+    assert!(lit * 2 > total, "{lit} lit paths of {total}");
+}
+
+#[test]
+fn lanes_take_lambertian_scenes_lit_by_meshes_only() {
+    let s = room();
+    let surfaces = s.resolved_surfaces();
+    assert!(Path::lanes_apply(&s, &surfaces).is_some());
+    // A highlight, a mirror, a cut-out, another kind of light, an environment: each
+    // keeps the path at a time.
+    let mut shiny = surfaces.clone();
+    shiny[0].specular = Vec3::splat(0.2);
+    assert!(Path::lanes_apply(&s, &shiny).is_none());
+    let mut mirror = surfaces.clone();
+    mirror[3].reflection = Vec3::ONE;
+    assert!(Path::lanes_apply(&s, &mirror).is_none());
+    let mut point_lit = room();
+    point_lit.lights.push(Light::point(Vec3::ZERO, Vec3::ONE));
+    assert!(Path::lanes_apply(&point_lit, &surfaces).is_none());
+    let mut sky = room();
+    sky.background = Background::Color(Vec3::splat(0.5));
+    assert!(Path::lanes_apply(&sky, &surfaces).is_none());
+}
