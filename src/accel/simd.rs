@@ -5,7 +5,9 @@
 //! Every path computes the same products and sums in the same order, without fused
 //! multiply-add, so the hits — and the images — are the same bit for bit whichever
 //! path runs. `PRISM_SIMD=sse2` forces the baseline path (to compare, or to rule it
-//! out); `PRISM_SIMD=avx2` on a processor without AVX2 falls back to SSE2.
+//! out); `PRISM_SIMD=avx2` on a processor without AVX2 falls back to SSE2. The path
+//! model's lanes take AVX-512 too where the processor has it ([`avx512_wanted`]),
+//! unless `PRISM_SIMD` names a level.
 
 use std::sync::OnceLock;
 
@@ -58,6 +60,33 @@ impl SimdLevel {
             Ok("avx2") => SimdLevel::Avx2.supported(),
             _ => SimdLevel::best_supported(),
         })
+    }
+}
+
+/// Whether code that would gain from sixteen lanes (the path model's lanes) may use
+/// AVX-512 (F, VL, DQ and BW): at the AVX2 level, unless [`SIMD_ENV`] asks for AVX2
+/// itself, on a processor that has them. Read once per process.
+pub fn avx512_wanted() -> bool {
+    static WANTED: OnceLock<bool> = OnceLock::new();
+    *WANTED.get_or_init(|| {
+        SimdLevel::current() == SimdLevel::Avx2
+            && std::env::var(SIMD_ENV).as_deref() != Ok("avx2")
+            && avx512_supported()
+    })
+}
+
+/// Whether the processor runs AVX-512 F, VL, DQ and BW.
+pub fn avx512_supported() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+            && std::arch::is_x86_feature_detected!("avx512dq")
+            && std::arch::is_x86_feature_detected!("avx512bw")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }
 

@@ -92,10 +92,11 @@ fn max_ps(a: f32, b: f32) -> f32 {
     if a > b { a } else { b }
 }
 
-/// [`Vec3::max_element`]: `max(max(x, y), z)`.
+/// [`Vec3::max_element`] as glam 0.34.2 takes it, `max(max(x, z), max(y, z))`: where a
+/// channel is NaN the order decides what comes out (a test holds the two together).
 #[inline(always)]
 fn max_element([x, y, z]: [f32; 3]) -> f32 {
-    max_ps(max_ps(x, y), z)
+    max_ps(max_ps(x, z), max_ps(y, z))
 }
 
 /// [`Vec3::is_finite`].
@@ -267,8 +268,8 @@ impl Path<'_> {
     ) {
         #[cfg(target_arch = "x86_64")]
         if SimdLevel::current() == SimdLevel::Avx2 {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the processor runs AVX-512F (and so AVX2 and FMA).
+            if crate::accel::simd::avx512_wanted() {
+                // SAFETY: the processor runs AVX-512 F, VL, DQ and BW (and AVX2 and FMA).
                 return unsafe {
                     self.radiance_lanes_avx512(lights, rays, hits, samplers, count, out)
                 };

@@ -1,12 +1,14 @@
 //! The lanes held to the path at a time: the same radiance bit for bit, and the same
-//! rays traced, for every lane of every packet size and depth.
+//! rays traced, for every lane of every packet size and depth, and the same sums.
 
 use super::super::Path;
 use super::LANES;
 use crate::accel::{Accel, AccelKind};
 use crate::math::{Ray, Vec3, normalize};
-use crate::render::{PixelSampler, RayCount};
-use crate::scene::{Albedo, Background, Light, Material, Scene, Shape, Sphere, Surface, Triangle};
+use crate::render::{Integrator, PixelSampler, RayCount, WeightedColor};
+use crate::scene::{
+    Albedo, Background, Light, Material, MeshAttributes, Scene, Shape, Sphere, Surface, Triangle,
+};
 use rand_core::Rng;
 use rand_pcg::Pcg32;
 
@@ -143,6 +145,38 @@ fn room() -> Scene {
     s.lights.push(light);
     s.lights
         .push(Light::mesh(&s.shapes, &[wall_light]).unwrap());
+    // The floor's shading normals lean away from its face, and its corners have
+    // colours of their own.
+    let lean = |x: f32, z: f32| Vec3::new(x, 1.0, z);
+    s.meshes.push(MeshAttributes::per_vertex(
+        &[[0, 1, 2], [0, 2, 3]],
+        vec![
+            lean(0.5, 0.0),
+            lean(0.0, -0.7),
+            lean(-0.3, 0.3),
+            lean(0.9, 0.9),
+        ],
+        vec![],
+        vec![
+            Vec3::new(1.0, 0.2, 0.2),
+            Vec3::ONE,
+            Vec3::new(0.3, 1.0, 0.6),
+            Vec3::splat(0.5),
+        ],
+    ));
+    s
+}
+
+/// The room with a wall light too bright for f32 in red, and a left wall that
+/// reflects only red: light samples there are NaN in one channel.
+fn blazing_room() -> Scene {
+    let mut s = room();
+    let wall_light = s.surfaces.len() - 1;
+    s.surfaces[wall_light].emission = Vec3::new(1e38, 1.0, 3.0);
+    s.lights[1].intensity = 10.0;
+    for left_wall in [6, 7] {
+        s.surfaces[left_wall].albedo = Albedo::Color(Vec3::new(0.6, 0.0, 0.0));
+    }
     s
 }
 
@@ -186,8 +220,8 @@ fn variants() -> Vec<(&'static str, Trace)> {
                 p.radiance_lanes_avx2(l, r, h, s, c, o)
             }));
         }
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the processor runs AVX-512F.
+        if crate::accel::simd::avx512_supported() {
+            // SAFETY: the processor runs AVX-512 F, VL, DQ and BW.
             v.push(("avx512", |p, l, r, h, s, c, o| unsafe {
                 p.radiance_lanes_avx512(l, r, h, s, c, o)
             }));
@@ -198,58 +232,60 @@ fn variants() -> Vec<(&'static str, Trace)> {
 
 #[test]
 fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
-    let s = room();
-    let accel = Accel::build(AccelKind::Bvh, &s.shapes);
-    let surfaces = s.resolved_surfaces();
     let mut rng = Pcg32::new(7, 0xa02b_db2e_3f0c_4d6d);
     let (mut lit, mut total) = (0, 0);
-    for max_depth in [0, 1, 2, 6, crate::options::MAX_PATH_DEPTH] {
-        let path = Path::new(&s, &accel, &surfaces, max_depth);
-        let lights = path
-            .lanes
-            .as_ref()
-            .expect("a Lambertian room lit by meshes");
-        for n in [1, 5, LANES - 1, LANES] {
-            for packet in 0..24u32 {
-                let rays = rays(&mut rng, n);
-                let hits: Vec<_> = rays
-                    .iter()
-                    .map(|r| accel.closest(r, f32::INFINITY))
-                    .collect();
-                let streams = |k: usize| PixelSampler::for_sample(3, packet, max_depth, k as u32);
-                let mut alone = RayCount::default();
-                let want: Vec<Vec3> = (0..n)
-                    .map(|k| path.radiance(rays[k], hits[k], &mut streams(k), &mut alone))
-                    .collect();
-                for (variant, trace) in variants() {
-                    let mut samplers: Vec<_> = (0..n).map(streams).collect();
-                    let mut together = RayCount::default();
-                    let mut got = [Vec3::ZERO; LANES];
-                    trace(
-                        &path,
-                        lights,
-                        &rays,
-                        &hits,
-                        &mut samplers,
-                        &mut together,
-                        &mut got,
-                    );
-                    for k in 0..n {
+    for s in [room(), blazing_room()] {
+        let accel = Accel::build(AccelKind::Bvh, &s.shapes);
+        let surfaces = s.resolved_surfaces();
+        for max_depth in [0, 1, 2, 6, crate::options::MAX_PATH_DEPTH] {
+            let path = Path::new(&s, &accel, &surfaces, max_depth);
+            let lights = path
+                .lanes
+                .as_ref()
+                .expect("a Lambertian room lit by meshes");
+            for n in [1, 5, LANES - 1, LANES] {
+                for packet in 0..24u32 {
+                    let rays = rays(&mut rng, n);
+                    let hits: Vec<_> = rays
+                        .iter()
+                        .map(|r| accel.closest(r, f32::INFINITY))
+                        .collect();
+                    let streams =
+                        |k: usize| PixelSampler::for_sample(3, packet, max_depth, k as u32);
+                    let mut alone = RayCount::default();
+                    let want: Vec<Vec3> = (0..n)
+                        .map(|k| path.radiance(rays[k], hits[k], &mut streams(k), &mut alone))
+                        .collect();
+                    for (variant, trace) in variants() {
+                        let mut samplers: Vec<_> = (0..n).map(streams).collect();
+                        let mut together = RayCount::default();
+                        let mut got = [Vec3::ZERO; LANES];
+                        trace(
+                            &path,
+                            lights,
+                            &rays,
+                            &hits,
+                            &mut samplers,
+                            &mut together,
+                            &mut got,
+                        );
+                        for k in 0..n {
+                            assert_eq!(
+                                got[k].to_array().map(f32::to_bits),
+                                want[k].to_array().map(f32::to_bits),
+                                "{variant}: lane {k} of {n}, depth {max_depth}: {} against {}",
+                                got[k],
+                                want[k]
+                            );
+                        }
                         assert_eq!(
-                            got[k].to_array().map(f32::to_bits),
-                            want[k].to_array().map(f32::to_bits),
-                            "{variant}: lane {k} of {n}, depth {max_depth}: {} against {}",
-                            got[k],
-                            want[k]
+                            together.rays, alone.rays,
+                            "{variant}: rays, {n} lanes, depth {max_depth}"
                         );
                     }
-                    assert_eq!(
-                        together.rays, alone.rays,
-                        "{variant}: rays, {n} lanes, depth {max_depth}"
-                    );
+                    lit += want.iter().filter(|l| l.max_element() > 0.0).count();
+                    total += n;
                 }
-                lit += want.iter().filter(|l| l.max_element() > 0.0).count();
-                total += n;
             }
         }
     }
@@ -276,4 +312,60 @@ fn lanes_take_lambertian_scenes_lit_by_meshes_only() {
     let mut sky = room();
     sky.background = Background::Color(Vec3::splat(0.5));
     assert!(Path::lanes_apply(&sky, &surfaces).is_none());
+}
+
+#[test]
+fn the_lanes_maximum_of_three_is_glams_even_with_nans() {
+    let values = [
+        f32::NAN,
+        -1.0,
+        -0.0,
+        0.0,
+        2.0,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+    ];
+    for x in values {
+        for y in values {
+            for z in values {
+                let glam = Vec3::new(x, y, z).max_element();
+                let lanes = super::max_element([x, y, z]);
+                assert_eq!(lanes.to_bits(), glam.to_bits(), "{x} {y} {z}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_packet_of_samples_adds_up_as_one_path_at_a_time_adds_it() {
+    let s = room();
+    let accel = Accel::build(AccelKind::Bvh, &s.shapes);
+    let surfaces = s.resolved_surfaces();
+    let lanes = Path::new(&s, &accel, &surfaces, crate::options::MAX_PATH_DEPTH);
+    let mut alone = Path::new(&s, &accel, &surfaces, crate::options::MAX_PATH_DEPTH);
+    alone.lanes = None;
+    let mut rng = Pcg32::new(9, 0x1d3b_5a79_c2e4_f601);
+    for n in [2, LANES, 2 * LANES + 3] {
+        let rays = rays(&mut rng, n);
+        let hits: Vec<_> = rays
+            .iter()
+            .map(|r| accel.closest(r, f32::INFINITY))
+            .collect();
+        let sums = |path: &Path| {
+            let mut samplers: Vec<_> = (0..n)
+                .map(|k| PixelSampler::for_sample(5, 1, 2, k as u32))
+                .collect();
+            let mut acc = WeightedColor::default();
+            let mut count = RayCount::default();
+            path.trace_camera_packet(
+                &rays,
+                &hits,
+                &mut samplers,
+                std::slice::from_mut(&mut acc),
+                &mut count,
+            );
+            (acc.sum.to_array().map(f32::to_bits), acc.weight, count.rays)
+        };
+        assert_eq!(sums(&lanes), sums(&alone), "{n} samples");
+    }
 }
