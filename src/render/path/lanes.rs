@@ -153,6 +153,77 @@ struct MeshLight {
     area: f32,
     cdf: Vec<f32>,
     triangles: Vec<MeshTriangle>,
+    /// Few triangles, their cdf ordered and finite: every lane picks its triangle at
+    /// once, by counting and selecting, instead of a search one lane at a time.
+    few: bool,
+}
+
+/// Triangles a light may have for its lanes to pick among them all at once.
+const FEW_TRIANGLES: usize = 8;
+
+impl MeshLight {
+    fn new(area: f32, cdf: Vec<f32>, triangles: Vec<MeshTriangle>) -> MeshLight {
+        let few = triangles.len() <= FEW_TRIANGLES
+            && cdf.len() == triangles.len()
+            && cdf.iter().all(|c| c.is_finite())
+            && cdf.is_sorted();
+        MeshLight {
+            area,
+            cdf,
+            triangles,
+            few,
+        }
+    }
+
+    /// [`pick_triangle`] and [`triangle_point`] in every lane, for a light of
+    /// [`MeshLight::few`] triangles: the point of each lane's `(a, b)` with its
+    /// triangle's normal and radiance, bit for bit as one lane at a time finds them.
+    /// On an ordered cdf, counting the entries at most `a` is what the search finds.
+    #[inline(always)]
+    fn points(&self, a: &Lanes, b: &Lanes, y: &mut V3, normal: &mut V3, le: &mut V3) {
+        debug_assert!(self.few);
+        let mut below = [0usize; LANES];
+        for &c in &self.cdf {
+            for i in 0..LANES {
+                below[i] += usize::from(c <= a[i]);
+            }
+        }
+        let last = self.triangles.len() - 1;
+        let mut lo = [0.0f32; LANES];
+        let mut hi = [0.0f32; LANES];
+        for (j, &c) in self.cdf.iter().enumerate() {
+            for i in 0..LANES {
+                let k = below[i].min(last);
+                if k == j + 1 {
+                    lo[i] = c;
+                }
+                if k == j {
+                    hi[i] = c;
+                }
+            }
+        }
+        let mut su = [0.0f32; LANES];
+        for i in 0..LANES {
+            // As pick_triangle: NaN included.
+            let d = (hi[i] - lo[i]).max(f32::MIN_POSITIVE);
+            let within = ((a[i] - lo[i]) / d).clamp(0.0, 1.0);
+            su[i] = within.sqrt();
+        }
+        for (j, tri) in self.triangles.iter().enumerate() {
+            let [v0, v1, v2] = tri.v.map(|v| v.to_array());
+            let (n, l) = (tri.normal.to_array(), tri.le.to_array());
+            for i in 0..LANES {
+                if below[i].min(last) != j {
+                    continue;
+                }
+                let (s, t) = (su[i], b[i]);
+                let (w0, w1, w2) = (1.0 - s, s * (1.0 - t), s * t);
+                y.put(i, [0, 1, 2].map(|k| v0[k] * w0 + v1[k] * w1 + v2[k] * w2));
+                normal.put(i, n);
+                le.put(i, l);
+            }
+        }
+    }
 }
 
 /// A Lambertian surface at each lane's hit, as [`super::Bsdf`] sees it from `wo`: the
@@ -246,11 +317,7 @@ impl Path<'_> {
                 .iter()
                 .map(|&shape| light.mesh_triangle(scene, surfaces, shape))
                 .collect::<Option<Vec<_>>>()?;
-            (!triangles.is_empty()).then(|| MeshLight {
-                area: *area,
-                cdf: cdf.clone(),
-                triangles,
-            })
+            (!triangles.is_empty()).then(|| MeshLight::new(*area, cdf.clone(), triangles))
         });
         Some(LaneLights(meshes.collect::<Option<_>>()?))
     }
@@ -487,13 +554,21 @@ impl Path<'_> {
             let mut y = V3::ZERO;
             let mut normal = V3::ZERO;
             let mut le = V3::ZERO;
-            for i in each(lit) {
-                let (a, b) = samplers[i].next_2d();
-                let (k, su) = pick_triangle(&light.cdf, light.triangles.len(), a);
-                let tri = &light.triangles[k];
-                y.set(i, triangle_point(tri.v, su, b));
-                normal.set(i, tri.normal);
-                le.set(i, tri.le);
+            if light.few {
+                let (mut a, mut b) = ([0.0f32; LANES], [0.0f32; LANES]);
+                for i in each(lit) {
+                    (a[i], b[i]) = samplers[i].next_2d();
+                }
+                light.points(&a, &b, &mut y, &mut normal, &mut le);
+            } else {
+                for i in each(lit) {
+                    let (a, b) = samplers[i].next_2d();
+                    let (k, su) = pick_triangle(&light.cdf, light.triangles.len(), a);
+                    let tri = &light.triangles[k];
+                    y.set(i, triangle_point(tri.v, su, b));
+                    normal.set(i, tri.normal);
+                    le.set(i, tri.le);
+                }
             }
             // Their densities, values and weights, all at once.
             let mut contribution = V3::ZERO;

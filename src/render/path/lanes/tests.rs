@@ -369,3 +369,85 @@ fn a_packet_of_samples_adds_up_as_one_path_at_a_time_adds_it() {
         assert_eq!(sums(&lanes), sums(&alone), "{n} samples");
     }
 }
+
+#[test]
+fn a_few_triangles_are_picked_in_every_lane_as_the_search_picks_one() {
+    use super::{MeshLight, V3};
+    use crate::scene::light::sampling::{MeshTriangle, pick_triangle, triangle_point};
+    let mut rng = Pcg32::new(11, 0x5851_f42d_4c95_7f2d);
+    let mut unit = || (rng.next_u32() >> 8) as f32 / (1 << 24) as f32;
+    let mut checked = 0;
+    for round in 0..400 {
+        let count = 1 + round % super::FEW_TRIANGLES;
+        let triangles: Vec<MeshTriangle> = (0..count)
+            .map(|_| MeshTriangle {
+                v: [0; 3].map(|_| Vec3::new(unit(), unit(), unit()) * 4.0 - 2.0),
+                normal: normalize(Vec3::new(unit() - 0.5, unit() - 0.5, 1.0)),
+                le: Vec3::new(unit(), unit(), unit()),
+            })
+            .collect();
+        // Areas with zeros among them (a repeated entry), and a total that rounds
+        // below 1 in some rounds, so the last triangle is clamped to as well.
+        let areas: Vec<f32> = (0..count)
+            .map(|k| {
+                if k > 0 && (round + k) % 3 == 0 {
+                    0.0
+                } else {
+                    unit() + 0.01
+                }
+            })
+            .collect();
+        let total: f32 = areas.iter().sum::<f32>() * if round % 2 == 0 { 1.0 } else { 1.001 };
+        let cdf: Vec<f32> = areas
+            .iter()
+            .scan(0.0, |acc, a| {
+                *acc += a;
+                Some(*acc / total)
+            })
+            .collect();
+        let light = MeshLight::new(1.0, cdf.clone(), triangles);
+        assert!(light.few);
+        let a: [f32; LANES] = std::array::from_fn(|i| match i {
+            0 => 0.0,
+            1 => 1.0 - f32::EPSILON / 2.0,
+            2 => cdf[0],
+            _ => unit(),
+        });
+        let b: [f32; LANES] = std::array::from_fn(|i| if i == 3 { 0.0 } else { unit() });
+        let (mut y, mut normal, mut le) = (V3::ZERO, V3::ZERO, V3::ZERO);
+        light.points(&a, &b, &mut y, &mut normal, &mut le);
+        for i in 0..LANES {
+            let (k, su) = pick_triangle(&cdf, count, a[i]);
+            let tri = &light.triangles[k];
+            let want = triangle_point(tri.v, su, b[i]);
+            assert_eq!(
+                y.get(i).to_array().map(f32::to_bits),
+                want.to_array().map(f32::to_bits)
+            );
+            assert_eq!(normal.get(i), tri.normal);
+            assert_eq!(le.get(i), tri.le);
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 400 * LANES);
+    // A light of many triangles, or of an unordered cdf, takes the search.
+    let many = |n: usize| {
+        MeshLight::new(
+            1.0,
+            (1..=n).map(|k| k as f32 / n as f32).collect(),
+            vec![
+                MeshTriangle {
+                    v: [Vec3::ZERO; 3],
+                    normal: Vec3::Z,
+                    le: Vec3::ONE
+                };
+                n
+            ],
+        )
+    };
+    assert!(many(super::FEW_TRIANGLES).few);
+    assert!(!many(super::FEW_TRIANGLES + 1).few);
+    let mut unordered = many(2);
+    unordered = MeshLight::new(1.0, vec![0.7, 0.5], unordered.triangles);
+    assert!(!unordered.few);
+}
