@@ -49,7 +49,7 @@ pub struct Path<'a> {
     /// How light that two strategies can find is weighed between them.
     weighing: Weighing,
     /// Whether a pixel's samples may be traced side by side ([`Path::lanes_apply`]).
-    lanes: Option<lanes::LaneLights>,
+    lanes: Option<lanes::LaneScene>,
 }
 
 /// How the light that both a light's samples and the BSDF's can find is shared between

@@ -39,6 +39,24 @@ impl SurfacePoint {
 }
 
 impl Scene {
+    /// A hit as a surface with nothing interpolated across it: its point and
+    /// geometric normal, no texture coordinates, no vertex colour. What
+    /// [`Scene::surface_point`] finds on shapes of no mesh with vertex normals or
+    /// colours, when it is not asked for texture coordinates.
+    #[inline]
+    pub fn flat_point(&self, shape: u32, ray: &Ray, t: f32) -> SurfacePoint {
+        let p = ray.at(t);
+        let ng = self.shapes.get(shape as usize).normal(p);
+        SurfacePoint {
+            p,
+            ng,
+            n: ng,
+            uv: [0.0, 0.0],
+            color: Vec3::ONE,
+            smooth: None,
+        }
+    }
+
     /// The shading view of a hit at distance `t` on shape `shape`, with texture
     /// coordinates if `texture_coords` (a sphere's cost two inverse trigonometric
     /// functions, and most surfaces read none).
@@ -49,17 +67,9 @@ impl Scene {
         t: f32,
         texture_coords: bool,
     ) -> SurfacePoint {
-        let p = ray.at(t);
+        let mut sp = self.flat_point(shape, ray, t);
         let s = &self.shapes.get(shape as usize);
-        let ng = s.normal(p);
-        let mut sp = SurfacePoint {
-            p,
-            ng,
-            n: ng,
-            uv: [0.0, 0.0],
-            color: Vec3::ONE,
-            smooth: None,
-        };
+        let (p, ng) = (sp.p, sp.ng);
         match s {
             Shape::Triangle(tri) => {
                 let mesh = self.mesh_of(shape);

@@ -145,9 +145,14 @@ fn each(mut bits: u32) -> impl Iterator<Item = usize> {
     })
 }
 
-/// Every light of a scene the lanes trace: emissive meshes, each triangle's corners,
-/// normal and radiance worked out once.
-pub(super) struct LaneLights(Vec<MeshLight>);
+/// What the lanes work out once about a scene they trace.
+pub(super) struct LaneScene {
+    /// Every light: emissive meshes, each triangle's corners, normal and radiance.
+    lights: Vec<MeshLight>,
+    /// No mesh has vertex normals or colours: a hit on a surface that reads no
+    /// texture is its point and flat normal alone ([`Scene::flat_point`]).
+    flat: bool,
+}
 
 struct MeshLight {
     area: f32,
@@ -290,11 +295,11 @@ impl Lambert {
 }
 
 impl Path<'_> {
-    /// The lights as the lanes sample them if every path of `scene` can be traced in
+    /// What the lanes need to know of `scene` if every path of it can be traced in
     /// lanes: every surface lit and Lambertian (textures and vertex colours allowed)
     /// with nothing that cuts out, bends normals or absorbs, every light an emissive
     /// mesh of triangles, and no environment.
-    pub(super) fn lanes_apply(scene: &Scene, surfaces: &[Surface]) -> Option<LaneLights> {
+    pub(super) fn lanes_apply(scene: &Scene, surfaces: &[Surface]) -> Option<LaneScene> {
         let lambertian = |s: &Surface| {
             s.lit
                 && s.metallic_roughness.is_none()
@@ -319,14 +324,21 @@ impl Path<'_> {
                 .collect::<Option<Vec<_>>>()?;
             (!triangles.is_empty()).then(|| MeshLight::new(*area, cdf.clone(), triangles))
         });
-        Some(LaneLights(meshes.collect::<Option<_>>()?))
+        let flat = scene
+            .meshes
+            .iter()
+            .all(|m| m.normal_indices.is_empty() && m.color_indices.is_empty());
+        Some(LaneScene {
+            lights: meshes.collect::<Option<_>>()?,
+            flat,
+        })
     }
 
     /// Radiance along each of `rays` (at most [`LANES`]), whose closest hits are
     /// `hits`, each drawing from its own sampler: [`Path::radiance`] of each.
     pub(super) fn radiance_lanes(
         &self,
-        lights: &LaneLights,
+        prepared: &LaneScene,
         rays: &[Ray],
         hits: &[Option<Hit>],
         samplers: &mut [PixelSampler],
@@ -338,13 +350,13 @@ impl Path<'_> {
             if crate::accel::simd::avx512_wanted() {
                 // SAFETY: the processor runs AVX-512 F, VL, DQ and BW (and AVX2 and FMA).
                 return unsafe {
-                    self.radiance_lanes_avx512(lights, rays, hits, samplers, count, out)
+                    self.radiance_lanes_avx512(prepared, rays, hits, samplers, count, out)
                 };
             }
             // SAFETY: `current` is AVX2 only where the processor runs AVX2 and FMA.
-            return unsafe { self.radiance_lanes_avx2(lights, rays, hits, samplers, count, out) };
+            return unsafe { self.radiance_lanes_avx2(prepared, rays, hits, samplers, count, out) };
         }
-        self.radiance_lanes_in(lights, rays, hits, samplers, count, out)
+        self.radiance_lanes_in(prepared, rays, hits, samplers, count, out)
     }
 
     /// [`Path::radiance_lanes`] in sixteen-lane registers: the same operations.
@@ -352,14 +364,14 @@ impl Path<'_> {
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
     unsafe fn radiance_lanes_avx512(
         &self,
-        lights: &LaneLights,
+        prepared: &LaneScene,
         rays: &[Ray],
         hits: &[Option<Hit>],
         samplers: &mut [PixelSampler],
         count: &mut RayCount,
         out: &mut [Vec3],
     ) {
-        self.radiance_lanes_in(lights, rays, hits, samplers, count, out)
+        self.radiance_lanes_in(prepared, rays, hits, samplers, count, out)
     }
 
     /// [`Path::radiance_lanes`] in eight-lane registers: the same operations.
@@ -367,20 +379,20 @@ impl Path<'_> {
     #[target_feature(enable = "avx2,fma")]
     unsafe fn radiance_lanes_avx2(
         &self,
-        lights: &LaneLights,
+        prepared: &LaneScene,
         rays: &[Ray],
         hits: &[Option<Hit>],
         samplers: &mut [PixelSampler],
         count: &mut RayCount,
         out: &mut [Vec3],
     ) {
-        self.radiance_lanes_in(lights, rays, hits, samplers, count, out)
+        self.radiance_lanes_in(prepared, rays, hits, samplers, count, out)
     }
 
     #[inline(always)]
     fn radiance_lanes_in(
         &self,
-        lights: &LaneLights,
+        prepared: &LaneScene,
         rays: &[Ray],
         hits: &[Option<Hit>],
         samplers: &mut [PixelSampler],
@@ -434,9 +446,13 @@ impl Path<'_> {
                     continue;
                 };
                 let s = self.surface(hit.shape);
-                let sp = self
-                    .scene
-                    .surface_point(hit.shape, &ray, hit.t, s.reads_texture_coords());
+                let texture_coords = s.reads_texture_coords();
+                let sp = if prepared.flat && !texture_coords {
+                    self.scene.flat_point(hit.shape, &ray, hit.t)
+                } else {
+                    self.scene
+                        .surface_point(hit.shape, &ray, hit.t, texture_coords)
+                };
                 let entering = ray.dir.dot(sp.ng) < 0.0;
                 let (g, sn) = if entering {
                     (sp.ng, sp.n)
@@ -471,7 +487,8 @@ impl Path<'_> {
             let bsdf = Lambert::new(&wo, &ns, &ng, &diffuse);
             let lit = alive & bsdf.smooth;
             if lit != 0 {
-                let direct = self.direct_lanes(lights, &bsdf, lit, &p, &ng, &from, samplers, count);
+                let direct =
+                    self.direct_lanes(prepared, &bsdf, lit, &p, &ng, &from, samplers, count);
                 for i in each(lit) {
                     l.set(i, l.get(i) + beta.get(i) * direct.get(i));
                 }
@@ -538,7 +555,7 @@ impl Path<'_> {
     #[inline(always)]
     fn direct_lanes(
         &self,
-        lights: &LaneLights,
+        prepared: &LaneScene,
         bsdf: &Lambert,
         lit: u32,
         p: &V3,
@@ -548,7 +565,7 @@ impl Path<'_> {
         count: &mut RayCount,
     ) -> V3 {
         let mut sum = V3::ZERO;
-        for light in &lights.0 {
+        for light in &prepared.lights {
             let area = light.area;
             // The light's points, one path at a time.
             let mut y = V3::ZERO;

@@ -180,6 +180,16 @@ fn blazing_room() -> Scene {
     s
 }
 
+/// The room with no vertex normals or colours: its hits are flat points.
+fn bare_room() -> Scene {
+    let mut s = room();
+    for mesh in &mut s.meshes {
+        mesh.normal_indices.clear();
+        mesh.color_indices.clear();
+    }
+    s
+}
+
 /// Camera-like rays from the open side into the room.
 fn rays(rng: &mut Pcg32, n: usize) -> Vec<Ray> {
     let mut u = || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
@@ -198,7 +208,7 @@ fn rays(rng: &mut Pcg32, n: usize) -> Vec<Ray> {
 /// One way to trace lanes.
 type Trace = fn(
     &Path,
-    &super::LaneLights,
+    &super::LaneScene,
     &[Ray],
     &[Option<crate::accel::Hit>],
     &mut [PixelSampler],
@@ -234,7 +244,11 @@ fn variants() -> Vec<(&'static str, Trace)> {
 fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
     let mut rng = Pcg32::new(7, 0xa02b_db2e_3f0c_4d6d);
     let (mut lit, mut total) = (0, 0);
-    for s in [room(), blazing_room()] {
+    for (s, flat) in [
+        (room(), false),
+        (blazing_room(), false),
+        (bare_room(), true),
+    ] {
         let accel = Accel::build(AccelKind::Bvh, &s.shapes);
         let surfaces = s.resolved_surfaces();
         for max_depth in [0, 1, 2, 6, crate::options::MAX_PATH_DEPTH] {
@@ -243,6 +257,7 @@ fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
                 .lanes
                 .as_ref()
                 .expect("a Lambertian room lit by meshes");
+            assert_eq!(lights.flat, flat);
             for n in [1, 5, LANES - 1, LANES] {
                 for packet in 0..24u32 {
                     let rays = rays(&mut rng, n);
