@@ -152,6 +152,8 @@ pub(super) struct LaneScene {
     /// No mesh has vertex normals or colours: a hit on a surface that reads no
     /// texture is its point and flat normal alone ([`Scene::flat_point`]).
     flat: bool,
+    /// No surface reads texture coordinates: hits need not ask each one.
+    untextured: bool,
 }
 
 struct MeshLight {
@@ -331,6 +333,7 @@ impl Path<'_> {
         Some(LaneScene {
             lights: meshes.collect::<Option<_>>()?,
             flat,
+            untextured: !surfaces.iter().any(Surface::reads_texture_coords),
         })
     }
 
@@ -446,7 +449,7 @@ impl Path<'_> {
                     continue;
                 };
                 let s = self.surface(hit.shape);
-                let texture_coords = s.reads_texture_coords();
+                let texture_coords = !prepared.untextured && s.reads_texture_coords();
                 let sp = if prepared.flat && !texture_coords {
                     self.scene.flat_point(hit.shape, &ray, hit.t)
                 } else {

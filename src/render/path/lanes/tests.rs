@@ -190,6 +190,41 @@ fn bare_room() -> Scene {
     s
 }
 
+/// The room without vertex attributes, its back wall textured: a checker of four
+/// texels read at the wall's own texture coordinates.
+fn textured_room() -> Scene {
+    use crate::scene::TextureSlot;
+    use crate::scene::image::{ImageTexture, Texels};
+    let mut s = bare_room();
+    s.images.push(ImageTexture {
+        name: "checker".into(),
+        width: 2,
+        height: 2,
+        texels: Texels::Rgba8 {
+            texels: vec![
+                [230, 40, 40, 255],
+                [40, 230, 40, 255],
+                [40, 40, 230, 255],
+                [200; 4],
+            ],
+            srgb: true,
+        },
+    });
+    for back_wall in [4, 5] {
+        s.surfaces[back_wall].albedo = Albedo::Image {
+            slot: TextureSlot {
+                image: 0,
+                scale: [3.0, 3.0],
+                offset: [0.0, 0.0],
+                clamp: false,
+                matrix: None,
+            },
+            tint: Vec3::ONE,
+        };
+    }
+    s
+}
+
 /// Camera-like rays from the open side into the room.
 fn rays(rng: &mut Pcg32, n: usize) -> Vec<Ray> {
     let mut u = || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
@@ -244,11 +279,13 @@ fn variants() -> Vec<(&'static str, Trace)> {
 fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
     let mut rng = Pcg32::new(7, 0xa02b_db2e_3f0c_4d6d);
     let (mut lit, mut total) = (0, 0);
-    for (s, flat) in [
-        (room(), false),
-        (blazing_room(), false),
-        (bare_room(), true),
-    ] {
+    let rooms = [
+        (room(), false, true),
+        (blazing_room(), false, true),
+        (bare_room(), true, true),
+        (textured_room(), true, false),
+    ];
+    for (s, flat, untextured) in rooms {
         let accel = Accel::build(AccelKind::Bvh, &s.shapes);
         let surfaces = s.resolved_surfaces();
         for max_depth in [0, 1, 2, 6, crate::options::MAX_PATH_DEPTH] {
@@ -258,6 +295,7 @@ fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
                 .as_ref()
                 .expect("a Lambertian room lit by meshes");
             assert_eq!(lights.flat, flat);
+            assert_eq!(lights.untextured, untextured);
             for n in [1, 5, LANES - 1, LANES] {
                 for packet in 0..24u32 {
                     let rays = rays(&mut rng, n);
