@@ -2,6 +2,7 @@
 progress, the GIL, and Ctrl-C."""
 
 import _thread
+import signal
 import threading
 import time
 
@@ -127,7 +128,35 @@ def big_render():
     return prism.load_scene(SHOWCASE), dict(width=3840, height=2160, aa=4)
 
 
-def test_the_gil_is_released_while_rendering():
+@pytest.fixture
+def ctrl_c():
+    """Presses Ctrl-C after a delay: `fired = ctrl_c(0.3)` gets the time it was pressed.
+
+    Python's own SIGINT handler is installed for the test: a process that inherited
+    SIGINT ignored (a background job of a non-interactive shell) would not see the
+    press, and the render waiting for it would run to its end."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    timers = []
+
+    def press(after):
+        fired = []
+
+        def interrupt():
+            fired.append(time.monotonic())
+            _thread.interrupt_main()
+
+        timer = threading.Timer(after, interrupt)
+        timers.append(timer)
+        timer.start()
+        return fired
+
+    yield press
+    for timer in timers:
+        timer.cancel()
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_the_gil_is_released_while_rendering(ctrl_c):
     scene, options = big_render()
     ticks = []
     stop = threading.Event()
@@ -139,7 +168,7 @@ def test_the_gil_is_released_while_rendering():
 
     counter = threading.Thread(target=count)
     counter.start()
-    threading.Timer(0.5, _thread.interrupt_main).start()
+    ctrl_c(0.5)
     try:
         with pytest.raises(KeyboardInterrupt):
             prism.render(scene, **options)
@@ -149,21 +178,9 @@ def test_the_gil_is_released_while_rendering():
     assert len(ticks) >= 20  # the other thread ran all along
 
 
-def interrupt_soon():
-    """Ctrl-C in 0.3 s; the list it returns gets the time it was pressed."""
-    fired = []
-
-    def interrupt():
-        fired.append(time.monotonic())
-        _thread.interrupt_main()
-
-    threading.Timer(0.3, interrupt).start()
-    return fired
-
-
-def test_ctrl_c_stops_a_render_promptly():
+def test_ctrl_c_stops_a_render_promptly(ctrl_c):
     scene, options = big_render()
-    fired = interrupt_soon()
+    fired = ctrl_c(0.3)
     with pytest.raises(KeyboardInterrupt):
         prism.render(scene, **options)
     assert time.monotonic() - fired[0] < 2.0
@@ -327,10 +344,10 @@ def test_progressive_bad_options_raise_at_the_call_and_leaving_early_stops():
             next(passes)
 
 
-def test_ctrl_c_stops_a_progressive_render_promptly():
+def test_ctrl_c_stops_a_progressive_render_promptly(ctrl_c):
     scene, options = big_render()
     passes = prism.render_progressive(scene, integrator="path", spp=64, **options)
-    fired = interrupt_soon()
+    fired = ctrl_c(0.3)
     with pytest.raises(KeyboardInterrupt):
         for _ in passes:
             pass
