@@ -45,16 +45,7 @@ impl Scene {
     /// colours, when it is not asked for texture coordinates.
     #[inline]
     pub fn flat_point(&self, shape: u32, ray: &Ray, t: f32) -> SurfacePoint {
-        let p = ray.at(t);
-        let ng = self.shapes.get(shape as usize).normal(p);
-        SurfacePoint {
-            p,
-            ng,
-            n: ng,
-            uv: [0.0, 0.0],
-            color: Vec3::ONE,
-            smooth: None,
-        }
+        flat_point_on(&self.shapes.get(shape as usize), ray, t)
     }
 
     /// The shading view of a hit at distance `t` on shape `shape`, with texture
@@ -67,8 +58,8 @@ impl Scene {
         t: f32,
         texture_coords: bool,
     ) -> SurfacePoint {
-        let mut sp = self.flat_point(shape, ray, t);
         let s = &self.shapes.get(shape as usize);
+        let mut sp = flat_point_on(s, ray, t);
         let (p, ng) = (sp.p, sp.ng);
         match s {
             Shape::Triangle(tri) => {
@@ -114,6 +105,21 @@ impl Scene {
             }
         }
         sp
+    }
+}
+
+/// [`Scene::flat_point`] on a shape already gathered.
+#[inline]
+fn flat_point_on(shape: &Shape, ray: &Ray, t: f32) -> SurfacePoint {
+    let p = ray.at(t);
+    let ng = shape.normal(p);
+    SurfacePoint {
+        p,
+        ng,
+        n: ng,
+        uv: [0.0, 0.0],
+        color: Vec3::ONE,
+        smooth: None,
     }
 }
 
