@@ -167,6 +167,22 @@ impl<'s> Accel<'s> {
         }
     }
 
+    /// The closest hit of each of up to [`PACKET_RAYS`] rays that need not run
+    /// together (a pixel's paths after their first bounce) into `hits`, the answers of
+    /// [`Accel::closest`]: the BVH of a few flat shapes meets them all at once, any
+    /// other intersector one at a time.
+    #[inline]
+    pub fn closest_many(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<Hit>]) {
+        match self {
+            Accel::Bvh(a) => a.closest_many(rays, t_max, hits),
+            _ => {
+                for (hit, ray) in hits.iter_mut().zip(rays) {
+                    *hit = self.closest(ray, t_max);
+                }
+            }
+        }
+    }
+
     /// Which of up to [`PACKET_RAYS`] rays (bit `i` for ray `i`) are blocked before
     /// their `t_max[i]`: the answers of [`Accel::occluded`], as one packet in the BVH.
     #[inline]

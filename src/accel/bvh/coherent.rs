@@ -45,7 +45,7 @@ macro_rules! for_each_shape {
 
 /// A lane's answer as the sign of a 32-bit lane, for [`lane_bits`].
 #[inline(always)]
-fn lane_flag(hit: bool) -> u32 {
+pub(super) fn lane_flag(hit: bool) -> u32 {
     0u32.wrapping_sub(u32::from(hit))
 }
 
@@ -81,23 +81,23 @@ pub const PACKET_RAYS: usize = 16;
 
 type Lanes = [f32; PACKET_RAYS];
 
-/// The rays as structure of arrays. Lanes past the packet's rays copy its first ray and
-/// are never active.
-struct Rays {
-    origin: [Lanes; 3],
-    dir: [Lanes; 3],
-    inv_dir: [Lanes; 3],
+/// The rays as structure of arrays, in `N` lanes (a packet's sixteen unless said).
+/// Lanes past the rays copy the first ray and are never active.
+pub(super) struct Rays<const N: usize = PACKET_RAYS> {
+    origin: [[f32; N]; 3],
+    dir: [[f32; N]; 3],
+    inv_dir: [[f32; N]; 3],
 }
 
-impl Rays {
+impl<const N: usize> Rays<N> {
     #[inline(always)]
-    fn new(rays: &[Ray]) -> Rays {
+    pub(super) fn new(rays: &[Ray]) -> Rays<N> {
         let mut r = Rays {
-            origin: [[0.0; PACKET_RAYS]; 3],
-            dir: [[0.0; PACKET_RAYS]; 3],
-            inv_dir: [[0.0; PACKET_RAYS]; 3],
+            origin: [[0.0; N]; 3],
+            dir: [[0.0; N]; 3],
+            inv_dir: [[0.0; N]; 3],
         };
-        for i in 0..PACKET_RAYS {
+        for i in 0..N {
             let ray = rays.get(i).unwrap_or(&rays[0]);
             for axis in 0..3 {
                 r.origin[axis][i] = ray.origin[axis];
@@ -112,14 +112,14 @@ impl Rays {
     /// and the smallest entry distance among them. The slab test of [`super::Boxes4`],
     /// with the rays in the lanes instead of the boxes.
     #[inline(always)]
-    fn enter(&self, node: &Node8, lane: usize, bound: &Lanes) -> (u32, f32) {
+    fn enter(&self, node: &Node8, lane: usize, bound: &[f32; N]) -> (u32, f32) {
         let (h, l) = (lane / 4, lane % 4);
         let lo = [node.min[0][h][l], node.min[1][h][l], node.min[2][h][l]];
         let hi = [node.max[0][h][l], node.max[1][h][l], node.max[2][h][l]];
-        let mut t_near = [0.0f32; PACKET_RAYS];
+        let mut t_near = [0.0f32; N];
         let mut t_far = *bound;
         for axis in 0..3 {
-            for i in 0..PACKET_RAYS {
+            for i in 0..N {
                 let a = (lo[axis] - self.origin[axis][i]) * self.inv_dir[axis][i];
                 let b = (hi[axis] - self.origin[axis][i]) * self.inv_dir[axis][i];
                 // The near plane by the direction's sign, as the single-ray test reads
@@ -133,9 +133,9 @@ impl Rays {
                 t_far[i] = if far < t_far[i] { far } else { t_far[i] };
             }
         }
-        let mut hits = [0u32; PACKET_RAYS];
+        let mut hits = [0u32; N];
         let mut first = f32::INFINITY;
-        for i in 0..PACKET_RAYS {
+        for i in 0..N {
             let hit = t_near[i] <= t_far[i] * BOX_SLACK;
             hits[i] = lane_flag(hit);
             first = if hit && t_near[i] < first {
@@ -150,16 +150,23 @@ impl Rays {
     /// Rays that meet the triangle or rectangle `f` before their bound, with the
     /// distances: [`super::leaf4::Leaf4::intersect_flat`] with rays for lanes.
     #[inline(always)]
-    fn meet(&self, f: &Flat, bound: &Lanes) -> (u32, Lanes) {
+    pub(super) fn meet(&self, f: &Flat, bound: &[f32; N]) -> (u32, [f32; N]) {
+        let (met, t) = self.meet_each(f, bound);
+        (lane_bits(&met), t)
+    }
+
+    /// [`Rays::meet`] with each ray's answer in its own lane, as [`lane_flag`] gives it.
+    #[inline(always)]
+    pub(super) fn meet_each(&self, f: &Flat, bound: &[f32; N]) -> ([u32; N], [f32; N]) {
         let [dx, dy, dz] = &self.dir;
         let [e1x, e1y, e1z] = f.e1;
         let [e2x, e2y, e2z] = f.e2;
-        let mut t = [0.0f32; PACKET_RAYS];
-        let mut hits = [0u32; PACKET_RAYS];
+        let mut t = [0.0f32; N];
+        let mut hits = [0u32; N];
         let lo = -EDGE_SLACK;
         let hi = 1.0 + EDGE_SLACK;
         let max_sum = f.max_sum + EDGE_SLACK;
-        for i in 0..PACKET_RAYS {
+        for i in 0..N {
             let px = dy[i] * e2z - dz[i] * e2y;
             let py = dz[i] * e2x - dx[i] * e2z;
             let pz = dx[i] * e2y - dy[i] * e2x;
@@ -179,20 +186,20 @@ impl Rays {
             let in_range = (t[i] > 0.0) & (t[i] < bound[i]);
             hits[i] = lane_flag(finite & inside & in_range);
         }
-        (lane_bits(&hits), t)
+        (hits, t)
     }
 
     /// Rays that meet `sphere` before their bound, with the distances:
     /// [`Sphere::intersect`] with rays for lanes, operation for operation, its branches
     /// turned into selects so the loop runs on vector lanes.
     #[inline(always)]
-    fn meet_sphere(&self, sphere: &Sphere, bound: &Lanes) -> (u32, Lanes) {
+    fn meet_sphere(&self, sphere: &Sphere, bound: &[f32; N]) -> (u32, [f32; N]) {
         let [dx, dy, dz] = &self.dir;
         let c = sphere.center;
         let r2 = sphere.radius * sphere.radius;
-        let mut t = [0.0f32; PACKET_RAYS];
-        let mut hits = [0u32; PACKET_RAYS];
-        for i in 0..PACKET_RAYS {
+        let mut t = [0.0f32; N];
+        let mut hits = [0u32; N];
+        for i in 0..N {
             let ox = self.origin[0][i] - c.x;
             let oy = self.origin[1][i] - c.y;
             let oz = self.origin[2][i] - c.z;

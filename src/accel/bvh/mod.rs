@@ -9,6 +9,7 @@
 mod build;
 mod coherent;
 mod collapse;
+mod few;
 mod leaf4;
 
 pub use coherent::PACKET_RAYS;
@@ -34,6 +35,7 @@ use crate::math::{Aabb, Ray};
 use crate::scene::Shapes;
 use build::MAX_DEPTH;
 use collapse::Collapsed;
+use few::FewFlats;
 use glam::Vec4;
 use leaf4::{Leaf4, RayLanes, padded_bounds};
 use rayon::prelude::*;
@@ -333,6 +335,9 @@ pub struct Bvh<'s> {
     stored: Vec<Leaf4>,
     shape_count: usize,
     simd: SimdLevel,
+    /// A scene of a few flat shapes, for [`Bvh::closest_many`] and
+    /// [`Bvh::occluded_many`].
+    few: Option<FewFlats>,
 }
 
 impl<'s> Bvh<'s> {
@@ -354,6 +359,7 @@ impl<'s> Bvh<'s> {
             stored: Vec::new(),
             shape_count: shapes.len(),
             simd: simd.supported(),
+            few: FewFlats::of(shapes),
         };
         if shapes.is_empty() {
             return bvh;
@@ -400,6 +406,7 @@ impl<'s> Bvh<'s> {
         self.nodes.capacity() * size_of::<Node8>()
             + self.prims.capacity() * size_of::<u32>()
             + self.stored.capacity() * size_of::<Leaf4>()
+            + self.few.as_ref().map_or(0, FewFlats::memory_bytes)
     }
 
     /// The nearest hit with `0 < t < t_max`; of equally near ones, the lowest index.

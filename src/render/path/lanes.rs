@@ -431,20 +431,37 @@ impl Path<'_> {
         let mut wo = V3::ZERO;
         let mut diffuse = V3::ZERO;
         let mut from = V3::ZERO;
+        let mut lane_hits = [None; LANES];
+        lane_hits[..n].copy_from_slice(hits);
         while alive != 0 {
-            // The hits and the surfaces there, one path at a time.
+            if depth > 0 {
+                // The hits of the paths still going, together.
+                let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); LANES];
+                let mut at = [0; LANES];
+                let mut m = 0;
+                for i in each(alive) {
+                    rays[m] = Ray {
+                        origin: origin.get(i),
+                        dir: dir.get(i),
+                    };
+                    at[m] = i;
+                    m += 1;
+                }
+                let mut found = [None; LANES];
+                self.accel
+                    .closest_many(&rays[..m], f32::INFINITY, &mut found[..m]);
+                for k in 0..m {
+                    lane_hits[at[k]] = found[k];
+                }
+            }
+            // The surfaces at the hits, one path at a time.
             for i in each(alive) {
                 count.rays += 1;
                 let ray = Ray {
                     origin: origin.get(i),
                     dir: dir.get(i),
                 };
-                let hit = if depth == 0 {
-                    hits[i]
-                } else {
-                    self.accel.closest(&ray, f32::INFINITY)
-                };
-                let Some(hit) = hit else {
+                let Some(hit) = lane_hits[i] else {
                     alive &= !(1 << i);
                     continue;
                 };
@@ -625,7 +642,9 @@ impl Path<'_> {
                 // Stop short of the light itself: an emissive mesh is geometry too.
                 t_max[i] = dist * (1.0 - 1e-4) - surface_epsilon(o);
             }
-            // The shadow rays, one path at a time.
+            // The shadow rays, one path at a time: in a scene of a few shapes too,
+            // where most reach the light, meeting every shape cost more than
+            // walking the tree.
             for i in each(lit & lanes_where(|i| traced[i])) {
                 count.rays += 1;
                 let t = t_max[i];
