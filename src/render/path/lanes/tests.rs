@@ -119,6 +119,15 @@ fn room() -> Scene {
         }),
         matte(Vec3::ZERO),
     );
+    // A ramp leaning across the room: a normal along no axis, so how it is rounded
+    // shows in the image.
+    add(
+        &mut s,
+        Shape::Triangle(Triangle {
+            v: [v(-0.8, -1.0, 0.5), v(0.7, -0.3, 0.1), v(-0.2, 0.4, -0.6)],
+        }),
+        matte(Vec3::new(0.4, 0.5, 0.3)),
+    );
     let ceiling_light = quad(
         &mut s,
         [
