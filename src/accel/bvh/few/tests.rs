@@ -33,13 +33,19 @@ type Kernel = fn(&FewFlats, &[Ray], f32, &mut [Option<Hit>]);
 /// Every kernel and `Bvh::closest_many` give each ray what `Bvh::closest` gives it.
 fn answers_as_single_rays(shapes: &Shapes, rays: &[Ray], t_max: f32) -> Result<(), TestCaseError> {
     let few = FewFlats::of(shapes).expect("a scene of few flat shapes");
-    for simd in [SimdLevel::Baseline, SimdLevel::best_supported()] {
-        let bvh = Bvh::build_with(shapes, simd, Leaves::Indexed);
+    let best = SimdLevel::best_supported();
+    for (simd, leaves) in [
+        (SimdLevel::Baseline, Leaves::Indexed),
+        (SimdLevel::Baseline, Leaves::Copied),
+        (best, Leaves::Indexed),
+        (best, Leaves::Copied),
+    ] {
+        let bvh = Bvh::build_with(shapes, simd, leaves);
         prop_assert!(bvh.meets_all_at_once());
         let single: Vec<_> = rays.iter().map(|r| bvh.closest(r, t_max)).collect();
         let mut many = vec![None; rays.len()];
         bvh.closest_many(rays, t_max, &mut many);
-        prop_assert_eq!(&many, &single, "closest_many, {:?}", simd);
+        prop_assert_eq!(&many, &single, "closest_many, {:?}, {:?}", simd, leaves);
         for (name, kernel) in kernels() {
             let mut hits = vec![None; rays.len()];
             kernel(&few, rays, t_max, &mut hits);
