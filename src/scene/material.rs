@@ -1,5 +1,6 @@
 //! Surface materials of the 2014 format (report section 5.2.2).
 
+use super::OpenPbr;
 use crate::math::Vec3;
 
 /// A material of the 2014 format, as the classic model shades it: factors that weight the
@@ -103,6 +104,11 @@ pub struct Surface {
     /// share of the albedo, `specular`, `shininess` and `reflection` (see
     /// [`MetallicRoughness`]).
     pub metallic_roughness: Option<MetallicRoughness>,
+    /// The OpenPBR Surface parameters of a physically based material: where present,
+    /// its BSDF replaces the Phong terms (`diffuse`, `specular`, `shininess`,
+    /// `highlight`, `reflection`, `transmission`, `ior`, `fresnel`, `absorption`);
+    /// `albedo` is its `base_color`.
+    pub openpbr: Option<Box<OpenPbr>>,
 }
 
 /// glTF's metallic-roughness material on the whitted model (docs/formats.md):
@@ -234,6 +240,7 @@ impl Default for Surface {
             alpha_cutoff: 0.5,
             normal_scale: 1.0,
             metallic_roughness: None,
+            openpbr: None,
         }
     }
 }
@@ -278,6 +285,7 @@ impl Surface {
             || self.specular_map.is_some()
             || self.ambient_map.is_some()
             || self.emission_map.is_some()
+            || self.openpbr.as_ref().is_some_and(|m| m.reads_textures())
     }
 }
 
