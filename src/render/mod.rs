@@ -2,6 +2,7 @@
 //! fills the supersampled frame band by band and hands each band to the film.
 
 pub mod aov;
+pub mod bsdf;
 pub mod camera;
 pub mod classic;
 mod cut_outs;

@@ -8,19 +8,17 @@
 //! Each camera sample draws from its own stream (seed, pixel, sample index), in a
 //! fixed order of dimensions, so the image does not depend on threads or passes.
 
-mod bsdf;
 mod environment;
 mod lanes;
 #[cfg(test)]
 mod tests;
 
+pub use super::bsdf::{Bsdf, Highlight, PhongBsdf, Sampled, Terms};
 use super::cut_outs::{MAX_CUT_OUTS, first_uncut};
-use super::metallic_roughness::PbrAt;
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
 use crate::scene::{Light, LightKind, Scene, Surface, SurfacePoint};
-pub use bsdf::{Bsdf, Highlight, Sampled, Terms};
 use environment::Environment;
 
 /// Bounces after which Russian roulette may end a path (Mitsuba's default).
@@ -233,7 +231,7 @@ impl<'a> Path<'a> {
                 break;
             }
             let wo = -ray.dir;
-            let bsdf = Bsdf::new(&self.terms(s, sp, albedo, entering), wo, n, ng);
+            let bsdf = Bsdf::at(self.scene, s, sp, hit.shape, albedo, wo, n, ng, entering);
             if bsdf.has_smooth() {
                 l += beta * self.direct(&bsdf, sp, ng, sampler, count);
             }
@@ -260,50 +258,6 @@ impl<'a> Path<'a> {
             }
         }
         if l.is_finite() { l } else { Vec3::ZERO }
-    }
-
-    /// The surface's terms at a hit: its albedo, maps and glTF factors read there.
-    fn terms(&self, s: &Surface, sp: &SurfacePoint, albedo: Vec3, entering: bool) -> Terms {
-        let (eta_i, eta_t) = if entering { (1.0, s.ior) } else { (s.ior, 1.0) };
-        let (diffuse, highlight, reflection) = match &s.metallic_roughness {
-            None => {
-                let ks = s.specular * self.scene.map(&s.specular_map, sp);
-                let highlight = if ks == Vec3::ZERO {
-                    Highlight::None
-                } else {
-                    match s.highlight {
-                        crate::scene::Highlight::Phong => Highlight::Phong {
-                            ks,
-                            exponent: s.shininess,
-                        },
-                        crate::scene::Highlight::BlinnPhong => Highlight::Blinn {
-                            ks,
-                            exponent: s.shininess,
-                        },
-                    }
-                };
-                (albedo * s.diffuse, highlight, s.reflection)
-            }
-            Some(mr) => {
-                let at = PbrAt::at(self.scene, mr, sp);
-                // The whitted reading's Lambert term carries 1/pi; reflectance does not.
-                let diffuse = albedo * (s.diffuse * std::f32::consts::PI * (1.0 - at.metallic));
-                let highlight = Highlight::Ggx {
-                    f0: at.f0(albedo),
-                    alpha: at.roughness * at.roughness,
-                };
-                (diffuse, highlight, Vec3::ZERO)
-            }
-        };
-        Terms {
-            diffuse,
-            highlight,
-            reflection,
-            transmission: s.transmission,
-            fresnel: s.fresnel,
-            eta_i,
-            eta_t,
-        }
     }
 
     /// Light arriving at the hit straight from every light and the environment, each

@@ -2,8 +2,8 @@
 //! an environment image sampled in proportion to its brightness (pbrt's piecewise
 //! constant 2D distribution over the equirectangular image).
 
-use super::bsdf::uniform_sphere;
 use crate::math::{Vec3, cross, sin_cos};
+use crate::render::bsdf::uniform_sphere;
 use crate::scene::{Background, Scene};
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 

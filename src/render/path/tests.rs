@@ -380,7 +380,7 @@ fn every_bsdf_reflects_at_most_what_it_receives_and_its_samples_agree_with_eval(
     let mut s = PixelSampler::for_sample(5, 0, 0, 0);
     for (name, terms) in smooth_bsdfs() {
         for wo in views() {
-            let bsdf = Bsdf::new(&terms, wo, Vec3::Z, Vec3::Z);
+            let bsdf = PhongBsdf::new(&terms, wo, Vec3::Z, Vec3::Z);
             // The albedo two ways: the mean sample weight, and f cos integrated over
             // the hemisphere by stratified uniform directions.
             let n = 200_000;
@@ -473,7 +473,7 @@ fn every_bsdf_draws_directions_by_its_density() {
     let mut s = PixelSampler::for_sample(6, 0, 0, 0);
     for (name, terms) in smooth_bsdfs() {
         for wo in [views()[1], views()[3]] {
-            let bsdf = Bsdf::new(&terms, wo, Vec3::Z, Vec3::Z);
+            let bsdf = PhongBsdf::new(&terms, wo, Vec3::Z, Vec3::Z);
             let mut draw = || {
                 let pick = s.next_f32();
                 bsdf.sample(pick, s.next_2d()).map(|sm| sm.wi)

@@ -1,6 +1,6 @@
-//! A surface as the path model scatters light at one hit: the lobes a `Surface`
-//! stands for (Lambert, an energy-normalised Phong or Blinn-Phong highlight or glTF's
-//! GGX microfacets, a perfect mirror, smooth refraction), answering `eval`, `pdf` and
+//! A surface of Phong terms (MTL's and the scene file's older keys) as both physical
+//! models scatter light at one hit: Lambert, an energy-normalised Phong or Blinn-Phong
+//! highlight, a perfect mirror and smooth refraction, answering `eval`, `pdf` and
 //! `sample` for the direction light leaves toward, `wo`.
 //!
 //! Directions are world-space unit vectors pointing away from the surface. The smooth
@@ -8,6 +8,7 @@
 //! reflectance, so `pdf` is the mixture's; the mirror and the refraction are deltas,
 //! chosen with their own probabilities and never found by `eval`.
 
+use super::Sampled;
 use crate::math::{Vec3, normalize, sin_cos};
 use crate::render::optics::{fresnel_dielectric, refract};
 use std::f32::consts::{FRAC_1_PI, TAU};
@@ -66,21 +67,9 @@ pub struct Terms {
     pub eta_t: f32,
 }
 
-/// A direction drawn from a BSDF.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sampled {
-    /// Unit direction light arrives from.
-    pub wi: Vec3,
-    /// `f cos / pdf`: what the path's throughput is multiplied by.
-    pub weight: Vec3,
-    /// The density the direction was drawn with per unit solid angle; zero for a
-    /// mirror or refraction (a delta).
-    pub pdf: f32,
-}
-
-/// A surface's BSDF seen from `wo`.
+/// A Phong surface's BSDF seen from `wo`.
 #[derive(Clone, Copy, Debug)]
-pub struct Bsdf {
+pub struct PhongBsdf {
     /// Shading normal and geometric normal, both on `wo`'s side, and a frame.
     n: Vec3,
     ng: Vec3,
@@ -116,11 +105,11 @@ pub fn schlick(f0: Vec3, cos: f32) -> Vec3 {
     f0 + (Vec3::ONE - f0) * m5
 }
 
-impl Bsdf {
+impl PhongBsdf {
     /// `terms` seen from `wo` at a point with shading normal `n` and geometric normal
     /// `ng`, both turned to `wo`'s side. A surface that would reflect and transmit more
     /// than it receives is scaled down to conserve energy.
-    pub fn new(terms: &Terms, wo: Vec3, n: Vec3, ng: Vec3) -> Bsdf {
+    pub fn new(terms: &Terms, wo: Vec3, n: Vec3, ng: Vec3) -> PhongBsdf {
         // A shading normal that faces away from the viewer says nothing useful about
         // reflection: the geometric one stands in.
         let n = if n.dot(wo) > 1e-4 { n } else { ng };
@@ -196,7 +185,7 @@ impl Bsdf {
         // Radiance crossing into a denser medium is compressed into a smaller solid
         // angle: (eta_i / eta_t)^2 of it goes on along the refracted ray.
         let eta = terms.eta_i / terms.eta_t;
-        Bsdf {
+        PhongBsdf {
             n,
             ng,
             t,
@@ -233,13 +222,13 @@ impl Bsdf {
         self.eval_pdf(wi).0
     }
 
-    /// The density with which [`Bsdf::sample`] draws `wi`, per unit solid angle (the
+    /// The density with which [`PhongBsdf::sample`] draws `wi`, per unit solid angle (the
     /// smooth lobes' share of it).
     pub fn pdf(&self, wi: Vec3) -> f32 {
         self.eval_pdf(wi).1
     }
 
-    /// [`Bsdf::eval`], [`Bsdf::pdf`] and the cosine of `wi` to the shading normal
+    /// [`PhongBsdf::eval`], [`PhongBsdf::pdf`] and the cosine of `wi` to the shading normal
     /// together: what a light sample needs, with the cosines found once. Zero where
     /// `wi` is below either normal.
     #[inline]

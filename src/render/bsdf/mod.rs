@@ -1,0 +1,243 @@
+//! How a surface scatters light at a hit, for both physical models: the whitted model
+//! gathers light from lights through [`Bsdf::eval_pdf`] (and traces the mirror and
+//! refraction deltas), the path model also draws its next direction from
+//! [`Bsdf::sample`]. So on the same surface under the same light the two agree.
+//!
+//! A surface is either an OpenPBR material (`openpbr`: its lobes in the shading frame)
+//! or one of Phong terms (`phong`: MTL's and the scene file's older keys).
+
+pub mod albedo;
+mod diffuse;
+pub mod microfacet;
+pub mod openpbr;
+mod phong;
+
+pub use openpbr::{OpenPbrBsdf, Params};
+pub use phong::{Highlight, PhongBsdf, Terms, cosine_hemisphere, schlick, uniform_sphere};
+
+use crate::math::Vec3;
+use crate::render::metallic_roughness::PbrAt;
+use crate::scene::{Scene, Surface, SurfacePoint};
+
+/// A direction drawn from a BSDF.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sampled {
+    /// Unit direction light arrives from.
+    pub wi: Vec3,
+    /// `f cos / pdf`: what the path's throughput is multiplied by.
+    pub weight: Vec3,
+    /// The density the direction was drawn with per unit solid angle; zero for a
+    /// mirror or refraction (a delta).
+    pub pdf: f32,
+}
+
+/// An OpenPBR BSDF in world space: its shading frame and geometric normal.
+#[derive(Clone, Copy, Debug)]
+pub struct Framed {
+    t: Vec3,
+    b: Vec3,
+    n: Vec3,
+    ng: Vec3,
+    local: OpenPbrBsdf,
+}
+
+impl Framed {
+    #[inline]
+    fn to_local(self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
+    }
+
+    #[inline]
+    fn to_world(self, v: Vec3) -> Vec3 {
+        self.t * v.x + self.b * v.y + self.n * v.z
+    }
+}
+
+/// A surface's BSDF seen from `wo`.
+#[derive(Clone, Copy, Debug)]
+pub enum Bsdf {
+    /// Phong terms.
+    Phong(PhongBsdf),
+    /// An OpenPBR material.
+    OpenPbr(Framed),
+}
+
+impl Bsdf {
+    /// Surface `s` at hit `sp` of shape `shape`, seen from `wo`; `albedo` its base colour
+    /// there, `n` and `ng` the shading and geometric normals turned to `wo`'s side,
+    /// `entering` whether `wo` is on the side the surface faces.
+    #[allow(clippy::too_many_arguments)]
+    pub fn at(
+        scene: &Scene,
+        s: &Surface,
+        sp: &SurfacePoint,
+        shape: u32,
+        albedo: Vec3,
+        wo: Vec3,
+        n: Vec3,
+        ng: Vec3,
+        entering: bool,
+    ) -> Bsdf {
+        match &s.openpbr {
+            Some(m) => {
+                let params = Params::at(scene, m, albedo, sp);
+                let tangent = if params.specular_roughness_anisotropy > 0.0 {
+                    scene.dpdu(shape)
+                } else {
+                    None
+                };
+                Bsdf::openpbr(&params, wo, n, ng, tangent, m.tangent_rotation, entering)
+            }
+            None => Bsdf::Phong(PhongBsdf::new(
+                &phong_terms(scene, s, sp, albedo, entering),
+                wo,
+                n,
+                ng,
+            )),
+        }
+    }
+
+    /// OpenPBR parameters `p` seen from `wo` at a point of shading normal `n` and
+    /// geometric normal `ng` (both on `wo`'s side); the anisotropy's tangent follows
+    /// `tangent` (where given) turned by `rotation` turns.
+    pub fn openpbr(
+        p: &Params,
+        wo: Vec3,
+        n: Vec3,
+        ng: Vec3,
+        tangent: Option<Vec3>,
+        rotation: f32,
+        outside: bool,
+    ) -> Bsdf {
+        // A shading normal that faces away from the viewer says nothing useful about
+        // reflection: the geometric one stands in.
+        let n = if n.dot(wo) > 1e-4 { n } else { ng };
+        let (mut t, mut b) = match tangent {
+            Some(t) => {
+                let t = (t - n * n.dot(t)).normalize_or_zero();
+                if t == Vec3::ZERO {
+                    n.any_orthonormal_pair()
+                } else {
+                    (t, crate::math::cross(n, t))
+                }
+            }
+            None => n.any_orthonormal_pair(),
+        };
+        if rotation != 0.0 {
+            let (s, c) = crate::math::sin_cos(rotation * std::f32::consts::TAU);
+            (t, b) = (t * c + b * s, b * c - t * s);
+        }
+        let local = crate::math::normalize(Vec3::new(wo.dot(t), wo.dot(b), wo.dot(n).max(1e-4)));
+        Bsdf::OpenPbr(Framed {
+            t,
+            b,
+            n,
+            ng,
+            local: OpenPbrBsdf::new(p, local, outside),
+        })
+    }
+
+    /// The shading normal the BSDF's cosines are taken to.
+    #[inline]
+    pub fn normal(&self) -> Vec3 {
+        match self {
+            Bsdf::Phong(b) => b.normal(),
+            Bsdf::OpenPbr(f) => f.n,
+        }
+    }
+
+    /// Whether any lobe is smooth (not a delta): only then can light sampled from a
+    /// light be scattered toward `wo`.
+    #[inline]
+    pub fn has_smooth(&self) -> bool {
+        match self {
+            Bsdf::Phong(b) => b.has_smooth(),
+            Bsdf::OpenPbr(f) => f.local.has_smooth(),
+        }
+    }
+
+    /// The smooth lobes' value for light from `wi` (no cosine), the density with which
+    /// [`Bsdf::sample`] draws `wi`, and `|cos|` of `wi` to the shading normal. Zero
+    /// where `wi` is on the wrong side of the geometric surface for the lobe that
+    /// would carry it.
+    #[inline]
+    pub fn eval_pdf(&self, wi: Vec3) -> (Vec3, f32, f32) {
+        match self {
+            Bsdf::Phong(b) => b.eval_pdf(wi),
+            Bsdf::OpenPbr(f) => {
+                let l = f.to_local(wi);
+                let g = wi.dot(f.ng);
+                if l.z == 0.0 || (l.z > 0.0) != (g > 0.0) {
+                    return (Vec3::ZERO, 0.0, 0.0);
+                }
+                let (v, pdf) = f.local.eval_pdf(l);
+                (v, pdf, l.z.abs())
+            }
+        }
+    }
+
+    /// A direction drawn for `wo`: `pick` chooses the lobe, `u` the direction in it.
+    /// `None` where the surface absorbs.
+    #[inline]
+    pub fn sample(&self, pick: f32, u: (f32, f32)) -> Option<Sampled> {
+        match self {
+            Bsdf::Phong(b) => b.sample(pick, u),
+            Bsdf::OpenPbr(f) => {
+                let s = f.local.sample(pick, u)?;
+                let wi = f.to_world(s.wi);
+                // Reflections stay on the geometric side of `wo`, refractions cross it.
+                ((wi.dot(f.ng) > 0.0) == (s.wi.z > 0.0)).then_some(Sampled { wi, ..s })
+            }
+        }
+    }
+}
+
+/// A Phong surface's terms at a hit: its albedo, maps and glTF factors read there.
+pub fn phong_terms(
+    scene: &Scene,
+    s: &Surface,
+    sp: &SurfacePoint,
+    albedo: Vec3,
+    entering: bool,
+) -> Terms {
+    let (eta_i, eta_t) = if entering { (1.0, s.ior) } else { (s.ior, 1.0) };
+    let (diffuse, highlight, reflection) = match &s.metallic_roughness {
+        None => {
+            let ks = s.specular * scene.map(&s.specular_map, sp);
+            let highlight = if ks == Vec3::ZERO {
+                Highlight::None
+            } else {
+                match s.highlight {
+                    crate::scene::Highlight::Phong => Highlight::Phong {
+                        ks,
+                        exponent: s.shininess,
+                    },
+                    crate::scene::Highlight::BlinnPhong => Highlight::Blinn {
+                        ks,
+                        exponent: s.shininess,
+                    },
+                }
+            };
+            (albedo * s.diffuse, highlight, s.reflection)
+        }
+        Some(mr) => {
+            let at = PbrAt::at(scene, mr, sp);
+            // The whitted reading's Lambert term carries 1/pi; reflectance does not.
+            let diffuse = albedo * (s.diffuse * std::f32::consts::PI * (1.0 - at.metallic));
+            let highlight = Highlight::Ggx {
+                f0: at.f0(albedo),
+                alpha: at.roughness * at.roughness,
+            };
+            (diffuse, highlight, Vec3::ZERO)
+        }
+    };
+    Terms {
+        diffuse,
+        highlight,
+        reflection,
+        transmission: s.transmission,
+        fresnel: s.fresnel,
+        eta_i,
+        eta_t,
+    }
+}

@@ -1,0 +1,563 @@
+//! The OpenPBR Surface BSDF at one hit: its lobes, layered as the specification
+//! layers them, by albedo scaling (each layer passes on what it does not reflect,
+//! `1 - E(wo)`), with single-scattering GGX lobes restored to the energy they lose.
+//!
+//! ```text
+//! f = C f_coat + mix(1, coat_color (1 - E_coat), C) base
+//! base = M metal + (1 - M) dielectric
+//! dielectric = (S f_R + t T f_T) / E_RT + (1 - t) (1 - E_R / E_RT) w_b f_EON(rho)
+//! metal = F82(wo.h) f_GGX (1 + F0 (1 - E_m) / E_m)
+//! ```
+//!
+//! `E_R`, `E_T` are the interface's reflection and transmission albedos and `E_RT` their
+//! sum (so the interface's lobes together keep all they receive); `E_m` a perfect
+//! reflector's (Turquin's compensation). A lobe smoother than `microfacet::MIN_ALPHA` is a delta:
+//! the mirror and the refraction are drawn, never evaluated. Directions are local to the
+//! shading frame (normal +z), `wo.z > 0`.
+
+use super::albedo::{self, refract_about};
+use super::diffuse::eon;
+use super::microfacet::Ggx;
+use super::{Sampled, cosine_hemisphere};
+use crate::math::Vec3;
+use crate::render::optics::fresnel_dielectric;
+use crate::scene::openpbr::{Channel, Color, Scalar};
+use crate::scene::{OpenPbr, Scene, SurfacePoint};
+use std::f32::consts::FRAC_1_PI;
+
+/// An OpenPBR material's parameters at a hit, textures read and ranges enforced. Each
+/// field is the specification's parameter of that name.
+#[allow(missing_docs)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    pub base_weight: f32,
+    pub base_color: Vec3,
+    pub base_metalness: f32,
+    pub base_diffuse_roughness: f32,
+    pub specular_weight: f32,
+    pub specular_color: Vec3,
+    pub specular_roughness: f32,
+    pub specular_roughness_anisotropy: f32,
+    pub specular_ior: f32,
+    pub transmission_weight: f32,
+    /// The tint of light crossing the surface (white where a volume colours it).
+    pub transmission_tint: Vec3,
+    pub subsurface_weight: f32,
+    pub subsurface_color: Vec3,
+    pub coat_weight: f32,
+    pub coat_color: Vec3,
+    pub coat_roughness: f32,
+    pub coat_roughness_anisotropy: f32,
+    pub coat_ior: f32,
+    pub thin_walled: bool,
+}
+
+impl Params {
+    /// The specification's default material with base colour `base_color`.
+    pub fn of(m: &OpenPbr, base_color: Vec3) -> Params {
+        Params::read(m, base_color, |s| s.value, |c| c.value)
+    }
+
+    /// `m`'s parameters at hit `sp`: each texture read at its coordinates.
+    pub fn at(scene: &Scene, m: &OpenPbr, base_color: Vec3, sp: &SurfacePoint) -> Params {
+        let scalar = |s: &Scalar| match &s.texture {
+            None => s.value,
+            Some((slot, channel)) => {
+                let c = scene.images[slot.image as usize].sample_slot(slot, sp.uv);
+                s.value
+                    * match channel {
+                        Channel::R => c.x,
+                        Channel::G => c.y,
+                        Channel::B => c.z,
+                        Channel::A => c.w,
+                    }
+            }
+        };
+        let color = |c: &Color| match &c.texture {
+            None => c.value,
+            Some(slot) => {
+                let t = scene.images[slot.image as usize].sample_slot(slot, sp.uv);
+                c.value * Vec3::new(t.x, t.y, t.z)
+            }
+        };
+        Params::read(m, base_color, scalar, color)
+    }
+
+    fn read(
+        m: &OpenPbr,
+        base_color: Vec3,
+        scalar: impl Fn(&Scalar) -> f32,
+        color: impl Fn(&Color) -> Vec3,
+    ) -> Params {
+        let unit = |s: &Scalar| finite_or(scalar(s), 0.0).clamp(0.0, 1.0);
+        let ior = |s: &Scalar| finite_or(scalar(s), 1.5).clamp(1.0 / 3.0, 3.0);
+        let rgb = |c: &Color| {
+            let v = color(c);
+            if v.is_finite() {
+                v.clamp(Vec3::ZERO, Vec3::ONE)
+            } else {
+                Vec3::ZERO
+            }
+        };
+        let depth = finite_or(scalar(&m.transmission_depth), 0.0);
+        Params {
+            base_weight: unit(&m.base_weight),
+            base_color: base_color.clamp(Vec3::ZERO, Vec3::ONE),
+            base_metalness: unit(&m.base_metalness),
+            base_diffuse_roughness: unit(&m.base_diffuse_roughness),
+            specular_weight: finite_or(scalar(&m.specular_weight), 1.0).max(0.0),
+            specular_color: rgb(&m.specular_color),
+            specular_roughness: unit(&m.specular_roughness),
+            specular_roughness_anisotropy: unit(&m.specular_roughness_anisotropy),
+            specular_ior: ior(&m.specular_ior),
+            transmission_weight: unit(&m.transmission_weight),
+            transmission_tint: if depth > 0.0 {
+                Vec3::ONE
+            } else {
+                rgb(&m.transmission_color)
+            },
+            subsurface_weight: unit(&m.subsurface_weight),
+            subsurface_color: rgb(&m.subsurface_color),
+            coat_weight: unit(&m.coat_weight),
+            coat_color: rgb(&m.coat_color),
+            coat_roughness: unit(&m.coat_roughness),
+            coat_roughness_anisotropy: unit(&m.coat_roughness_anisotropy),
+            coat_ior: ior(&m.coat_ior),
+            thin_walled: m.geometry_thin_walled,
+        }
+    }
+}
+
+fn finite_or(v: f32, or: f32) -> f32 {
+    if v.is_finite() { v } else { or }
+}
+
+/// The index of a dielectric whose reflectance at normal incidence is `weight` times
+/// that of index `eta` (OpenPBR's `specular_weight`): above 1 it brightens, 0 removes
+/// the reflection (and the index contrast) altogether.
+pub fn weighted_ior(eta: f32, weight: f32) -> f32 {
+    if weight == 1.0 {
+        return eta;
+    }
+    let inside = eta < 1.0;
+    let e = if inside { 1.0 / eta } else { eta };
+    let f0 = ((e - 1.0) / (e + 1.0)).powi(2);
+    let s = (weight * f0).clamp(0.0, 0.99999).sqrt();
+    let e = (1.0 + s) / (1.0 - s);
+    if inside { 1.0 / e } else { e }
+}
+
+/// Schlick's Fresnel with the F82 tint: `specular_color` scales the curve at
+/// `cos = 1/7`, where metals' reflectance dips (Kutz et al. 2021).
+#[derive(Clone, Copy, Debug)]
+struct F82 {
+    f0: Vec3,
+    /// The correction at `cos = 1/7`, divided by `mu (1 - mu)^6` there.
+    b: Vec3,
+}
+
+impl F82 {
+    fn new(f0: Vec3, tint: Vec3) -> F82 {
+        const MU: f32 = 1.0 / 7.0;
+        let at = schlick(f0, MU);
+        let denom = MU * (1.0 - MU).powi(6);
+        F82 {
+            f0,
+            b: at * (Vec3::ONE - tint) / denom,
+        }
+    }
+
+    #[inline]
+    fn at(&self, mu: f32) -> Vec3 {
+        let mu = mu.clamp(0.0, 1.0);
+        let m = 1.0 - mu;
+        let m6 = (m * m * m) * (m * m * m);
+        (schlick(self.f0, mu) - self.b * (mu * m6)).clamp(Vec3::ZERO, Vec3::ONE)
+    }
+}
+
+#[inline]
+fn schlick(f0: Vec3, mu: f32) -> Vec3 {
+    let m = (1.0 - mu).clamp(0.0, 1.0);
+    let m5 = (m * m) * (m * m) * m;
+    f0 + (Vec3::ONE - f0) * m5
+}
+
+#[inline]
+fn mean(c: Vec3) -> f32 {
+    (c.x + c.y + c.z) / 3.0
+}
+
+/// Which smooth lobe a sample came from.
+const DIFFUSE: usize = 0;
+const SPEC_R: usize = 1;
+const SPEC_T: usize = 2;
+const METAL: usize = 3;
+const COAT: usize = 4;
+const LOBES: usize = 5;
+
+/// An OpenPBR surface seen from `wo` (local frame, `wo.z > 0`).
+#[derive(Clone, Copy, Debug)]
+pub struct OpenPbrBsdf {
+    wo: Vec3,
+    /// EON albedo parameter and roughness, and the weight the layers above leave it.
+    rho: Vec3,
+    sigma: f32,
+    diffuse: Vec3,
+    /// The dielectric interface: its microfacets, relative index (side beyond over
+    /// `wo`'s), and the weights of its reflection and transmission.
+    spec: Ggx,
+    eta: f32,
+    spec_r: Vec3,
+    spec_t: Vec3,
+    thin: bool,
+    /// The interface joins equal indices (`specular_weight` 0): light crosses it
+    /// straight, unreflected, whatever its roughness.
+    matched: bool,
+    metal: Ggx,
+    f82: F82,
+    metal_w: Vec3,
+    coat: Ggx,
+    coat_eta: f32,
+    coat_w: f32,
+    /// Probabilities of the smooth lobes, then of the two deltas.
+    p: [f32; LOBES],
+    p_mirror: f32,
+    p_transmit: f32,
+    /// Weights of the deltas as seen from `wo` (times `cos / pdf`: what a path's
+    /// throughput is multiplied by when it is chosen with probability 1).
+    mirror: Vec3,
+    transmit: Vec3,
+}
+
+impl OpenPbrBsdf {
+    /// `p` seen from `wo`; `outside` when `wo` is on the side the surface faces (the
+    /// side the coat is on, and the index is `specular_ior` beyond), which a thin wall
+    /// does not tell apart.
+    pub fn new(p: &Params, wo: Vec3, outside: bool) -> OpenPbrBsdf {
+        let mu_o = wo.z.clamp(1e-4, 1.0);
+        let spec = Ggx::from_roughness(p.specular_roughness, p.specular_roughness_anisotropy);
+        let coat = Ggx::from_roughness(p.coat_roughness, p.coat_roughness_anisotropy);
+        let mut b = OpenPbrBsdf {
+            wo,
+            rho: Vec3::ZERO,
+            sigma: p.base_diffuse_roughness,
+            diffuse: Vec3::ZERO,
+            spec,
+            eta: 1.0,
+            spec_r: Vec3::ZERO,
+            spec_t: Vec3::ZERO,
+            thin: p.thin_walled,
+            matched: false,
+            metal: spec,
+            f82: F82::new(p.base_color * p.base_weight, p.specular_color),
+            metal_w: Vec3::ZERO,
+            coat,
+            coat_eta: p.coat_ior,
+            coat_w: 0.0,
+            p: [0.0; LOBES],
+            p_mirror: 0.0,
+            p_transmit: 0.0,
+            mirror: Vec3::ZERO,
+            transmit: Vec3::ZERO,
+        };
+        let mut weights = [0.0; LOBES];
+        let r_spec = p.specular_roughness;
+        if !outside && !p.thin_walled {
+            // Inside a transmissive solid only its boundary is met: light reflects or
+            // leaves, untinted (the volume coloured it on the way).
+            b.eta = 1.0 / weighted_ior(p.specular_ior, p.specular_weight);
+            b.matched = (b.eta - 1.0).abs() < 1e-3;
+            let (er, et) = if b.matched {
+                (0.0, 1.0)
+            } else {
+                interface(spec, r_spec, b.eta, mu_o)
+            };
+            let e = (er + et).max(1e-4);
+            b.spec_r = Vec3::splat(1.0 / e);
+            b.spec_t = Vec3::splat(1.0 / e);
+            weights[SPEC_R] = er / e;
+            weights[SPEC_T] = et / e;
+            if spec.is_delta() || b.matched {
+                b.mirror = Vec3::splat(er);
+                b.transmit = Vec3::splat(et) * radiance_scale(b.eta);
+            }
+            b.finish(weights);
+            return b;
+        }
+        // The coat, and what it passes on to the base.
+        let c = p.coat_weight;
+        let mut below = Vec3::ONE;
+        if c > 0.0 {
+            let (er, et) = interface(coat, p.coat_roughness, p.coat_ior, mu_o);
+            let e_c = er / (er + et).max(1e-4);
+            b.coat_w = c / (er + et).max(1e-4);
+            weights[COAT] = c * e_c;
+            if coat.is_delta() {
+                b.mirror += Vec3::splat(c * er);
+            }
+            below = Vec3::ONE.lerp(p.coat_color * (1.0 - e_c), c);
+        }
+        // The metal.
+        let m = p.base_metalness;
+        if m > 0.0 {
+            let e = albedo::metal(mu_o, r_spec).max(1e-4);
+            let f0 = b.f82.f0;
+            let ms = Vec3::ONE + f0 * ((1.0 - e) / e);
+            b.metal_w = below * (m * p.specular_weight) * ms;
+            let f_o = b.f82.at(mu_o);
+            weights[METAL] = mean(b.metal_w * f_o * e);
+            if spec.is_delta() {
+                b.mirror += b.metal_w * f_o;
+            }
+        }
+        // The dielectric: its interface's reflection and transmission, and the diffuse
+        // base under what the interface does not reflect.
+        let d = 1.0 - m;
+        if d > 0.0 {
+            let eta_base = if c > 0.0 {
+                // Under a coat the base's index contrast is with the coat.
+                let under = p.specular_ior / p.coat_ior;
+                p.specular_ior + (under - p.specular_ior) * c
+            } else {
+                p.specular_ior
+            };
+            b.eta = weighted_ior(eta_base, p.specular_weight);
+            let t = p.transmission_weight;
+            b.matched = !p.thin_walled && (b.eta - 1.0).abs() < 1e-3;
+            let (er, et) = if b.matched {
+                (0.0, 1.0)
+            } else if p.thin_walled {
+                thin_interface(spec, r_spec, b.eta, mu_o)
+            } else {
+                interface(spec, r_spec, b.eta, mu_o)
+            };
+            let e = (er + et).max(1e-4);
+            let scale = if p.thin_walled {
+                1.0
+            } else {
+                radiance_scale(b.eta)
+            };
+            b.spec_r = below * p.specular_color * (d / e);
+            // The rough refraction's value carries the radiance scale itself.
+            b.spec_t = below * p.transmission_tint * (d * t / e);
+            weights[SPEC_R] = mean(b.spec_r) * er;
+            weights[SPEC_T] = mean(b.spec_t) * et;
+            if spec.is_delta() || b.matched {
+                b.mirror += b.spec_r * er;
+                b.transmit += b.spec_t * (et * scale);
+            }
+            b.rho = p.base_color.lerp(p.subsurface_color, p.subsurface_weight);
+            b.diffuse = below * (d * (1.0 - t) * (1.0 - er / e) * p.base_weight);
+            weights[DIFFUSE] = mean(b.diffuse * b.rho);
+        }
+        b.finish(weights);
+        b
+    }
+
+    /// Sets the sampling probabilities from the lobes' albedos at `wo`: deltas take
+    /// their share from the smooth ones.
+    fn finish(&mut self, mut weights: [f32; LOBES]) {
+        let delta_mirror = mean(self.mirror);
+        let delta_transmit = mean(self.transmit);
+        if self.spec.is_delta() || self.matched {
+            weights[SPEC_R] = 0.0;
+            weights[SPEC_T] = 0.0;
+        }
+        if self.spec.is_delta() {
+            weights[METAL] = 0.0;
+        }
+        if self.coat.is_delta() {
+            weights[COAT] = 0.0;
+        }
+        let total: f32 = weights.iter().sum::<f32>() + delta_mirror + delta_transmit;
+        if total > 0.0 && total.is_finite() {
+            self.p = weights.map(|w| w / total);
+            self.p_mirror = delta_mirror / total;
+            self.p_transmit = delta_transmit / total;
+        }
+    }
+
+    /// Whether any lobe is smooth: only then does light from a light scatter toward `wo`.
+    pub fn has_smooth(&self) -> bool {
+        self.p.iter().any(|&p| p > 0.0)
+    }
+
+    /// The mirror and refraction deltas' weights (what a path multiplies by when it
+    /// follows them), for a model that traces both.
+    pub fn deltas(&self) -> (Vec3, Vec3) {
+        (self.mirror, self.transmit)
+    }
+
+    /// The direction of the refraction delta: `wo` refracted through the normal, or
+    /// straight through a thin wall; `None` past the critical angle.
+    pub fn refracted(&self) -> Option<Vec3> {
+        if self.thin || self.matched {
+            return Some(-self.wo);
+        }
+        refract_about(self.wo, Vec3::Z, self.eta)
+    }
+
+    /// The smooth lobes' value for light from `wi` (no cosine) and the density with
+    /// which [`OpenPbrBsdf::sample`] draws `wi`.
+    pub fn eval_pdf(&self, wi: Vec3) -> (Vec3, f32) {
+        let wo = self.wo;
+        let mu_o = wo.z.max(1e-4);
+        let mut f = Vec3::ZERO;
+        let mut pdf = 0.0;
+        if wi.z > 0.0 {
+            let mu_i = wi.z;
+            if self.p[DIFFUSE] > 0.0 {
+                f += self.diffuse * eon(self.rho, self.sigma, mu_o, mu_i, wo.dot(wi));
+                pdf += self.p[DIFFUSE] * mu_i * FRAC_1_PI;
+            }
+            let h = (wo + wi).normalize_or_zero();
+            let oh = wo.dot(h);
+            if oh <= 0.0 || h.z <= 0.0 {
+                return (f, pdf);
+            }
+            let k = 1.0 / (4.0 * mu_o * mu_i);
+            if self.p[SPEC_R] > 0.0 {
+                let g = self.spec;
+                let fr = fresnel_dielectric(oh, 1.0, self.eta);
+                f += self.spec_r * (fr * g.d(h) * g.g2(wo, wi) * k);
+                pdf += self.p[SPEC_R] * g.visible_pdf(wo, h) / (4.0 * oh);
+            }
+            if self.p[METAL] > 0.0 {
+                let g = self.metal;
+                f += self.metal_w * self.f82.at(oh) * (g.d(h) * g.g2(wo, wi) * k);
+                pdf += self.p[METAL] * g.visible_pdf(wo, h) / (4.0 * oh);
+            }
+            if self.p[COAT] > 0.0 {
+                let g = self.coat;
+                let fr = fresnel_dielectric(oh, 1.0, self.coat_eta);
+                f += Vec3::splat(self.coat_w * fr * g.d(h) * g.g2(wo, wi) * k);
+                pdf += self.p[COAT] * g.visible_pdf(wo, h) / (4.0 * oh);
+            }
+        } else if wi.z < 0.0 && self.p[SPEC_T] > 0.0 {
+            let g = self.spec;
+            let mu_i = -wi.z;
+            if self.thin {
+                // Through a thin wall: the reflection lobe, mirrored to the far side.
+                let wr = Vec3::new(wi.x, wi.y, -wi.z);
+                let h = (wo + wr).normalize_or_zero();
+                let oh = wo.dot(h);
+                if oh > 0.0 && h.z > 0.0 {
+                    let ft = 1.0 - fresnel_dielectric(oh, 1.0, self.eta);
+                    f += self.spec_t * (ft * g.d(h) * g.g2(wo, wr) / (4.0 * mu_o * mu_i));
+                    pdf += self.p[SPEC_T] * g.visible_pdf(wo, h) / (4.0 * oh);
+                }
+            } else {
+                let eta = self.eta;
+                let mut h = -(wo + wi * eta);
+                if h.z < 0.0 {
+                    h = -h;
+                }
+                let h = h.normalize_or_zero();
+                let (oh, ih) = (wo.dot(h), wi.dot(h));
+                if oh > 0.0 && ih < 0.0 && h.z > 0.0 {
+                    let denom = oh + eta * ih;
+                    let denom2 = denom * denom;
+                    let ft = 1.0 - fresnel_dielectric(oh, 1.0, eta);
+                    let v = g.d(h) * g.g2(wo, wi) * (ih.abs() * oh) / (mu_i * mu_o * denom2);
+                    f += self.spec_t * (ft * v);
+                    pdf += self.p[SPEC_T] * g.visible_pdf(wo, h) * (eta * eta * ih.abs()) / denom2;
+                }
+            }
+        }
+        (f, pdf)
+    }
+
+    /// A direction drawn for `wo`: `pick` chooses the lobe, `u` the direction in it.
+    pub fn sample(&self, pick: f32, u: (f32, f32)) -> Option<Sampled> {
+        let wo = self.wo;
+        if pick < self.p_mirror {
+            return Some(Sampled {
+                wi: Vec3::new(-wo.x, -wo.y, wo.z),
+                weight: self.mirror / self.p_mirror,
+                pdf: 0.0,
+            });
+        }
+        let mut rest = pick - self.p_mirror;
+        if rest < self.p_transmit {
+            return Some(Sampled {
+                wi: self.refracted()?,
+                weight: self.transmit / self.p_transmit,
+                pdf: 0.0,
+            });
+        }
+        rest -= self.p_transmit;
+        let mut lobe = LOBES;
+        for (k, &p) in self.p.iter().enumerate() {
+            if p > 0.0 && rest < p {
+                lobe = k;
+                break;
+            }
+            rest -= p;
+        }
+        // A reflection drawn below the surface is lost (masked), as is a refraction
+        // drawn above it: read by `eval_pdf`, it would be another lobe's direction.
+        let reflect = |g: Ggx| {
+            let m = g.sample_visible(wo, u);
+            let c = wo.dot(m);
+            let wi = m * (2.0 * c) - wo;
+            (c > 0.0 && wi.z > 0.0).then_some(wi)
+        };
+        let wi = match lobe {
+            DIFFUSE => cosine_hemisphere(u),
+            SPEC_R => reflect(self.spec)?,
+            METAL => reflect(self.metal)?,
+            COAT => reflect(self.coat)?,
+            SPEC_T if self.thin => {
+                let w = reflect(self.spec)?;
+                Vec3::new(w.x, w.y, -w.z)
+            }
+            SPEC_T => {
+                let m = self.spec.sample_visible(wo, u);
+                if wo.dot(m) <= 0.0 {
+                    return None;
+                }
+                refract_about(wo, m, self.eta).filter(|wi| wi.z < 0.0)?
+            }
+            _ => return None,
+        };
+        let (f, pdf) = self.eval_pdf(wi);
+        if pdf <= 0.0 {
+            return None;
+        }
+        let weight = f * (wi.z.abs() / pdf);
+        weight.is_finite().then_some(Sampled { wi, weight, pdf })
+    }
+}
+
+/// `(1 / eta)^2`: radiance crossing into a denser medium is compressed into a smaller
+/// solid angle.
+#[inline]
+fn radiance_scale(eta: f32) -> f32 {
+    1.0 / (eta * eta)
+}
+
+/// The reflection and transmission albedos of an interface at `mu_o`: Fresnel's for a
+/// smooth one, the tables' for a rough one.
+fn interface(g: Ggx, roughness: f32, eta: f32, mu_o: f32) -> (f32, f32) {
+    if g.is_delta() {
+        let f = fresnel_dielectric(mu_o, 1.0, eta);
+        return (f, 1.0 - f);
+    }
+    let [r, t] = albedo::dielectric(mu_o, roughness, eta);
+    (r, t)
+}
+
+/// [`interface`] for a thin wall, whose transmission is the reflection lobe mirrored
+/// through: together the two are a perfect reflector's lobe.
+fn thin_interface(g: Ggx, roughness: f32, eta: f32, mu_o: f32) -> (f32, f32) {
+    if g.is_delta() {
+        let f = fresnel_dielectric(mu_o, 1.0, eta);
+        return (f, 1.0 - f);
+    }
+    let [r, _] = albedo::dielectric(mu_o, roughness, eta);
+    (r, (albedo::metal(mu_o, roughness) - r).max(0.0))
+}
+
+#[cfg(test)]
+mod tests;
