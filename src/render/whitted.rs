@@ -7,12 +7,13 @@
 //! L = Le + Ka La + sum_lights vis E (kd C max(0, N.L) + Ks s(N, L, V)) + R L_r + T L_t
 //! ```
 
+use super::bsdf::Bsdf;
 use super::optics::{fresnel_dielectric, refract};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
-use crate::math::{Ray, Vec3, highlight_pow, offset_origin, reflect};
+use crate::math::{Ray, Vec3, offset_origin, reflect};
 use crate::scene::light::LightSample;
-use crate::scene::{Highlight, Light, Scene, Surface, SurfacePoint};
+use crate::scene::{Light, Scene, Surface, SurfacePoint};
 
 mod casters;
 mod shadow_batch;
@@ -197,34 +198,13 @@ impl<'a> Whitted<'a> {
         let v = -d;
         let shadow_from = sp.shadow_origin(ng);
         let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
-        let (kd, ks, shininess, pbr_mirror) = match &s.metallic_roughness {
-            None => (
-                albedo * s.diffuse,
-                s.specular * self.scene.map(&s.specular_map, &sp),
-                s.shininess,
-                None,
-            ),
-            Some(mr) => {
-                let t = PbrAt::at(self.scene, mr, &sp);
-                (
-                    albedo * (s.diffuse * (1.0 - t.metallic)),
-                    t.f0(albedo) * std::f32::consts::FRAC_1_PI,
-                    t.exponent,
-                    Some(t.mirror(albedo, cos_i)),
-                )
-            }
-        };
+        // Light from lights is gathered through the surface's BSDF, the path model's.
+        let bsdf = Bsdf::at(self.scene, s, &sp, hit.shape, albedo, v, n, ng, entering);
         // What a sample lights at the point before its shadow ray, or `None` where it
         // lights nothing (and no shadow ray is traced).
         let shading = |ls: &LightSample| {
-            let cos = n.dot(ls.dir);
-            if cos <= 0.0 {
-                return None;
-            }
-            let mut shade = kd * cos;
-            if ks != Vec3::ZERO {
-                shade += ks * highlight(s, shininess, n, ls.dir, v);
-            }
+            let (f, _, cos) = bsdf.eval_pdf(ls.dir);
+            let shade = f * cos;
             (shade.max_element() > 0.0).then_some(shade)
         };
         for light in &self.scene.lights {
@@ -256,8 +236,25 @@ impl<'a> Whitted<'a> {
         } else {
             None
         };
-        let (mut kr, mut kt) = if let Some(kr) = pbr_mirror {
-            (kr, s.transmission)
+        if let Bsdf::OpenPbr(framed) = &bsdf {
+            // Its perfect mirror and refraction, as the path model follows them.
+            let (kr, kt) = framed.deltas();
+            if (weight * kr).max_element() >= self.min_weight {
+                let dir = reflect(d, bsdf.normal());
+                let child = Ray::new(offset_origin(sp.p, ng, dir), dir);
+                l += kr * self.radiance(&child, depth + 1, weight * kr, sampler, count);
+            }
+            if let Some(dir) = framed.refracted()
+                && (weight * kt).max_element() >= self.min_weight
+            {
+                let child = Ray::new(offset_origin(sp.p, ng, dir), dir);
+                l += kt * self.radiance(&child, depth + 1, weight * kt, sampler, count);
+            }
+            return absorbed * l;
+        }
+        let (mut kr, mut kt) = if let Some(mr) = &s.metallic_roughness {
+            let albedo_mirror = PbrAt::at(self.scene, mr, &sp).mirror(albedo, cos_i);
+            (albedo_mirror, s.transmission)
         } else if s.fresnel {
             let f = fresnel_dielectric(cos_i, eta_i, eta_t);
             (s.reflection * f, s.transmission * (1.0 - f))
@@ -287,23 +284,6 @@ impl<'a> Whitted<'a> {
     fn cut_out(&self, shape: u32, sp: &SurfacePoint) -> bool {
         self.scene.cut_out(self.surface(shape), sp)
     }
-}
-
-/// The highlight term s(N, L, V), normalised if the material asks.
-#[inline]
-fn highlight(s: &Surface, shininess: f32, n: Vec3, l: Vec3, v: Vec3) -> f32 {
-    let (cos, norm) = match s.highlight {
-        Highlight::Phong => (reflect(-l, n).dot(v), (shininess + 2.0) / 2.0),
-        Highlight::BlinnPhong => {
-            let h = (l + v).normalize_or_zero();
-            (n.dot(h), (shininess + 8.0) / 8.0)
-        }
-    };
-    if cos <= 0.0 {
-        return 0.0;
-    }
-    let value = highlight_pow(cos, shininess);
-    if s.normalized { value * norm } else { value }
 }
 
 impl Integrator for Whitted<'_> {

@@ -42,6 +42,16 @@ pub struct Framed {
 }
 
 impl Framed {
+    /// The mirror's and the refraction's weights, for a model that traces both.
+    pub fn deltas(&self) -> (Vec3, Vec3) {
+        self.local.deltas()
+    }
+
+    /// The refraction delta's direction in world space.
+    pub fn refracted(&self) -> Option<Vec3> {
+        self.local.refracted().map(|w| self.to_world(w))
+    }
+
     #[inline]
     fn to_local(self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))

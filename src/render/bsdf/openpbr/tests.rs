@@ -263,7 +263,10 @@ fn sampling_follows_the_pdf() {
 /// metal's energy compensation depend on which side the viewer is.
 #[test]
 fn the_lobes_are_reciprocal() {
-    let (a, b) = (view(20.0), crate::math::normalize(Vec3::new(-0.3, 0.4, 0.866)));
+    let (a, b) = (
+        view(20.0),
+        crate::math::normalize(Vec3::new(-0.3, 0.4, 0.866)),
+    );
     let diffuse = params(|m| {
         m.specular_weight.value = 0.0;
         m.base_diffuse_roughness.value = 0.6;
@@ -282,7 +285,10 @@ fn the_lobes_are_reciprocal() {
     );
     let fab = oa.eval_pdf(b).0 / oa.metal_w;
     let fba = ob.eval_pdf(a).0 / ob.metal_w;
-    assert!((fab - fba).abs().max_element() < 1e-5 * fab.max_element(), "{fab} {fba}");
+    assert!(
+        (fab - fba).abs().max_element() < 1e-5 * fab.max_element(),
+        "{fab} {fba}"
+    );
 }
 
 #[test]

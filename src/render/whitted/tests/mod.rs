@@ -5,6 +5,7 @@ use super::*;
 use crate::accel::AccelKind;
 use crate::math::{normalize, surface_epsilon};
 use crate::scene::{Albedo, Background, Falloff, LightKind, Material, Rectangle, Shape, Sphere};
+use std::f32::consts::PI;
 
 /// A scene of `shapes`, each with its own surface.
 fn scene(shapes: Vec<(Shape, Surface)>, lights: Vec<Light>, background: Background) -> Scene {
@@ -64,7 +65,7 @@ fn down_at(x: f32, z: f32) -> Ray {
 }
 
 #[test]
-fn a_diffuse_sphere_under_a_point_light_is_kd_c_i_cos() {
+fn a_diffuse_sphere_under_a_point_light_is_kd_c_i_cos_over_pi() {
     let c = Vec3::new(0.8, 0.5, 0.25);
     let ball = Shape::Sphere(Sphere {
         center: Vec3::ZERO,
@@ -84,7 +85,8 @@ fn a_diffuse_sphere_under_a_point_light_is_kd_c_i_cos() {
         };
         let s = scene(vec![(ball, surface)], vec![light], Background::Black);
         let l = radiance_of(&s, Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z));
-        let expected = 0.7 * c * Vec3::new(1.0, 0.9, 0.5) * 2.0 * theta.cos();
+        // Lambert's BRDF is the albedo over pi, as in the path model.
+        let expected = 0.7 * c * Vec3::new(1.0, 0.9, 0.5) * 2.0 * theta.cos() / PI;
         assert!(close(l, expected, 1e-5), "{theta_deg}: {l} vs {expected}");
     }
 }
@@ -99,7 +101,7 @@ fn inverse_square_falloff_divides_by_the_squared_distance() {
         Background::Black,
     );
     let l = radiance_of(&s, down_at(0.0, 0.0));
-    assert!(close(l, Vec3::splat(1.0 / 16.0), 1e-5), "{l}");
+    assert!(close(l, Vec3::splat(1.0 / 16.0 / PI), 1e-5), "{l}");
 }
 
 #[test]
@@ -282,7 +284,7 @@ fn transparent_surfaces_tint_shadows() {
     );
     // Under the filter: tinted; beside it: full.
     assert!(close(
-        radiance_of(&s, down_at(3.0, 0.0)),
+        radiance_of(&s, down_at(3.0, 0.0)) * PI,
         Vec3::splat(0.8),
         1e-5
     ));
@@ -301,7 +303,7 @@ fn transparent_surfaces_tint_shadows() {
             &mut count,
         )
     };
-    assert!(close(shadowed, tf, 1e-6), "{shadowed}");
+    assert!(close(shadowed * PI, tf, 1e-6), "{shadowed}");
 }
 
 #[test]
@@ -325,7 +327,8 @@ fn an_area_light_converges_to_the_analytic_irradiance_of_a_disk() {
             Background::Black,
         );
         let l = radiance_of(&s, down_at(0.0, 0.0));
-        errors.push((l.x - analytic).abs() / analytic);
+        // A white Lambert floor reflects radiance E / pi.
+        errors.push((l.x * PI - analytic).abs() / analytic);
     }
     assert!(errors[2] < 2e-3, "{errors:?}");
     assert!(errors[2] <= errors[0], "{errors:?}");
@@ -472,7 +475,7 @@ fn a_normal_map_tilts_the_shading_normal_in_the_tangent_frame() {
             height: 1,
             texels: Texels::RgbaF32(vec![texel]),
         });
-        radiance_of(&s, down_at(0.3, 0.3)).x
+        radiance_of(&s, down_at(0.3, 0.3)).x * PI
     };
     // Light from straight above meets the tilted normal at 45 degrees; light along the
     // tilted normal meets it head on.
@@ -497,3 +500,100 @@ mod casters;
 mod lanes;
 mod packets;
 mod visibility;
+
+/// The floor: colour 0.5 under a 10 W/sr point light 2 m above, seen from
+/// above, is `0.5 / pi * 10 / 4` in both physical models, and every lobe, Phong or
+/// OpenPBR, gathers the same direct light in both (they share one BSDF).
+#[test]
+fn whitted_and_path_gather_the_same_direct_light_for_every_lobe() {
+    use crate::render::path::Path;
+    use crate::scene::OpenPbr;
+    let openpbr = |set: &dyn Fn(&mut OpenPbr)| {
+        let mut m = OpenPbr::default();
+        set(&mut m);
+        Surface {
+            albedo: Albedo::Color(Vec3::new(0.8, 0.5, 0.3)),
+            openpbr: Some(Box::new(m)),
+            ..Surface::default()
+        }
+    };
+    let surfaces: Vec<(&str, Surface)> = vec![
+        ("lambert", matte(Vec3::splat(0.5))),
+        (
+            "phong",
+            Surface {
+                specular: Vec3::splat(0.3),
+                shininess: 20.0,
+                ..matte(Vec3::splat(0.5))
+            },
+        ),
+        ("openpbr default", openpbr(&|_| {})),
+        (
+            "openpbr rough diffuse",
+            openpbr(&|m| m.base_diffuse_roughness.value = 0.8),
+        ),
+        (
+            "openpbr metal",
+            openpbr(&|m| {
+                m.base_metalness.value = 1.0;
+                m.specular_roughness.value = 0.5;
+            }),
+        ),
+        (
+            "openpbr rough glass",
+            openpbr(&|m| {
+                m.transmission_weight.value = 1.0;
+                m.specular_roughness.value = 0.6;
+            }),
+        ),
+        (
+            "openpbr coat",
+            openpbr(&|m| {
+                m.coat_weight.value = 1.0;
+                m.coat_roughness.value = 0.3;
+            }),
+        ),
+    ];
+    let mut light = Light::point(Vec3::new(0.3, 2.0, 0.0), Vec3::ONE);
+    light.intensity = 10.0;
+    light.falloff = Falloff::InverseSquare;
+    for (name, surface) in surfaces {
+        let s = scene(
+            vec![(floor(0.0, 10.0), surface)],
+            vec![light.clone()],
+            Background::Black,
+        );
+        let accel = Accel::build(AccelKind::List, &s.shapes);
+        let resolved = s.resolved_surfaces();
+        let ray = Ray::new(
+            Vec3::new(-0.5, 3.0, 0.2),
+            normalize(Vec3::new(0.5, -3.0, -0.2)),
+        );
+        let whitted = Whitted::new(&s, &accel, &resolved, 0, 0.0).radiance(
+            &ray,
+            0,
+            Vec3::ONE,
+            &mut PixelSampler::new(0, 0, 0),
+            &mut RayCount::default(),
+        );
+        let path = Path::new(&s, &accel, &resolved, 0).radiance(
+            ray,
+            accel.closest(&ray, f32::INFINITY),
+            &mut PixelSampler::new(0, 0, 0),
+            &mut RayCount::default(),
+        );
+        assert!(whitted.max_element() > 0.0, "{name}: black");
+        assert!(close(whitted, path, 1e-6), "{name}: {whitted} vs {path}");
+    }
+    // The numbers: 0.5 / pi * 10 / 2^2 straight below the light.
+    let mut light = Light::point(Vec3::new(0.0, 2.0, 0.0), Vec3::ONE);
+    light.intensity = 10.0;
+    light.falloff = Falloff::InverseSquare;
+    let s = scene(
+        vec![(floor(0.0, 10.0), matte(Vec3::splat(0.5)))],
+        vec![light],
+        Background::Black,
+    );
+    let l = radiance_of(&s, down_at(0.0, 0.0));
+    assert!(close(l, Vec3::splat(0.5 / PI * 10.0 / 4.0), 1e-6), "{l}");
+}
