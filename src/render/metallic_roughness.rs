@@ -11,7 +11,6 @@ pub(crate) struct PbrAt {
     /// Perceptual roughness, 0 (mirror) to 1: the microfacet `alpha` is its square.
     pub roughness: f32,
     base_f0: Vec3,
-    pub exponent: f32,
     /// How much of the mirror reflection a rough surface keeps.
     gloss: f32,
 }
@@ -33,7 +32,6 @@ impl PbrAt {
             metallic,
             roughness,
             base_f0: mr.f0,
-            exponent: MetallicRoughness::exponent(roughness),
             gloss: (1.0 - roughness) * (1.0 - roughness),
         }
     }
