@@ -121,6 +121,12 @@ impl AovTracer<'_> {
 /// through rather than a colour of its own (a highlight it may have is a light's
 /// reflection, not a colour either).
 fn looks_through(s: &Surface, albedo: Vec3) -> bool {
+    if let Some(m) = &s.openpbr {
+        // A smooth metal or clear glass: mirrors or refracts all that is not absorbed.
+        let smooth = m.specular_roughness.value < 0.05 && m.specular_roughness.texture.is_none();
+        let whole = |p: &crate::scene::openpbr::Scalar| p.value >= 1.0 && p.texture.is_none();
+        return s.lit && smooth && (whole(&m.base_metalness) || whole(&m.transmission_weight));
+    }
     s.lit
         && s.metallic_roughness.is_none()
         && (s.diffuse <= 0.0 || albedo == Vec3::ZERO)

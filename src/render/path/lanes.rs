@@ -305,6 +305,7 @@ impl Path<'_> {
         let lambertian = |s: &Surface| {
             s.lit
                 && s.metallic_roughness.is_none()
+                && s.openpbr.is_none()
                 && s.specular == Vec3::ZERO
                 && s.reflection == Vec3::ZERO
                 && s.transmission == Vec3::ZERO

@@ -368,6 +368,9 @@ fn lanes_take_lambertian_scenes_lit_by_meshes_only() {
     let mut mirror = surfaces.clone();
     mirror[3].reflection = Vec3::ONE;
     assert!(Path::lanes_apply(&s, &mirror).is_none());
+    let mut openpbr = surfaces.clone();
+    openpbr[1].openpbr = Some(Box::default());
+    assert!(Path::lanes_apply(&s, &openpbr).is_none());
     let mut point_lit = room();
     point_lit.lights.push(Light::point(Vec3::ZERO, Vec3::ONE));
     assert!(Path::lanes_apply(&point_lit, &surfaces).is_none());
