@@ -8,7 +8,8 @@ set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 out=${1:-"$repo/target/openpbr-oracle"}
-bsdf_dir=${OPENPBR_BSDF_DIR:-/work/shared/reference/openpbr-bsdf}
+# ../shared beside the repository, as CI lays it out.
+bsdf_dir=${OPENPBR_BSDF_DIR:-"$repo/../shared/reference/openpbr-bsdf"}
 cxx=${CXX:-g++}
 
 if ! command -v "$cxx" >/dev/null 2>&1; then

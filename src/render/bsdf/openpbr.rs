@@ -167,6 +167,12 @@ impl F82 {
         }
     }
 
+    /// `2 ∫ F(mu) mu dmu`: the reflectance averaged over the hemisphere.
+    fn average(&self) -> Vec3 {
+        // Schlick's average is F0 + (1 - F0) / 21; the tint's, 2 B(3, 7) = 1 / 126.
+        (self.f0 + (Vec3::ONE - self.f0) / 21.0 - self.b / 126.0).clamp(Vec3::ZERO, Vec3::ONE)
+    }
+
     #[inline]
     fn at(&self, mu: f32) -> Vec3 {
         let mu = mu.clamp(0.0, 1.0);
@@ -302,8 +308,8 @@ impl OpenPbrBsdf {
         let m = p.base_metalness;
         if m > 0.0 {
             let e = albedo::metal(mu_o, r_spec).max(1e-4);
-            let f0 = b.f82.f0;
-            let ms = Vec3::ONE + f0 * ((1.0 - e) / e);
+            // Turquin's compensation, by the Fresnel curve's hemispherical average.
+            let ms = Vec3::ONE + b.f82.average() * ((1.0 - e) / e);
             b.metal_w = below * (m * p.specular_weight) * ms;
             let f_o = b.f82.at(mu_o);
             weights[METAL] = mean(b.metal_w * f_o * e);
@@ -347,8 +353,10 @@ impl OpenPbrBsdf {
                 b.mirror += b.spec_r * er;
                 b.transmit += b.spec_t * (et * scale);
             }
-            b.rho = p.base_color.lerp(p.subsurface_color, p.subsurface_weight);
-            b.diffuse = below * (d * (1.0 - t) * (1.0 - er / e) * p.base_weight);
+            // base_weight scales the albedo EON is given, as the reference does: its
+            // multiple-scattering term then darkens a dim base as it does a dark one.
+            b.rho = p.base_color.lerp(p.subsurface_color, p.subsurface_weight) * p.base_weight;
+            b.diffuse = below * (d * (1.0 - t) * (1.0 - er / e));
             weights[DIFFUSE] = mean(b.diffuse * b.rho);
         }
         b.finish(weights);
