@@ -141,6 +141,10 @@ impl Material {
             "coat_weight" => &mut m.coat_weight,
             "coat_roughness" => &mut m.coat_roughness,
             "coat_darkening" => &mut m.coat_darkening,
+            "fuzz_weight" => &mut m.fuzz_weight,
+            "fuzz_roughness" => &mut m.fuzz_roughness,
+            "thin_film_weight" => &mut m.thin_film_weight,
+            "thin_film_thickness" => &mut m.thin_film_thickness,
             other => panic!("{other}"),
         };
         slot.value = value;
@@ -263,7 +267,7 @@ fn directional_albedos_agree_with_the_reference() {
     };
     let mut rng = Rng(2);
     let n = 20_000;
-    let categories: [(&str, &MakeMaterial, f32); 4] = [
+    let categories: [(&str, &MakeMaterial, f32); 7] = [
         (
             "metal",
             &|r| {
@@ -304,6 +308,36 @@ fn directional_albedos_agree_with_the_reference() {
                     .set("coat_darkening", 0.0)
             },
             0.08,
+        ),
+        (
+            "coated plastic (coat_darkening 1)",
+            &|r| {
+                Material::new(r.color())
+                    .set("specular_roughness", r.f32())
+                    .set("coat_weight", r.f32())
+                    .set("coat_roughness", r.f32())
+            },
+            0.13,
+        ),
+        (
+            "fuzz over plastic",
+            &|r| {
+                Material::new(r.color())
+                    .set("fuzz_weight", r.f32())
+                    .set("fuzz_roughness", r.range(0.3, 1.0))
+            },
+            0.1,
+        ),
+        (
+            "thin film over glass",
+            &|r| {
+                Material::new(Vec3::ONE)
+                    .set("transmission_weight", 1.0)
+                    .set("specular_roughness", r.range(0.0, 0.5))
+                    .set("thin_film_weight", 1.0)
+                    .set("thin_film_thickness", r.range(0.02, 1.0))
+            },
+            0.1,
         ),
     ];
     for (name, make, tolerance) in categories {

@@ -34,6 +34,8 @@ struct Tables {
     dielectric: Vec<[f32; 2]>,
     /// Albedo of a perfect reflector (Fresnel 1), by (mu, roughness).
     metal: Vec<f32>,
+    /// Albedo of a white fuzz (sheen) lobe, by (mu, roughness).
+    fuzz: Vec<f32>,
 }
 
 fn tables() -> &'static Tables {
@@ -51,7 +53,15 @@ fn tables() -> &'static Tables {
             .into_par_iter()
             .map(|k| integrate_metal(mu_at(k / N_R), r_at(k % N_R)))
             .collect();
-        Tables { dielectric, metal }
+        let fuzz = (0..N_MU * N_R)
+            .into_par_iter()
+            .map(|k| integrate_fuzz(mu_at(k / N_R), r_at(k % N_R)))
+            .collect();
+        Tables {
+            dielectric,
+            metal,
+            fuzz,
+        }
     })
 }
 
@@ -139,6 +149,25 @@ fn integrate_metal(mu: f32, r: f32) -> f32 {
     (e / (SAMPLES_U * SAMPLES_V) as f64) as f32
 }
 
+/// The fuzz lobe's albedo: cosine-weighted directions on the grid, weight `f pi`.
+/// A finer grid than the microfacets': the lobe of smooth fibres is a narrow ridge
+/// that no importance sampling follows.
+fn integrate_fuzz(mu: f32, r: f32) -> f32 {
+    const N: usize = 64;
+    let wo = view(mu);
+    let mut e = 0.0f64;
+    for a in 0..N {
+        for b in 0..N {
+            let u = ((a as f32 + 0.5) / N as f32, (b as f32 + 0.5) / N as f32);
+            let wi = super::cosine_hemisphere(u);
+            if wi.z > 0.0 {
+                e += (super::fuzz::sheen(r, wo, wi) * std::f32::consts::PI) as f64;
+            }
+        }
+    }
+    (e / (N * N) as f64) as f32
+}
+
 /// `wo` refracted through a microfacet of normal `m` (`wo.m > 0`) into relative index
 /// `eta`; `None` past the critical angle.
 #[inline]
@@ -192,6 +221,19 @@ pub fn metal(mu: f32, r: f32) -> f32 {
     let (i, fi) = place((mu - MIN_MU) / (1.0 - MIN_MU), N_MU);
     let (j, fj) = place(r, N_R);
     let at = |i: usize, j: usize| t.metal[i * N_R + j];
+    lerp(
+        lerp(at(i, j), at(i, j + 1), fj),
+        lerp(at(i + 1, j), at(i + 1, j + 1), fj),
+        fi,
+    )
+}
+
+/// The albedo of a white fuzz lobe of roughness `r` at cosine `mu`.
+pub fn fuzz(mu: f32, r: f32) -> f32 {
+    let t = tables();
+    let (i, fi) = place((mu - MIN_MU) / (1.0 - MIN_MU), N_MU);
+    let (j, fj) = place(r, N_R);
+    let at = |i: usize, j: usize| t.fuzz[i * N_R + j];
     lerp(
         lerp(at(i, j), at(i, j + 1), fj),
         lerp(at(i + 1, j), at(i + 1, j + 1), fj),

@@ -8,9 +8,11 @@
 
 pub mod albedo;
 mod diffuse;
+mod fuzz;
 pub mod microfacet;
 pub mod openpbr;
 mod phong;
+mod thin_film;
 
 pub use openpbr::{OpenPbrBsdf, Params};
 pub use phong::{Highlight, PhongBsdf, Terms, cosine_hemisphere, schlick, uniform_sphere};

@@ -49,6 +49,14 @@ pub struct Params {
     pub coat_roughness: f32,
     pub coat_roughness_anisotropy: f32,
     pub coat_ior: f32,
+    pub coat_darkening: f32,
+    pub fuzz_weight: f32,
+    pub fuzz_color: Vec3,
+    pub fuzz_roughness: f32,
+    pub thin_film_weight: f32,
+    /// In micrometres.
+    pub thin_film_thickness: f32,
+    pub thin_film_ior: f32,
     pub thin_walled: bool,
 }
 
@@ -123,6 +131,13 @@ impl Params {
             coat_roughness: unit(&m.coat_roughness),
             coat_roughness_anisotropy: unit(&m.coat_roughness_anisotropy),
             coat_ior: ior(&m.coat_ior),
+            coat_darkening: unit(&m.coat_darkening),
+            fuzz_weight: unit(&m.fuzz_weight),
+            fuzz_color: rgb(&m.fuzz_color),
+            fuzz_roughness: unit(&m.fuzz_roughness),
+            thin_film_weight: unit(&m.thin_film_weight),
+            thin_film_thickness: finite_or(scalar(&m.thin_film_thickness), 0.0).clamp(0.0, 100.0),
+            thin_film_ior: ior(&m.thin_film_ior),
             thin_walled: m.geometry_thin_walled,
         }
     }
@@ -200,7 +215,8 @@ const SPEC_R: usize = 1;
 const SPEC_T: usize = 2;
 const METAL: usize = 3;
 const COAT: usize = 4;
-const LOBES: usize = 5;
+const FUZZ: usize = 5;
+const LOBES: usize = 6;
 
 /// An OpenPBR surface seen from `wo` (local frame, `wo.z > 0`).
 #[derive(Clone, Copy, Debug)]
@@ -226,6 +242,11 @@ pub struct OpenPbrBsdf {
     coat: Ggx,
     coat_eta: f32,
     coat_w: f32,
+    /// The fuzz's colour times its presence, and its roughness.
+    fuzz: Vec3,
+    fuzz_roughness: f32,
+    /// A thin film on the dielectric interface: presence, thickness (nm), index.
+    film: Option<(f32, f32, f32)>,
     /// Probabilities of the smooth lobes, then of the two deltas.
     p: [f32; LOBES],
     p_mirror: f32,
@@ -261,6 +282,9 @@ impl OpenPbrBsdf {
             coat,
             coat_eta: p.coat_ior,
             coat_w: 0.0,
+            fuzz: Vec3::ZERO,
+            fuzz_roughness: p.fuzz_roughness,
+            film: None,
             p: [0.0; LOBES],
             p_mirror: 0.0,
             p_transmit: 0.0,
@@ -279,11 +303,11 @@ impl OpenPbrBsdf {
             } else {
                 interface(spec, r_spec, b.eta, mu_o)
             };
-            let e = (er + et).max(1e-4);
-            b.spec_r = Vec3::splat(1.0 / e);
-            b.spec_t = Vec3::splat(1.0 / e);
-            weights[SPEC_R] = er / e;
-            weights[SPEC_T] = et / e;
+            let (r, t) = compensate(er, et, b.eta);
+            b.spec_r = Vec3::splat(ratio(r, er));
+            b.spec_t = Vec3::splat(ratio(t, et));
+            weights[SPEC_R] = r;
+            weights[SPEC_T] = t;
             if spec.is_delta() || b.matched {
                 b.mirror = Vec3::splat(er);
                 b.transmit = Vec3::splat(et) * radiance_scale(b.eta);
@@ -291,18 +315,27 @@ impl OpenPbrBsdf {
             b.finish(weights);
             return b;
         }
+        // The fuzz on top, and what it passes on.
+        let mut above = 1.0;
+        if p.fuzz_weight > 0.0 {
+            let e_f = albedo::fuzz(mu_o, p.fuzz_roughness);
+            b.fuzz = p.fuzz_color * p.fuzz_weight;
+            weights[FUZZ] = mean(b.fuzz) * e_f;
+            above = 1.0 - p.fuzz_weight * e_f;
+        }
         // The coat, and what it passes on to the base.
         let c = p.coat_weight;
-        let mut below = Vec3::ONE;
+        let mut below = Vec3::splat(above);
         if c > 0.0 {
             let (er, et) = interface(coat, p.coat_roughness, p.coat_ior, mu_o);
-            let e_c = er / (er + et).max(1e-4);
-            b.coat_w = c / (er + et).max(1e-4);
-            weights[COAT] = c * e_c;
+            let (e_c, _) = compensate(er, et, p.coat_ior);
+            b.coat_w = above * c * ratio(e_c, er);
+            weights[COAT] = above * c * e_c;
             if coat.is_delta() {
-                b.mirror += Vec3::splat(c * er);
+                b.mirror += Vec3::splat(above * c * er);
             }
-            below = Vec3::ONE.lerp(p.coat_color * (1.0 - e_c), c);
+            below *= Vec3::ONE.lerp(p.coat_color * (1.0 - e_c), c)
+                * Vec3::ONE.lerp(darkening(p, mu_o), c * p.coat_darkening);
         }
         // The metal.
         let m = p.base_metalness;
@@ -329,6 +362,13 @@ impl OpenPbrBsdf {
                 p.specular_ior
             };
             b.eta = weighted_ior(eta_base, p.specular_weight);
+            if p.thin_film_weight > 0.0 && p.thin_film_thickness > 0.0 {
+                b.film = Some((
+                    p.thin_film_weight,
+                    p.thin_film_thickness * 1000.0,
+                    p.thin_film_ior,
+                ));
+            }
             let t = p.transmission_weight;
             b.matched = !p.thin_walled && (b.eta - 1.0).abs() < 1e-3;
             let (er, et) = if b.matched {
@@ -338,25 +378,32 @@ impl OpenPbrBsdf {
             } else {
                 interface(spec, r_spec, b.eta, mu_o)
             };
-            let e = (er + et).max(1e-4);
+            let (r, t_all) = compensate(er, et, b.eta);
             let scale = if p.thin_walled {
                 1.0
             } else {
                 radiance_scale(b.eta)
             };
-            b.spec_r = below * p.specular_color * (d / e);
+            b.spec_r = below * p.specular_color * (d * ratio(r, er));
             // The rough refraction's value carries the radiance scale itself.
-            b.spec_t = below * p.transmission_tint * (d * t / e);
+            b.spec_t = below * p.transmission_tint * (d * t * ratio(t_all, et));
             weights[SPEC_R] = mean(b.spec_r) * er;
             weights[SPEC_T] = mean(b.spec_t) * et;
             if spec.is_delta() || b.matched {
-                b.mirror += b.spec_r * er;
-                b.transmit += b.spec_t * (et * scale);
+                // A film moves light between the reflection and the refraction.
+                let f = b.fresnel(mu_o);
+                let (r, t) = if b.film.is_some() {
+                    (f, Vec3::ONE - f)
+                } else {
+                    (Vec3::splat(er), Vec3::splat(et))
+                };
+                b.mirror += b.spec_r * r;
+                b.transmit += b.spec_t * t * scale;
             }
             // base_weight scales the albedo EON is given, as the reference does: its
             // multiple-scattering term then darkens a dim base as it does a dark one.
             b.rho = p.base_color.lerp(p.subsurface_color, p.subsurface_weight) * p.base_weight;
-            b.diffuse = below * (d * (1.0 - t) * (1.0 - er / e));
+            b.diffuse = below * (d * (1.0 - t) * (1.0 - r));
             weights[DIFFUSE] = mean(b.diffuse * b.rho);
         }
         b.finish(weights);
@@ -383,6 +430,20 @@ impl OpenPbrBsdf {
             self.p = weights.map(|w| w / total);
             self.p_mirror = delta_mirror / total;
             self.p_transmit = delta_transmit / total;
+        }
+    }
+
+    /// The dielectric interface's Fresnel reflectance at cosine `cos` to a microfacet,
+    /// with its thin film where it has one.
+    #[inline]
+    fn fresnel(&self, cos: f32) -> Vec3 {
+        let f = fresnel_dielectric(cos, 1.0, self.eta);
+        match self.film {
+            None => Vec3::splat(f),
+            Some((weight, nm, ior)) => Vec3::splat(f).lerp(
+                super::thin_film::reflectance(cos, ior, self.eta, nm),
+                weight,
+            ),
         }
     }
 
@@ -425,10 +486,14 @@ impl OpenPbrBsdf {
                 return (f, pdf);
             }
             let k = 1.0 / (4.0 * mu_o * mu_i);
+            if self.p[FUZZ] > 0.0 {
+                f += self.fuzz * super::fuzz::sheen(self.fuzz_roughness, wo, wi);
+                pdf += self.p[FUZZ] * mu_i * FRAC_1_PI;
+            }
             if self.p[SPEC_R] > 0.0 {
                 let g = self.spec;
-                let fr = fresnel_dielectric(oh, 1.0, self.eta);
-                f += self.spec_r * (fr * g.d(h) * g.g2(wo, wi) * k);
+                let fr = self.fresnel(oh);
+                f += self.spec_r * fr * (g.d(h) * g.g2(wo, wi) * k);
                 pdf += self.p[SPEC_R] * g.visible_pdf(wo, h) / (4.0 * oh);
             }
             if self.p[METAL] > 0.0 {
@@ -451,8 +516,8 @@ impl OpenPbrBsdf {
                 let h = (wo + wr).normalize_or_zero();
                 let oh = wo.dot(h);
                 if oh > 0.0 && h.z > 0.0 {
-                    let ft = 1.0 - fresnel_dielectric(oh, 1.0, self.eta);
-                    f += self.spec_t * (ft * g.d(h) * g.g2(wo, wr) / (4.0 * mu_o * mu_i));
+                    let ft = Vec3::ONE - self.fresnel(oh);
+                    f += self.spec_t * ft * (g.d(h) * g.g2(wo, wr) / (4.0 * mu_o * mu_i));
                     pdf += self.p[SPEC_T] * g.visible_pdf(wo, h) / (4.0 * oh);
                 }
             } else {
@@ -466,9 +531,9 @@ impl OpenPbrBsdf {
                 if oh > 0.0 && ih < 0.0 && h.z > 0.0 {
                     let denom = oh + eta * ih;
                     let denom2 = denom * denom;
-                    let ft = 1.0 - fresnel_dielectric(oh, 1.0, eta);
+                    let ft = Vec3::ONE - self.fresnel(oh);
                     let v = g.d(h) * g.g2(wo, wi) * (ih.abs() * oh) / (mu_i * mu_o * denom2);
-                    f += self.spec_t * (ft * v);
+                    f += self.spec_t * ft * v;
                     pdf += self.p[SPEC_T] * g.visible_pdf(wo, h) * (eta * eta * ih.abs()) / denom2;
                 }
             }
@@ -512,7 +577,7 @@ impl OpenPbrBsdf {
             (c > 0.0 && wi.z > 0.0).then_some(wi)
         };
         let wi = match lobe {
-            DIFFUSE => cosine_hemisphere(u),
+            DIFFUSE | FUZZ => cosine_hemisphere(u),
             SPEC_R => reflect(self.spec)?,
             METAL => reflect(self.metal)?,
             COAT => reflect(self.coat)?,
@@ -538,11 +603,64 @@ impl OpenPbrBsdf {
     }
 }
 
+/// How much the coat's internal reflections darken the base beneath it, per channel
+/// (the specification's Δ = (1 - K) / (1 - E_b K)): K, the share of light leaving the
+/// base that the coat returns, blends a smooth base's (the coat's Fresnel) and a rough
+/// one's by an estimate of the base's roughness; E_b is the base's albedo at normal
+/// incidence.
+fn darkening(p: &Params, mu_o: f32) -> Vec3 {
+    let eta = p.coat_ior;
+    let e_f = if eta >= 1.0 {
+        fresnel_average(eta)
+    } else {
+        0.0
+    };
+    let k_rough = 1.0 - (1.0 - e_f) / (eta * eta);
+    let k_smooth = fresnel_dielectric(mu_o, 1.0, eta);
+    let f0 = |e: f32| ((e - 1.0) / (e + 1.0)).powi(2);
+    let xi = (p.specular_weight * f0(p.specular_ior)).clamp(0.0, 1.0);
+    let r_dielectric = 1.0 + (p.specular_roughness - 1.0) * xi;
+    let r_base = r_dielectric + (p.specular_roughness - r_dielectric) * p.base_metalness;
+    let k = k_smooth + (k_rough - k_smooth) * r_base;
+    let rho = p.base_color * p.base_weight;
+    let dielectric = Vec3::splat(xi) + (1.0 - xi) * (1.0 - p.transmission_weight) * rho;
+    let e_b = dielectric.lerp(rho, p.base_metalness);
+    (Vec3::splat(1.0 - k) / (Vec3::ONE - e_b * k).max(Vec3::splat(1e-4))).min(Vec3::ONE)
+}
+
 /// `(1 / eta)^2`: radiance crossing into a denser medium is compressed into a smaller
 /// solid angle.
 #[inline]
 fn radiance_scale(eta: f32) -> f32 {
     1.0 / (eta * eta)
+}
+
+/// An interface's reflection and transmission albedos `er`, `et` with the energy
+/// single scattering loses on rough microfacets given back, the share of it the
+/// Fresnel average reflects reflected and the rest transmitted (as light scattered
+/// among the microfacets meets them again): totals that sum to 1.
+fn compensate(er: f32, et: f32, eta: f32) -> (f32, f32) {
+    let lost = (1.0 - er - et).max(0.0);
+    let f = fresnel_average(eta);
+    (er + lost * f, et + lost * (1.0 - f))
+}
+
+/// The hemispherical average of a dielectric's Fresnel reflectance for relative
+/// index `eta` (Kulla and Conty's fit above 1; below, what reciprocity leaves:
+/// `1 - (1 - F(1/eta)) eta^2`).
+fn fresnel_average(eta: f32) -> f32 {
+    let outside = |e: f32| (e - 1.0) / (4.08567 + 1.00071 * e);
+    if eta >= 1.0 {
+        outside(eta)
+    } else {
+        1.0 - (1.0 - outside(1.0 / eta)) * eta * eta
+    }
+}
+
+/// `total / single`, the factor a lobe is scaled by; 0 for a lobe that is not there.
+#[inline]
+fn ratio(total: f32, single: f32) -> f32 {
+    if single > 1e-6 { total / single } else { 0.0 }
 }
 
 /// The reflection and transmission albedos of an interface at `mu_o`: Fresnel's for a

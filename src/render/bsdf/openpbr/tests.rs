@@ -83,6 +83,31 @@ fn white_furnace_rough_metal_clear_glass_and_white_plastic_keep_all_light() {
             }),
         ),
         (
+            "white fuzz over white plastic",
+            params(|m| {
+                m.fuzz_weight.value = 1.0;
+                m.fuzz_roughness.value = 0.6;
+            }),
+        ),
+        (
+            "rough glass under a thin film",
+            params(|m| {
+                m.transmission_weight.value = 1.0;
+                m.specular_roughness.value = 0.3;
+                m.thin_film_weight.value = 1.0;
+                m.thin_film_thickness.value = 0.4;
+            }),
+        ),
+        (
+            "smooth glass under a thin film",
+            params(|m| {
+                m.transmission_weight.value = 1.0;
+                m.specular_roughness.value = 0.0;
+                m.thin_film_weight.value = 1.0;
+                m.thin_film_thickness.value = 0.4;
+            }),
+        ),
+        (
             "white plastic under a rough clear coat",
             params(|m| {
                 m.coat_weight.value = 1.0;
@@ -169,6 +194,14 @@ fn sampling_follows_the_pdf() {
                 m.transmission_weight.value = 1.0;
                 m.specular_roughness.value = 0.4;
                 m.geometry_thin_walled = true;
+            }),
+        ),
+        (
+            "fuzz over a dark base",
+            params(|m| {
+                m.fuzz_weight.value = 1.0;
+                m.fuzz_roughness.value = 0.4;
+                m.specular_weight.value = 0.0;
             }),
         ),
         (
@@ -323,4 +356,21 @@ fn a_plain_white_base_is_lambert() {
         "{f}"
     );
     assert!(pdf > 0.0);
+}
+
+#[test]
+fn coat_darkening_darkens_a_grey_base_and_spares_a_white_one() {
+    let coated = |c: f32, darkening: f32| {
+        let mut m = OpenPbr::default();
+        m.coat_weight.value = 1.0;
+        m.coat_darkening.value = darkening;
+        m.specular_roughness.value = 0.8;
+        Params::of(&m, Vec3::splat(c))
+    };
+    let wo = view(0.0);
+    let grey = albedo(&coated(0.5, 1.0), wo, true, 100_000);
+    let bright = albedo(&coated(0.5, 0.0), wo, true, 100_000);
+    assert!(grey.x < bright.x - 0.02, "{grey} {bright}");
+    let white = albedo(&coated(1.0, 1.0), wo, true, 100_000);
+    assert!((white.x - 1.0).abs() < 0.02, "{white}");
 }
