@@ -1,12 +1,16 @@
-//! Directional albedos of single-scattering GGX lobes, tabulated by Prism on first use:
+//! Directional albedos of single-scattering GGX lobes, tabulated by Prism:
 //! what the OpenPBR BSDF layers by (a layer beneath receives what the one above does
 //! not reflect) and what restores the energy single scattering loses on rough
 //! microfacets (a white rough metal and a clear rough glass then reflect and transmit
 //! all they receive).
 //!
 //! Each entry integrates the lobe over the normals `wo` sees (VNDF sampling on a fixed
-//! stratified grid, summed in f64), so the tables are the same on every machine and
-//! every run; lookups interpolate linearly.
+//! stratified grid of 4096 points, summed in f64). The integrals take seconds, so they
+//! are computed once by [`computed`] and stored in `albedo.tables` (16-bit fractions),
+//! which the binary carries: renders start at once, and read the same numbers on every
+//! machine. `cargo test --release --lib -- --ignored write_albedo_tables` writes the
+//! file anew; a test holds stored entries to fresh integrals. Lookups interpolate
+//! linearly.
 
 use super::microfacet::{Ggx, MIN_ALPHA};
 use crate::math::Vec3;
@@ -18,10 +22,10 @@ use std::sync::OnceLock;
 /// reflectance axis.
 const N_MU: usize = 32;
 const N_R: usize = 32;
-const N_X: usize = 33;
+const N_X: usize = 65;
 /// Stratified samples per entry (a `SAMPLES_U` x `SAMPLES_V` grid).
-const SAMPLES_U: usize = 16;
-const SAMPLES_V: usize = 16;
+const SAMPLES_U: usize = 64;
+const SAMPLES_V: usize = 64;
 
 /// Smallest cosine tabulated: grazing views read the first row.
 const MIN_MU: f32 = 1e-3;
@@ -38,36 +42,68 @@ struct Tables {
     fuzz: Vec<f32>,
 }
 
+/// The tables as `albedo.tables` stores them.
+static STORED: &[u8] = include_bytes!("albedo.tables");
+
 fn tables() -> &'static Tables {
     static TABLES: OnceLock<Tables> = OnceLock::new();
-    TABLES.get_or_init(|| {
-        let dielectric = (0..N_MU * N_R * N_X)
-            .into_par_iter()
-            .map(|k| {
-                let (i, j, l) = (k / (N_R * N_X), (k / N_X) % N_R, k % N_X);
-                let x = l as f32 / (N_X - 1) as f32 - 0.5;
-                integrate_dielectric(mu_at(i), r_at(j), eta_of_x(x))
-            })
-            .collect();
-        let metal = (0..N_MU * N_R)
-            .into_par_iter()
-            .map(|k| integrate_metal(mu_at(k / N_R), r_at(k % N_R)))
-            .collect();
-        let fuzz = (0..N_MU * N_R)
-            .into_par_iter()
-            .map(|k| integrate_fuzz(mu_at(k / N_R), r_at(k % N_R)))
-            .collect();
-        Tables {
-            dielectric,
-            metal,
-            fuzz,
-        }
-    })
+    TABLES.get_or_init(|| decode(STORED))
 }
 
-/// Builds the tables now, so the first hit that needs them does not wait on them.
-pub fn prepare() {
-    tables();
+/// Entries in the file, in its order: the dielectric's (R, T) pairs, the metal's, the
+/// fuzz's.
+const ENTRIES: usize = N_MU * N_R * N_X * 2 + 2 * N_MU * N_R;
+
+/// The tables integrated afresh: what `albedo.tables` holds.
+pub fn computed() -> Vec<u8> {
+    let dielectric: Vec<[f32; 2]> = (0..N_MU * N_R * N_X)
+        .into_par_iter()
+        .map(dielectric_entry)
+        .collect();
+    let metal: Vec<f32> = (0..N_MU * N_R).into_par_iter().map(metal_entry).collect();
+    let fuzz: Vec<f32> = (0..N_MU * N_R).into_par_iter().map(fuzz_entry).collect();
+    dielectric
+        .iter()
+        .flatten()
+        .chain(&metal)
+        .chain(&fuzz)
+        .flat_map(|&v| (((v.clamp(0.0, 1.0) * 65535.0).round()) as u16).to_le_bytes())
+        .collect()
+}
+
+fn decode(bytes: &[u8]) -> Tables {
+    assert_eq!(
+        bytes.len(),
+        ENTRIES * 2,
+        "albedo.tables does not match its grid"
+    );
+    let mut values = bytes
+        .chunks_exact(2)
+        .map(|b| f32::from(u16::from_le_bytes([b[0], b[1]])) / 65535.0);
+    let dielectric = (0..N_MU * N_R * N_X)
+        .map(|_| [values.next().unwrap(), values.next().unwrap()])
+        .collect();
+    let metal = values.by_ref().take(N_MU * N_R).collect();
+    let fuzz = values.collect();
+    Tables {
+        dielectric,
+        metal,
+        fuzz,
+    }
+}
+
+fn dielectric_entry(k: usize) -> [f32; 2] {
+    let (i, j, l) = (k / (N_R * N_X), (k / N_X) % N_R, k % N_X);
+    let x = l as f32 / (N_X - 1) as f32 - 0.5;
+    integrate_dielectric(mu_at(i), r_at(j), eta_of_x(x))
+}
+
+fn metal_entry(k: usize) -> f32 {
+    integrate_metal(mu_at(k / N_R), r_at(k % N_R))
+}
+
+fn fuzz_entry(k: usize) -> f32 {
+    integrate_fuzz(mu_at(k / N_R), r_at(k % N_R))
 }
 
 fn mu_at(i: usize) -> f32 {
@@ -150,22 +186,17 @@ fn integrate_metal(mu: f32, r: f32) -> f32 {
 }
 
 /// The fuzz lobe's albedo: cosine-weighted directions on the grid, weight `f pi`.
-/// A finer grid than the microfacets': the lobe of smooth fibres is a narrow ridge
-/// that no importance sampling follows.
+/// The fuzz lobe's albedo: cosine-weighted directions on the grid, weight `f pi`.
 fn integrate_fuzz(mu: f32, r: f32) -> f32 {
-    const N: usize = 64;
     let wo = view(mu);
     let mut e = 0.0f64;
-    for a in 0..N {
-        for b in 0..N {
-            let u = ((a as f32 + 0.5) / N as f32, (b as f32 + 0.5) / N as f32);
-            let wi = super::cosine_hemisphere(u);
-            if wi.z > 0.0 {
-                e += (super::fuzz::sheen(r, wo, wi) * std::f32::consts::PI) as f64;
-            }
+    for u in grid() {
+        let wi = super::cosine_hemisphere(u);
+        if wi.z > 0.0 {
+            e += (super::fuzz::sheen(r, wo, wi) * std::f32::consts::PI) as f64;
         }
     }
-    (e / (N * N) as f64) as f32
+    (e / (SAMPLES_U * SAMPLES_V) as f64) as f32
 }
 
 /// `wo` refracted through a microfacet of normal `m` (`wo.m > 0`) into relative index
@@ -244,6 +275,35 @@ pub fn fuzz(mu: f32, r: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Writes `albedo.tables` from fresh integrals (seconds in a release build).
+    #[test]
+    #[ignore = "writes src/render/bsdf/albedo.tables; run after changing a lobe or the grid"]
+    fn write_albedo_tables() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/render/bsdf/albedo.tables");
+        std::fs::write(path, computed()).unwrap();
+    }
+
+    #[test]
+    fn the_stored_tables_are_the_integrals_prism_computes() {
+        let t = tables();
+        let near = |a: f32, b: f32| (a - b).abs() <= 1.0 / 65535.0;
+        // A spread of entries, the grid's corners among them.
+        for k in (0..N_MU * N_R * N_X)
+            .step_by(4099)
+            .chain([0, N_MU * N_R * N_X - 1])
+        {
+            let [r, tr] = dielectric_entry(k);
+            assert!(
+                near(t.dielectric[k][0], r) && near(t.dielectric[k][1], tr),
+                "{k}"
+            );
+        }
+        for k in (0..N_MU * N_R).step_by(97) {
+            assert!(near(t.metal[k], metal_entry(k)), "metal {k}");
+            assert!(near(t.fuzz[k], fuzz_entry(k)), "fuzz {k}");
+        }
+    }
 
     #[test]
     fn a_smooth_interface_reflects_fresnel_and_transmits_the_rest() {
