@@ -73,6 +73,70 @@ pub struct JobOptions {
     pub png_bits: PngBits,
     /// Sample type of an OpenEXR file.
     pub exr_precision: ExrPrecision,
+    /// An environment image to light the scene with, in place of its background.
+    pub environment: Option<EnvironmentMap>,
+}
+
+/// An equirectangular image that lights the scene from every direction
+/// (`--environment`): its centre looks along -z, turned about the scene's vertical.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentMap {
+    /// The image: `.hdr` and `.exr` are read as linear radiance, others as sRGB.
+    pub file: PathBuf,
+    /// Turn about the vertical, in degrees (positive: counter-clockwise seen from above).
+    pub rotate: f32,
+    /// Factor on the image's radiance.
+    pub strength: f32,
+}
+
+impl EnvironmentMap {
+    /// The image `file` unturned at strength 1.
+    pub fn new(file: PathBuf) -> EnvironmentMap {
+        EnvironmentMap {
+            file,
+            rotate: 0.0,
+            strength: 1.0,
+        }
+    }
+}
+
+/// Sets `scene`'s background to the environment `env`, about the vertical `up`.
+fn light_with(scene: &mut Scene, env: &EnvironmentMap, up: Vec3) -> Result<()> {
+    if !(env.strength.is_finite() && env.strength >= 0.0 && env.rotate.is_finite()) {
+        return Err(Error::Settings(format!(
+            "expected an environment strength >= 0 and a finite rotation, found {} and {}",
+            env.strength, env.rotate
+        )));
+    }
+    let linear = env
+        .file
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("hdr") || e.eq_ignore_ascii_case("exr"));
+    let encoding = if linear {
+        format::image_file::Encoding::Linear
+    } else {
+        format::image_file::Encoding::Srgb
+    };
+    let image = format::image_file::read_texture(&env.file, encoding)
+        .map_err(|e| Error::Settings(format!("{}: {e}", env.file.display())))?;
+    let up = crate::math::normalize(up);
+    // -z made perpendicular to `up` (+x where up is along z), then turned about it.
+    let mut forward = Vec3::NEG_Z - up * up.dot(Vec3::NEG_Z);
+    if forward.length_squared() < 1e-6 {
+        forward = Vec3::X - up * up.x;
+    }
+    let forward = crate::math::normalize(forward);
+    let side = crate::math::cross(up, forward);
+    let (sin, cos) = crate::math::sin_cos(env.rotate.to_radians());
+    scene.images.push(image);
+    scene.background = crate::scene::Background::Environment {
+        image: (scene.images.len() - 1) as u32,
+        up,
+        forward: crate::math::normalize(forward * cos + side * sin),
+        intensity: env.strength,
+    };
+    Ok(())
 }
 
 /// A scene ready to render and write: the scene (with default lights added if it needed
@@ -220,6 +284,16 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
     if options.smooth {
         crate::scene::mesh::smooth_all(&mut scene);
     }
+    if let Some(env) = &options.environment {
+        light_with(&mut scene, env, default_up)?;
+    }
+    // The path model is lit by an environment it is given; the whitted model, which
+    // gathers light from lights only, keeps the default key and fill beside it.
+    let integrator = o.integrator.unwrap_or(dialect.default_integrator());
+    let lit_by_environment =
+        options.environment.is_some() && integrator == crate::options::IntegratorKind::Path;
+    let needs_lights =
+        |scene: &Scene| scene.lights.is_empty() && !has_emission(scene) && !lit_by_environment;
     let file_camera = match chosen_camera(&cameras, options)? {
         Some(c) => Some(c),
         None => file_camera,
@@ -229,7 +303,7 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
         (None, Some(c)) => {
             // A model with a camera of its own but no lights (glTF) is lit as one
             // without: the key and fill, from that camera.
-            if dialect == SceneDialect::Gltf && scene.lights.is_empty() && !has_emission(&scene) {
+            if dialect == SceneDialect::Gltf && needs_lights(&scene) {
                 framing::add_default_lighting(&mut scene, &c);
             }
             c
@@ -238,7 +312,7 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
             let (w, h) = default_size(o.width, o.height);
             let up = options.look.up.unwrap_or(default_up);
             let c = framing::three_quarter_view(scene.bounds(), up, w, h);
-            if scene.lights.is_empty() && !has_emission(&scene) {
+            if needs_lights(&scene) {
                 framing::add_default_lighting(&mut scene, &c);
             }
             c
@@ -247,7 +321,6 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
     if !options.look.is_empty() {
         camera = look_at_over(&camera, &options.look, default_up)?;
     }
-    let integrator = o.integrator.unwrap_or(dialect.default_integrator());
     let settings = RenderSettings {
         width: o.width,
         height: o.height,
@@ -429,6 +502,60 @@ mod tests {
         };
         let still = resolve(ball_file(SceneDialect::WavefrontObj), &o).unwrap();
         assert_eq!((still.camera.width, still.camera.height), (320, 180));
+    }
+
+    #[test]
+    fn an_environment_lights_the_scene_turned_about_the_vertical() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("sky.png");
+        image::RgbImage::from_pixel(8, 4, image::Rgb([255, 128, 0]))
+            .save(&file)
+            .unwrap();
+        let path = |rotate: f32, strength: f32| JobOptions {
+            render: crate::options::RenderOptions {
+                integrator: Some(IntegratorKind::Path),
+                ..Default::default()
+            },
+            environment: Some(EnvironmentMap {
+                file: file.clone(),
+                rotate,
+                strength,
+            }),
+            ..JobOptions::default()
+        };
+        let job = resolve(ball_file(SceneDialect::WavefrontObj), &path(90.0, 2.0)).unwrap();
+        let crate::scene::Background::Environment {
+            image,
+            up,
+            forward,
+            intensity,
+        } = &job.scene.background
+        else {
+            panic!("{:?}", job.scene.background);
+        };
+        assert_eq!((*up, *intensity), (Vec3::Y, 2.0));
+        // -z turned a quarter counter-clockwise seen from above is -x.
+        assert!(
+            (*forward - Vec3::NEG_X).abs().max_element() < 1e-6,
+            "{forward}"
+        );
+        // Read as sRGB: 128 is 0.2158 in linear light.
+        let texel = job.scene.images[*image as usize]
+            .sample_slot(&crate::scene::TextureSlot::new(*image), [0.5, 0.5]);
+        assert!((texel.y - 0.2158605).abs() < 1e-4, "{texel}");
+        // The path model is lit by it alone; the whitted model keeps the key and fill.
+        assert!(job.scene.lights.is_empty());
+        let mut whitted = path(0.0, 1.0);
+        whitted.render.integrator = Some(IntegratorKind::Whitted);
+        let job = resolve(ball_file(SceneDialect::WavefrontObj), &whitted).unwrap();
+        assert_eq!(job.scene.lights.len(), 2);
+        // A missing image, a negative strength: errors naming what is wrong.
+        let mut missing = path(0.0, 1.0);
+        missing.environment.as_mut().unwrap().file = dir.path().join("none.hdr");
+        let e = resolve(ball_file(SceneDialect::WavefrontObj), &missing).unwrap_err();
+        assert!(e.to_string().contains("none.hdr"), "{e}");
+        let e = resolve(ball_file(SceneDialect::WavefrontObj), &path(0.0, -1.0)).unwrap_err();
+        assert!(e.to_string().contains("strength"), "{e}");
     }
 
     #[test]

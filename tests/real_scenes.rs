@@ -315,3 +315,50 @@ fn skipped(why: impl std::fmt::Display) {
     use std::io::Write as _;
     let _ = writeln!(std::io::stderr(), "skipped: {why}");
 }
+
+#[test]
+fn an_environment_image_lights_a_path_render_and_needs_its_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "t.obj", RIGHT_TRIANGLE);
+    let sky = dir.path().join("sky.png");
+    image::RgbImage::from_pixel(16, 8, image::Rgb([200, 200, 255]))
+        .save(&sky)
+        .unwrap();
+    let out = dir.path().join("t.png");
+    let render = |extra: &[&str]| {
+        prism()
+            .args(["render"])
+            .arg(&obj)
+            .arg(&out)
+            .args([
+                "--integrator",
+                "path",
+                "--spp",
+                "4",
+                "--width",
+                "32",
+                "--height",
+                "16",
+            ])
+            .args(extra)
+            .args(["--quiet"])
+            .output()
+            .unwrap()
+    };
+    let lit = render(&[
+        "--environment",
+        sky.to_str().unwrap(),
+        "--environment-strength",
+        "2",
+    ]);
+    assert!(
+        lit.status.success(),
+        "{}",
+        String::from_utf8_lossy(&lit.stderr)
+    );
+    let (left, right) = luminance_by_half(&out);
+    assert!(left > 0 && right > 0, "{left} {right}");
+    let orphan = render(&["--environment-rotate", "30"]);
+    assert!(!orphan.status.success());
+    assert!(String::from_utf8_lossy(&orphan.stderr).contains("--environment"));
+}

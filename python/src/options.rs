@@ -47,6 +47,12 @@ pub fn job_options(
                 })
             }
             "camera_index" => o.camera_index = Some(value.extract()?),
+            "environment" => {
+                let file: std::path::PathBuf = value.extract()?;
+                o.environment = Some(prism::job::EnvironmentMap::new(file));
+            }
+            // Read below, once the environment they turn and scale is known.
+            "environment_rotate" | "environment_strength" => {}
             "threads" => o.threads = Some(value.extract()?),
             "max_depth" => o.render.max_depth = Some(value.extract()?),
             "min_weight" => o.render.min_weight = Some(value.extract()?),
@@ -87,6 +93,22 @@ pub fn job_options(
                     "unknown render option `{key}`"
                 )));
             }
+        }
+    }
+    for (key, rotate) in [
+        ("environment_rotate", true),
+        ("environment_strength", false),
+    ] {
+        let Some(value) = options.get_item(key)?.filter(|v| !v.is_none()) else {
+            continue;
+        };
+        let Some(env) = &mut o.environment else {
+            return Err(PyValueError::new_err(format!("{key} needs environment")));
+        };
+        if rotate {
+            env.rotate = value.extract()?;
+        } else {
+            env.strength = value.extract()?;
         }
     }
     Ok(o)

@@ -7,7 +7,7 @@ use prism::film::output::check_output_path;
 use prism::film::tev::TevStream;
 use prism::film::{ExrPrecision, OutputFile, PngBits};
 use prism::format::SceneDialect;
-use prism::job::{JobOptions, LookAt};
+use prism::job::{EnvironmentMap, JobOptions, LookAt};
 use prism::math::Vec3;
 use prism::options::{Filter, IntegratorKind, Region, RenderOptions, ToneMap};
 use prism::render::Observer;
@@ -139,6 +139,21 @@ pub struct JobArgs {
     /// before it starts. Default: half of the machine's memory.
     #[arg(long, value_name = "SIZE", value_parser = crate::parse_memory)]
     pub max_memory: Option<u64>,
+    /// Light the scene with this equirectangular image (.hdr, .exr, or an 8-bit
+    /// image read as sRGB), seen where rays leave the scene.
+    #[arg(long, value_name = "FILE")]
+    pub environment: Option<PathBuf>,
+    /// Turn the environment about the scene's vertical by this many degrees.
+    #[arg(
+        long,
+        value_name = "DEGREES",
+        allow_hyphen_values = true,
+        requires = "environment"
+    )]
+    pub environment_rotate: Option<f32>,
+    /// Factor on the environment's radiance (default 1).
+    #[arg(long, value_name = "K", requires = "environment")]
+    pub environment_strength: Option<f32>,
 }
 
 impl JobArgs {
@@ -185,6 +200,11 @@ impl JobArgs {
                 .exr_precision
                 .parse::<ExrPrecision>()
                 .map_err(settings_error)?,
+            environment: self.environment.clone().map(|file| EnvironmentMap {
+                rotate: self.environment_rotate.unwrap_or(0.0),
+                strength: self.environment_strength.unwrap_or(1.0),
+                ..EnvironmentMap::new(file)
+            }),
         })
     }
 
