@@ -128,7 +128,6 @@ fn looks_through(s: &Surface, albedo: Vec3) -> bool {
         return s.lit && smooth && (whole(&m.base_metalness) || whole(&m.transmission_weight));
     }
     s.lit
-        && s.metallic_roughness.is_none()
         && (s.diffuse <= 0.0 || albedo == Vec3::ZERO)
         && (s.reflection != Vec3::ZERO || s.transmission != Vec3::ZERO)
 }

@@ -7,7 +7,6 @@ pub mod camera;
 pub mod classic;
 mod cut_outs;
 pub mod memory;
-mod metallic_roughness;
 pub mod observer;
 pub mod optics;
 pub mod passes;

@@ -19,7 +19,6 @@ mod casters;
 mod shadow_batch;
 mod visibility;
 
-use super::metallic_roughness::PbrAt;
 pub use casters::Casters;
 use visibility::{ShadowRole, Shadows};
 
@@ -237,8 +236,11 @@ impl<'a> Whitted<'a> {
             None
         };
         if let Bsdf::OpenPbr(framed) = &bsdf {
-            // Its perfect mirror and refraction, as the path model follows them.
+            // Its perfect mirror and refraction, as the path model follows them, and
+            // its rough lobes' light from the scene gathered along the same two rays.
             let (kr, kt) = framed.deltas();
+            let (gr, gt) = framed.glossy();
+            let (kr, kt) = (kr + gr, kt + gt);
             if (weight * kr).max_element() >= self.min_weight {
                 let dir = reflect(d, bsdf.normal());
                 let child = Ray::new(offset_origin(sp.p, ng, dir), dir);
@@ -252,10 +254,7 @@ impl<'a> Whitted<'a> {
             }
             return absorbed * l;
         }
-        let (mut kr, mut kt) = if let Some(mr) = &s.metallic_roughness {
-            let albedo_mirror = PbrAt::at(self.scene, mr, &sp).mirror(albedo, cos_i);
-            (albedo_mirror, s.transmission)
-        } else if s.fresnel {
+        let (mut kr, mut kt) = if s.fresnel {
             let f = fresnel_dielectric(cos_i, eta_i, eta_t);
             (s.reflection * f, s.transmission * (1.0 - f))
         } else {

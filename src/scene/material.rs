@@ -100,53 +100,11 @@ pub struct Surface {
     pub alpha_cutoff: f32,
     /// Scales the normal map's tangential components (glTF `normalTexture.scale`).
     pub normal_scale: f32,
-    /// glTF's metallic-roughness terms, worked out at each hit: they replace `diffuse`'s
-    /// share of the albedo, `specular`, `shininess` and `reflection` (see
-    /// [`MetallicRoughness`]).
-    pub metallic_roughness: Option<MetallicRoughness>,
     /// The OpenPBR Surface parameters of a physically based material: where present,
     /// its BSDF replaces the Phong terms (`diffuse`, `specular`, `shininess`,
     /// `highlight`, `reflection`, `transmission`, `ior`, `fresnel`, `absorption`);
     /// `albedo` is its `base_color`.
     pub openpbr: Option<Box<OpenPbr>>,
-}
-
-/// glTF's metallic-roughness material on the whitted model (docs/formats.md):
-///
-/// - diffuse: `C (1 - metallic) kd`, `kd` the surface's `diffuse` (`(1 - transmission) /
-///   pi` for glTF: a Lambert BRDF);
-/// - F0 = mix(`f0`, C, metallic): the dielectric's reflectance at normal incidence
-///   (0.04 for ior 1.5) or the metal's colour;
-/// - highlight: normalised Blinn-Phong of exponent `2 / a^2 - 2`, `a = roughness^2`,
-///   strength `F0 / pi`;
-/// - mirror reflection: Schlick's Fresnel of F0 times `(1 - roughness)^2`, so rough
-///   surfaces reflect their lights' highlights only.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MetallicRoughness {
-    /// Metalness, 0 (dielectric) to 1 (metal): mixes F0 from `f0` to the albedo.
-    pub metallic: f32,
-    /// Perceptual roughness, 0 (mirror) to 1; squared to give the microfacet `a`.
-    pub roughness: f32,
-    /// Multiplies roughness by its green channel and metallic by its blue (linear).
-    pub map: Option<TextureSlot>,
-    /// The dielectric base's reflectance at normal incidence.
-    pub f0: Vec3,
-}
-
-impl MetallicRoughness {
-    /// Highest highlight exponent (a mirror-smooth surface's highlight is a point).
-    pub const MAX_EXPONENT: f32 = 1e4;
-
-    /// The highlight exponent of roughness `r`.
-    pub fn exponent(r: f32) -> f32 {
-        let a = r * r;
-        let a2 = a * a;
-        if a2 <= 2.0 / (Self::MAX_EXPONENT + 2.0) {
-            Self::MAX_EXPONENT
-        } else {
-            (2.0 / a2 - 2.0).max(0.0)
-        }
-    }
 }
 
 /// The albedo of a surface.
@@ -239,7 +197,6 @@ impl Default for Surface {
             emission_map: None,
             alpha_cutoff: 0.5,
             normal_scale: 1.0,
-            metallic_roughness: None,
             openpbr: None,
         }
     }
@@ -263,6 +220,45 @@ impl Surface {
             ior: m.ior,
             ..Surface::default()
         }
+    }
+
+    /// Every image slot the surface reads (its albedo, maps and OpenPBR textures): what
+    /// a reader that moves a scene's images into another's rebases, in one place.
+    pub fn image_slots_mut(&mut self) -> impl Iterator<Item = &mut TextureSlot> {
+        let albedo = match &mut self.albedo {
+            Albedo::Image { slot, .. } => Some(slot),
+            _ => None,
+        };
+        [
+            albedo,
+            self.alpha_map.as_mut(),
+            self.normal_map.as_mut(),
+            self.specular_map.as_mut(),
+            self.ambient_map.as_mut(),
+            self.emission_map.as_mut(),
+        ]
+        .into_iter()
+        .flatten()
+        .chain(self.openpbr.iter_mut().flat_map(|p| p.texture_slots_mut()))
+    }
+
+    /// The surface as the integrators take it: an OpenPBR material's `transmission` and
+    /// `ior` are what it lets through to shadow rays (its transmission weight times its
+    /// colour, white where a volume colours the light instead) and its
+    /// `specular_ior`, so that shadow rays, the albedo pass and the lanes' test read
+    /// every surface alike.
+    pub fn resolved(&self) -> Surface {
+        let mut s = self.clone();
+        if let Some(p) = &self.openpbr {
+            let tint = if p.transmission_depth.value > 0.0 {
+                Vec3::ONE
+            } else {
+                p.transmission_color.value
+            };
+            s.transmission = tint * p.transmission_weight.value.clamp(0.0, 1.0);
+            s.ior = p.specular_ior.value;
+        }
+        s
     }
 
     /// Whether light passes through: such surfaces tint shadows instead of casting them.
@@ -292,6 +288,17 @@ impl Surface {
 /// The sRGB transfer curve undone (IEC 61966-2-1), per channel.
 pub fn srgb_to_linear(c: Vec3) -> Vec3 {
     Vec3::from_array(c.to_array().map(srgb_channel_to_linear))
+}
+
+/// The sRGB curve (IEC 61966-2-1), per channel, for 0..1 values.
+pub fn linear_to_srgb(c: Vec3) -> Vec3 {
+    Vec3::from_array(c.to_array().map(|v| {
+        if v <= 0.003_130_8 {
+            v * 12.92
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        }
+    }))
 }
 
 /// One channel of [`srgb_to_linear`].

@@ -18,7 +18,7 @@ pub use builder::{MeshMaterials, SceneBuilder};
 pub use camera::{Camera, Frame, Projection};
 pub use image::{ImageTexture, Texels};
 pub use light::{ConeEdge, Falloff, Light, LightKind};
-pub use material::{Albedo, Highlight, Material, MetallicRoughness, Surface, TextureSlot};
+pub use material::{Albedo, Highlight, Material, Surface, TextureSlot};
 pub use mesh::MeshAttributes;
 pub use openpbr::OpenPbr;
 pub use shape::{Rectangle, Shape, Sphere, SurfaceCoords, Triangle};
@@ -124,7 +124,7 @@ impl Scene {
             .map(|(i, m)| {
                 self.surfaces
                     .get(i)
-                    .cloned()
+                    .map(Surface::resolved)
                     .unwrap_or_else(|| Surface::from_classic(m))
             })
             .collect()

@@ -23,6 +23,12 @@ pub const SUPPORTED: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_emissive_strength",
     "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
+    "KHR_materials_iridescence",
+    "KHR_materials_anisotropy",
+    "KHR_materials_dispersion",
+    "KHR_materials_diffuse_transmission",
     "KHR_mesh_quantization",
     // Each primitive's default material is the one rendered.
     "KHR_materials_variants",

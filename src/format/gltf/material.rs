@@ -4,13 +4,14 @@
 use super::document::{Loaded, read_uri};
 use crate::format::image_file::{self, Encoding, MAX_IMAGE_FILE_BYTES, MAX_TEXTURE_PIXELS};
 use crate::math::Vec3;
-use crate::scene::{
-    Albedo, Highlight, ImageTexture, Material, MetallicRoughness, Surface, TextureSlot,
-};
+use crate::scene::material::linear_to_srgb;
+use crate::scene::openpbr::{Channel, Color, Scalar};
+use crate::scene::{Albedo, ImageTexture, Material, OpenPbr, Surface, TextureSlot};
 use gltf::material::AlphaMode;
 use gltf::texture::WrappingMode;
+
+mod extensions;
 use std::collections::HashMap;
-use std::f32::consts::FRAC_1_PI;
 use std::path::Path;
 
 /// The scene's materials from a glTF file: `surfaces[i]` and `materials[i]` for glTF
@@ -125,8 +126,16 @@ impl Images<'_> {
     /// A texture reference as a slot: its image, its sampler's wrapping and its
     /// KHR_texture_transform.
     fn slot(&mut self, info: &gltf::texture::Info, srgb: bool) -> Result<TextureSlot, String> {
-        let texture = info.texture();
-        let image = self.image(&texture, srgb)?;
+        let mut slot = self.texture_slot(&info.texture(), srgb)?;
+        if let Some(tt) = info.texture_transform() {
+            transform(&mut slot, tt.offset(), tt.rotation(), tt.scale());
+        }
+        Ok(slot)
+    }
+
+    /// A texture as a slot: its image and its sampler's wrapping.
+    fn texture_slot(&mut self, texture: &gltf::Texture, srgb: bool) -> Result<TextureSlot, String> {
+        let image = self.image(texture, srgb)?;
         let mut slot = TextureSlot::new(image);
         let sampler = texture.sampler();
         let (s, t) = (sampler.wrap_s(), sampler.wrap_t());
@@ -141,9 +150,6 @@ impl Images<'_> {
                 texture.index(),
                 if slot.clamp { "clamped" } else { "repeating" }
             ));
-        }
-        if let Some(tt) = info.texture_transform() {
-            transform(&mut slot, tt.offset(), tt.rotation(), tt.scale());
         }
         Ok(slot)
     }
@@ -167,6 +173,36 @@ pub fn transform(slot: &mut TextureSlot, offset: [f32; 2], rotation: f32, scale:
     }
 }
 
+/// The 2014 terms closest to a glTF material, for `--integrator classic`: its base
+/// colour in display values, a mirror share from a smooth metal, and a glass's
+/// refraction.
+fn classic(name: String, s: &Surface) -> Material {
+    let color = match &s.albedo {
+        Albedo::Color(c) => *c,
+        Albedo::Image { tint, .. } => *tint,
+        _ => Vec3::ONE,
+    };
+    let mut m = Material {
+        name,
+        color: linear_to_srgb(color.clamp(Vec3::ZERO, Vec3::ONE)),
+        ..Material::default_white()
+    };
+    if let Some(p) = &s.openpbr {
+        let smooth = 1.0 - p.specular_roughness.value.clamp(0.0, 1.0);
+        let transmission = p.transmission_weight.value.clamp(0.0, 1.0);
+        m.reflect = p.base_metalness.value.clamp(0.0, 1.0) * smooth * smooth;
+        m.refract = transmission;
+        m.transparent = transmission > 0.0;
+        m.ior = p.specular_ior.value;
+        m.specular = 0.5 * smooth;
+        // The Blinn-Phong exponent whose highlight is as wide as GGX's of this roughness.
+        let a2 = p.specular_roughness.value.clamp(0.0, 1.0).powi(4);
+        m.shininess = (2.0 / a2.max(2e-4) - 2.0).clamp(0.0, 1e4);
+        m.diffuse = 1.0 - transmission;
+    }
+    m
+}
+
 /// Every material of the file.
 pub fn read(loaded: &Loaded, path: &Path, warnings: &mut Vec<String>) -> Result<Materials, String> {
     let mut images = Images {
@@ -186,10 +222,7 @@ pub fn read(loaded: &Loaded, path: &Path, warnings: &mut Vec<String>) -> Result<
             .name()
             .map_or_else(|| format!("material {i}"), str::to_owned);
         let (surface, set) = surface(&m, &mut images).map_err(|e| format!("{at}: {e}"))?;
-        materials.push(Material {
-            name,
-            ..Material::default_white()
-        });
+        materials.push(classic(name, &surface));
         surfaces.push(surface);
         texcoord_set.push(set);
     }
@@ -208,11 +241,7 @@ fn linear(c: [f32; 3]) -> Vec3 {
 /// One material's whitted terms and the texture-coordinate set its textures read.
 fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), String> {
     let pbr = m.pbr_metallic_roughness();
-    let mut s = Surface {
-        highlight: Highlight::BlinnPhong,
-        normalized: true,
-        ..Surface::default()
-    };
+    let mut s = Surface::default();
     let mut sets = Vec::new();
     let note = |sets: &mut Vec<u32>, info: &gltf::texture::Info| {
         sets.push(
@@ -221,27 +250,25 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
                 .unwrap_or(info.tex_coord()),
         )
     };
-    let (base, base_texture, mut metallic, mut roughness, mr_texture, mut f0) =
-        match m.pbr_specular_glossiness() {
-            // Specular-glossiness: its diffuse colour as the albedo, glossiness as
-            // smoothness, its specular colour as F0 of a dielectric.
-            Some(sg) => (
-                sg.diffuse_factor(),
-                sg.diffuse_texture(),
-                0.0,
-                1.0 - sg.glossiness_factor(),
-                None,
-                linear(sg.specular_factor()),
-            ),
-            None => (
-                pbr.base_color_factor(),
-                pbr.base_color_texture(),
-                pbr.metallic_factor(),
-                pbr.roughness_factor(),
-                pbr.metallic_roughness_texture(),
-                Vec3::splat(dielectric_f0(m.ior().unwrap_or(1.5))),
-            ),
-        };
+    let spec_gloss = m.pbr_specular_glossiness();
+    let (base, base_texture, mut metallic, mut roughness, mr_texture) = match &spec_gloss {
+        // Specular-glossiness: its diffuse colour as the albedo, glossiness as
+        // smoothness.
+        Some(sg) => (
+            sg.diffuse_factor(),
+            sg.diffuse_texture(),
+            0.0,
+            1.0 - sg.glossiness_factor(),
+            None,
+        ),
+        None => (
+            pbr.base_color_factor(),
+            pbr.base_color_texture(),
+            pbr.metallic_factor(),
+            pbr.roughness_factor(),
+            pbr.metallic_roughness_texture(),
+        ),
+    };
     metallic = metallic.clamp(0.0, 1.0);
     roughness = roughness.clamp(0.0, 1.0);
     let tint = linear([base[0], base[1], base[2]]);
@@ -255,10 +282,6 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
         }
         None => Albedo::Color(tint),
     };
-    if let Some(spec) = m.specular() {
-        // The extension's order: the coloured reflectance clamped, then the factor.
-        f0 = (f0 * linear(spec.specular_color_factor())).min(Vec3::ONE) * spec.specular_factor();
-    }
     match m.alpha_mode() {
         AlphaMode::Opaque => {}
         AlphaMode::Mask | AlphaMode::Blend => {
@@ -285,45 +308,69 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
         s.lit = false;
         return Ok((s, first_set(&sets)));
     }
-    let transmission = m
-        .transmission()
-        .map_or(0.0, |t| t.transmission_factor())
-        .clamp(0.0, 1.0);
-    s.diffuse = (1.0 - transmission) * FRAC_1_PI;
-    if transmission > 0.0 {
-        // Prism's Fresnel glass: F reflected, (1 - F) T transmitted.
-        s.transmission = tint * transmission;
-        s.reflection = Vec3::ONE;
-        s.fresnel = true;
-        s.ior = m.ior().unwrap_or(1.5);
-        s.specular = f0 * FRAC_1_PI;
-        s.shininess = MetallicRoughness::exponent(roughness);
-        s.diffuse *= 1.0 - metallic;
-        if let Some(v) = m.volume()
-            && v.thickness_factor() > 0.0
-        {
-            let d = v.attenuation_distance();
-            if d.is_finite() && d > 0.0 {
-                // Beer: attenuationColor is what remains after `d`.
-                let c = linear(v.attenuation_color()).max(Vec3::splat(1e-6));
-                s.absorption = -Vec3::new(c.x.ln(), c.y.ln(), c.z.ln()) / d;
+    let mut p = OpenPbr {
+        base_metalness: Scalar::constant(metallic),
+        specular_roughness: Scalar::constant(roughness),
+        specular_ior: Scalar::constant(m.ior().unwrap_or(1.5)),
+        ..OpenPbr::default()
+    };
+    if let Some(info) = &mr_texture {
+        note(&mut sets, info);
+        let slot = images.slot(info, false)?;
+        p.specular_roughness.texture = Some((slot, Channel::G));
+        p.base_metalness.texture = Some((slot, Channel::B));
+    }
+    if let Some(sg) = &spec_gloss {
+        // Specular-glossiness: its specular colour is the dielectric's reflectance at
+        // normal incidence, as a weight on that of index 1.5 and a tint.
+        let f0 = linear(sg.specular_factor());
+        let weight = f0.max_element() / dielectric_f0(1.5);
+        p.specular_weight = Scalar::constant(weight);
+        if weight > 0.0 {
+            p.specular_color = Color::constant(f0 / f0.max_element());
+        }
+    }
+    if let Some(spec) = m.specular() {
+        p.specular_weight = Scalar::constant(spec.specular_factor().max(0.0));
+        if let Some(info) = spec.specular_texture() {
+            note(&mut sets, &info);
+            p.specular_weight.texture = Some((images.slot(&info, false)?, Channel::A));
+        }
+        // glTF's specular colour does not tint metals; OpenPBR's would be their edge.
+        if metallic < 1.0 || mr_texture.is_some() {
+            p.specular_color = Color::constant(linear(spec.specular_color_factor()));
+            if let Some(info) = spec.specular_color_texture() {
+                note(&mut sets, &info);
+                p.specular_color.texture = Some(images.slot(&info, true)?);
             }
         }
-    } else {
-        let map = match &mr_texture {
-            Some(info) => {
-                note(&mut sets, info);
-                Some(images.slot(info, false)?)
-            }
-            None => None,
-        };
-        s.metallic_roughness = Some(MetallicRoughness {
-            metallic,
-            roughness,
-            map,
-            f0,
-        });
     }
+    if let Some(t) = m.transmission() {
+        p.transmission_weight = Scalar::constant(t.transmission_factor().clamp(0.0, 1.0));
+        if let Some(info) = t.transmission_texture() {
+            note(&mut sets, &info);
+            p.transmission_weight.texture = Some((images.slot(&info, false)?, Channel::R));
+        }
+        // Light crossing takes the base colour.
+        p.transmission_color = Color::constant(tint);
+    }
+    // Without KHR_materials_volume glTF calls a transmissive surface thin; Blender
+    // writes its solid glass so, and reads it back as a solid: Prism reads it as
+    // Blender does. A volume of thickness 0 is thin.
+    if let Some(v) = m.volume() {
+        p.geometry_thin_walled = v.thickness_factor() <= 0.0;
+        let d = v.attenuation_distance();
+        if !p.geometry_thin_walled && d.is_finite() && d > 0.0 {
+            // Beer: attenuationColor is what remains after `d`.
+            let c = linear(v.attenuation_color()).max(Vec3::splat(1e-6));
+            p.transmission_color = Color::constant(c);
+            p.transmission_depth = Scalar::constant(d);
+            s.absorption = -Vec3::new(c.x.ln(), c.y.ln(), c.z.ln()) / d;
+        }
+    }
+    extensions::read(m, &mut p, images, &mut sets)?;
+    s.ior = p.specular_ior.value;
+    s.openpbr = Some(Box::new(p));
     if let Some(normal) = m.normal_texture() {
         sets.push(normal.tex_coord());
         let texture = normal.texture();

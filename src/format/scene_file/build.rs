@@ -4,7 +4,7 @@
 
 use super::images::ImageCache;
 use super::include::Document;
-use super::materials::{self, BuiltMaterial, DEFAULT_COLOR, linear_to_srgb};
+use super::materials::{self, BuiltMaterial, DEFAULT_COLOR};
 use super::objects::{self, Geometry, place, placement_error};
 use super::raw::{MaterialRef, RawObject, RawTrack};
 use super::source::{Source, regular_file};
@@ -13,6 +13,7 @@ use super::{camera, lights, settings, tracks};
 use crate::error::Result;
 use crate::math::{Aabb, Vec3, cross};
 use crate::options::RenderOptions;
+use crate::scene::material::linear_to_srgb;
 use crate::scene::{
     Albedo, Camera, Falloff, Group, Light, LightKind, Material, Rectangle, Scene, SceneBuilder,
     Shape, Surface,
@@ -515,21 +516,7 @@ fn merge(
     if material.is_none() {
         for (mut m, mut s) in loaded.materials.into_iter().zip(surfaces) {
             m.texture = m.texture.map(|i| i + texture_base);
-            if let Albedo::Image { slot, .. } = &mut s.albedo {
-                slot.image += image_base;
-            }
-            let mr_map = s.metallic_roughness.as_mut().and_then(|mr| mr.map.as_mut());
-            for slot in [
-                s.alpha_map.as_mut(),
-                s.normal_map.as_mut(),
-                s.specular_map.as_mut(),
-                s.ambient_map.as_mut(),
-                s.emission_map.as_mut(),
-                mr_map,
-            ]
-            .into_iter()
-            .flatten()
-            {
+            for slot in s.image_slots_mut() {
                 slot.image += image_base;
             }
             scene.add_material(m, s);

@@ -7,6 +7,7 @@ use super::source::Source;
 use super::values::Color;
 use crate::error::Result;
 use crate::math::Vec3;
+use crate::scene::material::linear_to_srgb;
 use crate::scene::{Albedo, Highlight, Material, Surface, TextureSlot};
 use toml::Spanned;
 
@@ -153,15 +154,4 @@ fn classic(name: String, s: &Surface, base: Vec3, ambient: Option<Color>) -> Mat
         transparent: s.is_transmissive(),
         texture: None,
     }
-}
-
-/// The sRGB curve (IEC 61966-2-1), per channel, for 0..1 values.
-pub fn linear_to_srgb(c: Vec3) -> Vec3 {
-    Vec3::from_array(c.to_array().map(|v| {
-        if v <= 0.003_130_8 {
-            v * 12.92
-        } else {
-            1.055 * v.powf(1.0 / 2.4) - 0.055
-        }
-    }))
 }

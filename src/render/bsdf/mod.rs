@@ -18,7 +18,6 @@ pub use openpbr::{OpenPbrBsdf, Params};
 pub use phong::{Highlight, PhongBsdf, Terms, cosine_hemisphere, schlick, uniform_sphere};
 
 use crate::math::Vec3;
-use crate::render::metallic_roughness::PbrAt;
 use crate::scene::{Scene, Surface, SurfacePoint};
 
 /// A direction drawn from a BSDF.
@@ -47,6 +46,12 @@ impl Framed {
     /// The mirror's and the refraction's weights, for a model that traces both.
     pub fn deltas(&self) -> (Vec3, Vec3) {
         self.local.deltas()
+    }
+
+    /// The rough lobes' reflection and transmission faded by roughness
+    /// ([`OpenPbrBsdf::glossy`]).
+    pub fn glossy(&self) -> (Vec3, Vec3) {
+        self.local.glossy()
     }
 
     /// The refraction delta's direction in world space.
@@ -204,7 +209,7 @@ impl Bsdf {
     }
 }
 
-/// A Phong surface's terms at a hit: its albedo, maps and glTF factors read there.
+/// A Phong surface's terms at a hit: its albedo and maps read there.
 pub fn phong_terms(
     scene: &Scene,
     s: &Surface,
@@ -213,36 +218,22 @@ pub fn phong_terms(
     entering: bool,
 ) -> Terms {
     let (eta_i, eta_t) = if entering { (1.0, s.ior) } else { (s.ior, 1.0) };
-    let (diffuse, highlight, reflection) = match &s.metallic_roughness {
-        None => {
-            let ks = s.specular * scene.map(&s.specular_map, sp);
-            let highlight = if ks == Vec3::ZERO {
-                Highlight::None
-            } else {
-                match s.highlight {
-                    crate::scene::Highlight::Phong => Highlight::Phong {
-                        ks,
-                        exponent: s.shininess,
-                    },
-                    crate::scene::Highlight::BlinnPhong => Highlight::Blinn {
-                        ks,
-                        exponent: s.shininess,
-                    },
-                }
-            };
-            (albedo * s.diffuse, highlight, s.reflection)
-        }
-        Some(mr) => {
-            let at = PbrAt::at(scene, mr, sp);
-            // The whitted reading's Lambert term carries 1/pi; reflectance does not.
-            let diffuse = albedo * (s.diffuse * std::f32::consts::PI * (1.0 - at.metallic));
-            let highlight = Highlight::Ggx {
-                f0: at.f0(albedo),
-                alpha: at.roughness * at.roughness,
-            };
-            (diffuse, highlight, Vec3::ZERO)
+    let ks = s.specular * scene.map(&s.specular_map, sp);
+    let highlight = if ks == Vec3::ZERO {
+        Highlight::None
+    } else {
+        match s.highlight {
+            crate::scene::Highlight::Phong => Highlight::Phong {
+                ks,
+                exponent: s.shininess,
+            },
+            crate::scene::Highlight::BlinnPhong => Highlight::Blinn {
+                ks,
+                exponent: s.shininess,
+            },
         }
     };
+    let (diffuse, reflection) = (albedo * s.diffuse, s.reflection);
     Terms {
         diffuse,
         highlight,

@@ -255,6 +255,11 @@ pub struct OpenPbrBsdf {
     /// throughput is multiplied by when it is chosen with probability 1).
     mirror: Vec3,
     transmit: Vec3,
+    /// The rough lobes' albedos at `wo`, reflected and transmitted, each times
+    /// `(1 - roughness)^2`: what a model that traces only the mirror and refraction
+    /// directions sends along them for the scene the lobes would blur.
+    glossy: Vec3,
+    glossy_transmit: Vec3,
 }
 
 impl OpenPbrBsdf {
@@ -290,6 +295,8 @@ impl OpenPbrBsdf {
             p_transmit: 0.0,
             mirror: Vec3::ZERO,
             transmit: Vec3::ZERO,
+            glossy: Vec3::ZERO,
+            glossy_transmit: Vec3::ZERO,
         };
         let mut weights = [0.0; LOBES];
         let r_spec = p.specular_roughness;
@@ -308,6 +315,11 @@ impl OpenPbrBsdf {
             b.spec_t = Vec3::splat(ratio(t, et));
             weights[SPEC_R] = r;
             weights[SPEC_T] = t;
+            if !spec.is_delta() {
+                let gloss = (1.0 - r_spec) * (1.0 - r_spec);
+                b.glossy = Vec3::splat(r * gloss);
+                b.glossy_transmit = Vec3::splat(t * gloss);
+            }
             if spec.is_delta() || b.matched {
                 b.mirror = Vec3::splat(er);
                 b.transmit = Vec3::splat(et) * radiance_scale(b.eta);
@@ -331,6 +343,10 @@ impl OpenPbrBsdf {
             let (e_c, _) = compensate(er, et, p.coat_ior);
             b.coat_w = above * c * ratio(e_c, er);
             weights[COAT] = above * c * e_c;
+            if !coat.is_delta() {
+                let gloss = (1.0 - p.coat_roughness) * (1.0 - p.coat_roughness);
+                b.glossy += Vec3::splat(above * c * e_c * gloss);
+            }
             if coat.is_delta() {
                 b.mirror += Vec3::splat(above * c * er);
             }
@@ -346,6 +362,9 @@ impl OpenPbrBsdf {
             b.metal_w = below * (m * p.specular_weight) * ms;
             let f_o = b.f82.at(mu_o);
             weights[METAL] = mean(b.metal_w * f_o * e);
+            if !spec.is_delta() {
+                b.glossy += b.metal_w * f_o * (e * (1.0 - r_spec) * (1.0 - r_spec));
+            }
             if spec.is_delta() {
                 b.mirror += b.metal_w * f_o;
             }
@@ -371,14 +390,19 @@ impl OpenPbrBsdf {
             }
             let t = p.transmission_weight;
             b.matched = !p.thin_walled && (b.eta - 1.0).abs() < 1e-3;
-            let (er, et) = if b.matched {
+            // A thin wall reflects as the solid would (its reflection's compensation
+            // the solid's); its transmission is the reflection lobe mirrored through.
+            let (er, et_solid) = if b.matched {
                 (0.0, 1.0)
-            } else if p.thin_walled {
-                thin_interface(spec, r_spec, b.eta, mu_o)
             } else {
                 interface(spec, r_spec, b.eta, mu_o)
             };
-            let (r, t_all) = compensate(er, et, b.eta);
+            let (r, t_all) = compensate(er, et_solid, b.eta);
+            let et = if p.thin_walled && !spec.is_delta() {
+                (albedo::metal(mu_o, r_spec) - er).max(0.0)
+            } else {
+                et_solid
+            };
             let scale = if p.thin_walled {
                 1.0
             } else {
@@ -389,6 +413,11 @@ impl OpenPbrBsdf {
             b.spec_t = below * p.transmission_tint * (d * t * ratio(t_all, et));
             weights[SPEC_R] = mean(b.spec_r) * er;
             weights[SPEC_T] = mean(b.spec_t) * et;
+            if !spec.is_delta() && !b.matched {
+                let gloss = (1.0 - r_spec) * (1.0 - r_spec);
+                b.glossy += b.spec_r * (er * gloss);
+                b.glossy_transmit += b.spec_t * (et * gloss * scale);
+            }
             if spec.is_delta() || b.matched {
                 // A film moves light between the reflection and the refraction.
                 let f = b.fresnel(mu_o);
@@ -452,8 +481,15 @@ impl OpenPbrBsdf {
         self.p.iter().any(|&p| p > 0.0)
     }
 
+    /// What the rough lobes reflect and transmit, faded by roughness, for a model that
+    /// follows only the mirror and refraction directions (the whitted model's stand-in
+    /// for the blurred scene they show).
+    pub fn glossy(&self) -> (Vec3, Vec3) {
+        (self.glossy, self.glossy_transmit)
+    }
+
     /// The mirror and refraction deltas' weights (what a path multiplies by when it
-    /// follows them), for a model that traces both.
+    /// follows them).
     pub fn deltas(&self) -> (Vec3, Vec3) {
         (self.mirror, self.transmit)
     }
@@ -672,17 +708,6 @@ fn interface(g: Ggx, roughness: f32, eta: f32, mu_o: f32) -> (f32, f32) {
     }
     let [r, t] = albedo::dielectric(mu_o, roughness, eta);
     (r, t)
-}
-
-/// [`interface`] for a thin wall, whose transmission is the reflection lobe mirrored
-/// through: together the two are a perfect reflector's lobe.
-fn thin_interface(g: Ggx, roughness: f32, eta: f32, mu_o: f32) -> (f32, f32) {
-    if g.is_delta() {
-        let f = fresnel_dielectric(mu_o, 1.0, eta);
-        return (f, 1.0 - f);
-    }
-    let [r, _] = albedo::dielectric(mu_o, roughness, eta);
-    (r, (albedo::metal(mu_o, roughness) - r).max(0.0))
 }
 
 #[cfg(test)]

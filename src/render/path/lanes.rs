@@ -304,7 +304,6 @@ impl Path<'_> {
     pub(super) fn lanes_apply(scene: &Scene, surfaces: &[Surface]) -> Option<LaneScene> {
         let lambertian = |s: &Surface| {
             s.lit
-                && s.metallic_roughness.is_none()
                 && s.openpbr.is_none()
                 && s.specular == Vec3::ZERO
                 && s.reflection == Vec3::ZERO

@@ -47,7 +47,7 @@ fn texture_transform_places_texels_where_offset_rotation_and_scale_say() {
 }
 
 #[test]
-fn materials_map_onto_the_whitted_model_as_documented() {
+fn materials_map_onto_openpbr_as_documented() {
     let mut b = Builder::default();
     b.mesh(&wall(1.0, 0.0), None, 4, Some(0));
     let doc = b.finish(json!({
@@ -69,38 +69,47 @@ fn materials_map_onto_the_whitted_model_as_documented() {
     let file = crate::format::load(&path).unwrap();
     let s = &file.scene.surfaces;
     assert_eq!(s.len(), 3, "the three materials, the default unused");
-    let mr = s[0].metallic_roughness.unwrap();
-    assert_eq!((mr.metallic, mr.roughness), (0.25, 0.5));
-    assert!((mr.f0.x - 0.04).abs() < 1e-7);
-    assert!((s[0].diffuse - 1.0 / PI).abs() < 1e-7);
+    let p = s[0].openpbr.as_ref().expect("an OpenPBR material");
+    assert_eq!(
+        (p.base_metalness.value, p.specular_roughness.value),
+        (0.25, 0.5)
+    );
+    assert_eq!((p.specular_ior.value, p.specular_weight.value), (1.5, 1.0));
+    assert_eq!(
+        s[0].albedo,
+        crate::scene::Albedo::Color(Vec3::new(0.8, 0.6, 0.4))
+    );
     assert_eq!(s[0].emission, Vec3::new(4.0, 2.0, 0.0));
     // The emitter is an area light.
     assert_eq!(file.scene.lights.len(), 1);
     assert_eq!(file.scene.lights[0].kind_name(), "mesh");
-    // Glass: Fresnel, ior, Beer from the colour left after attenuationDistance.
+    // Glass: transmission, its index, a volume whose colour is left after
+    // attenuationDistance (and Beer's absorption from it).
     let glass = &s[1];
-    assert!(glass.fresnel && glass.metallic_roughness.is_none());
-    assert_eq!(
-        (glass.ior, glass.transmission),
-        (1.33, Vec3::new(0.9, 1.0, 1.0))
-    );
-    assert_eq!(glass.diffuse, 0.0);
+    let g = glass.openpbr.as_ref().unwrap();
+    assert_eq!(g.transmission_weight.value, 1.0);
+    assert_eq!((g.specular_ior.value, glass.ior), (1.33, 1.33));
+    assert!(!g.geometry_thin_walled);
+    assert_eq!(g.transmission_color.value, Vec3::new(0.5, 0.25, 1.0));
+    assert_eq!(g.transmission_depth.value, 2.0);
     let beer = Vec3::new(0.5f32.ln(), 0.25f32.ln(), 0.0) / -2.0;
     assert!(
         (glass.absorption - beer).abs().max_element() < 1e-7,
         "{:?}",
         glass.absorption
     );
+    // The classic reading keeps the base colour (in display values), not white.
+    let classic = &file.scene.materials[0];
+    let srgb = crate::scene::material::linear_to_srgb(Vec3::new(0.8, 0.6, 0.4));
+    assert!(
+        (classic.color - srgb).abs().max_element() < 1e-6,
+        "{:?}",
+        classic.color
+    );
+    assert_eq!(file.scene.materials[1].refract, 1.0);
     // A constant alpha below the cutoff cuts the whole surface out.
     let slot = s[2].alpha_map.expect("a cut-out");
     assert_eq!(file.scene.images[slot.image as usize].texel(0, 0).w, 0.0);
-    // Roughness to exponent: a = r^2, 2 / a^2 - 2.
-    assert_eq!(
-        crate::scene::MetallicRoughness::exponent(0.5),
-        2.0 / 0.0625 - 2.0
-    );
-    assert_eq!(crate::scene::MetallicRoughness::exponent(1.0), 0.0);
-    assert_eq!(crate::scene::MetallicRoughness::exponent(0.0), 1e4);
 }
 
 #[test]
@@ -175,5 +184,112 @@ fn light_through_a_volume_slab_is_absorbed_by_beer() {
     assert!(
         (got - expected).abs().max_element() < 1e-5,
         "{got} vs {expected}"
+    );
+}
+
+#[test]
+fn the_khr_material_extensions_map_onto_openpbr() {
+    let mut b = Builder::default();
+    b.mesh(&wall(1.0, 0.0), None, 4, Some(0));
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_sheen",
+            "KHR_materials_iridescence", "KHR_materials_anisotropy", "KHR_materials_dispersion",
+            "KHR_materials_diffuse_transmission", "KHR_materials_transmission",
+            "KHR_materials_specular"],
+        "materials": [
+            {"pbrMetallicRoughness": {"metallicFactor": 0.0}, "extensions": {
+                "KHR_materials_clearcoat": {"clearcoatFactor": 0.7, "clearcoatRoughnessFactor": 0.2},
+                "KHR_materials_sheen": {"sheenColorFactor": [0.5, 0.25, 1.0], "sheenRoughnessFactor": 0.6},
+                "KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceIor": 1.8,
+                    "iridescenceThicknessMaximum": 500.0},
+                "KHR_materials_anisotropy": {"anisotropyStrength": 0.5,
+                    "anisotropyRotation": std::f32::consts::FRAC_PI_2},
+                "KHR_materials_dispersion": {"dispersion": 0.5},
+                "KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.25},
+                "KHR_materials_specular": {"specularFactor": 0.5,
+                    "specularColorFactor": [1.0, 0.5, 0.5]}}},
+            {"extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.0001}}}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+    }));
+    let (dir, path) = write(&doc);
+    let file = crate::format::load(&path).unwrap();
+    assert!(
+        file.warnings.iter().all(|w| !w.contains("ignores")),
+        "{:?}",
+        file.warnings
+    );
+    let p = file.scene.surfaces[0].openpbr.as_ref().unwrap();
+    assert_eq!(
+        (
+            p.coat_weight.value,
+            p.coat_roughness.value,
+            p.coat_ior.value
+        ),
+        (0.7, 0.2, 1.5)
+    );
+    assert_eq!(p.fuzz_weight.value, 1.0);
+    assert_eq!(p.fuzz_color.value, Vec3::new(0.5, 0.25, 1.0));
+    assert_eq!(p.fuzz_roughness.value, 0.6);
+    assert_eq!(
+        (p.thin_film_weight.value, p.thin_film_ior.value),
+        (1.0, 1.8)
+    );
+    assert_eq!(p.thin_film_thickness.value, 0.5);
+    assert_eq!(p.specular_roughness_anisotropy.value, 0.5);
+    assert!((p.tangent_rotation - 0.25).abs() < 1e-7);
+    assert_eq!(p.transmission_dispersion_abbe_number.value, 40.0);
+    assert_eq!(p.subsurface_weight.value, 0.25);
+    assert_eq!(p.specular_weight.value, 0.5);
+    assert_eq!(p.specular_color.value, Vec3::new(1.0, 0.5, 0.5));
+    // A trace of transmission is a trace of thin glass, not a darker surface.
+    let t = file.scene.surfaces[1].openpbr.as_ref().unwrap();
+    assert_eq!(t.transmission_weight.value, 0.0001);
+    assert!(!t.geometry_thin_walled, "a solid, as Blender reads it");
+    // A value out of range names the material and the property.
+    let (_bad_dir, bad) = {
+        let mut doc = doc.clone();
+        doc["materials"] =
+            json!([{"extensions": {"KHR_materials_sheen": {"sheenRoughnessFactor": 2.0}}}]);
+        write(&doc)
+    };
+    let e = crate::format::load(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("materials[0]") && e.contains("sheenRoughnessFactor"),
+        "{e}"
+    );
+    drop(dir);
+}
+
+/// The path model's radiance of a glTF floor with a trace of transmission is that of
+/// the same floor without it (it was 0.35 times as bright when transmission turned
+/// the base's Lambert term into the whitted reading's).
+#[test]
+fn a_trace_of_transmission_leaves_a_floor_as_bright() {
+    let floor = |extensions: serde_json::Value| {
+        let mut b = Builder::default();
+        b.mesh(&floor(1.0), None, 4, Some(0));
+        let doc = b.finish(json!({
+            "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission"],
+            "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 10.0}]}},
+            "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0],
+                "metallicFactor": 0.0, "roughnessFactor": 1.0}, "extensions": extensions}],
+            "cameras": [{"type": "orthographic", "orthographic": {"xmag": 0.01, "ymag": 0.01, "znear": 0.1, "zfar": 9.0}}],
+            "nodes": [{"mesh": 0}, {"translation": [0.0, 2.0, 0.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+                {"camera": 0, "translation": [0.0, 3.0, 0.0], "rotation": [-0.70710677, 0.0, 0.0, 0.70710677]}],
+            "scenes": [{"nodes": [0, 1, 2]}],
+        }));
+        let (_dir, path) = write(&doc);
+        let mut o = sized(1, 1);
+        o.render.integrator = Some(crate::options::IntegratorKind::Path);
+        o.render.spp = Some(64);
+        Vec3::from_array(render(&path, &o).pixels[0])
+    };
+    let opaque = floor(json!({}));
+    let trace = floor(json!({"KHR_materials_transmission": {"transmissionFactor": 0.0001}}));
+    assert!(opaque.x > 0.1, "{opaque}");
+    assert!(
+        ((trace - opaque) / opaque).abs().max_element() < 0.01,
+        "{trace} {opaque}"
     );
 }
