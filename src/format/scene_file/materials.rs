@@ -29,6 +29,21 @@ pub fn build(
     images: &mut crate::scene::SceneBuilder,
     cache: &mut ImageCache,
 ) -> Result<BuiltMaterial> {
+    match &raw.kind {
+        Some(kind) if kind.get_ref() == "openpbr" => {
+            return super::openpbr::build(source, raw, name, images, cache);
+        }
+        Some(kind) => {
+            return Err(source.error(
+                kind,
+                format!(
+                    "expected material type \"openpbr\" (or no type, for the Phong keys), found \"{}\"",
+                    kind.get_ref()
+                ),
+            ));
+        }
+        None => super::openpbr::no_openpbr_keys(source, raw)?,
+    }
     let color = raw.color.as_ref().map(|c| c.get_ref().rgb);
     let (albedo, base) = match &raw.texture {
         None => {
@@ -135,7 +150,7 @@ pub fn build(
 
 /// The 2014 terms closest to a whitted material: the colour in display (sRGB) values,
 /// the factors as the largest channel of each colour term.
-fn classic(name: String, s: &Surface, base: Vec3, ambient: Option<Color>) -> Material {
+pub(super) fn classic(name: String, s: &Surface, base: Vec3, ambient: Option<Color>) -> Material {
     let unit = |v: f32| v.clamp(0.0, 1.0);
     Material {
         name,

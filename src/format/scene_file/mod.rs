@@ -16,6 +16,7 @@ mod include;
 pub(crate) mod lights;
 mod materials;
 mod objects;
+mod openpbr;
 mod primitives;
 mod raw;
 mod settings;

@@ -293,3 +293,49 @@ fn a_trace_of_transmission_leaves_a_floor_as_bright() {
         "{trace} {opaque}"
     );
 }
+
+/// A scene file that places a glTF mesh rebases every image its materials read,
+/// OpenPBR textures included (a coat's map read the scene file's own image before).
+#[test]
+fn a_placed_gltf_meshs_openpbr_textures_follow_its_images() {
+    let mut b = Builder::default();
+    b.mesh(&wall(1.0, 0.0), None, 4, Some(0));
+    let doc = b.finish(json!({
+        "extensionsUsed": ["KHR_materials_clearcoat"],
+        "images": [{"uri": "g.png"}],
+        "textures": [{"source": 0}],
+        "materials": [{"extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0,
+            "clearcoatTexture": {"index": 0}}}}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+    }));
+    let (dir, _) = write(&doc);
+    image::RgbImage::from_pixel(1, 1, image::Rgb([0, 255, 0]))
+        .save(dir.path().join("g.png"))
+        .unwrap();
+    image::RgbImage::from_pixel(1, 1, image::Rgb([255, 0, 0]))
+        .save(dir.path().join("r.png"))
+        .unwrap();
+    let toml = dir.path().join("outer.toml");
+    std::fs::write(
+        &toml,
+        "[[material]]\nname = \"red\"\ntexture = \"r.png\"\n\
+         [[object]]\ntype = \"sphere\"\ncenter = [5, 0, 0]\nradius = 1\nmaterial = \"red\"\n\
+         [[object]]\ntype = \"mesh\"\nfile = \"scene.gltf\"\n",
+    )
+    .unwrap();
+    let f = crate::format::load(&toml).unwrap();
+    let coat = f
+        .scene
+        .surfaces
+        .iter()
+        .find_map(|s| s.openpbr.as_ref())
+        .unwrap();
+    let (slot, _) = coat.coat_weight.texture.unwrap();
+    let texel = f.scene.images[slot.image as usize].sample_slot(&slot, [0.5, 0.5]);
+    assert_eq!(
+        (texel.x, texel.y),
+        (0.0, 1.0),
+        "the coat reads the green image"
+    );
+}

@@ -11,6 +11,7 @@ mod includes;
 mod lights;
 mod materials;
 mod objects;
+mod openpbr;
 mod scenes;
 
 /// A scene file in a fresh folder, so relative paths have somewhere to point.
