@@ -75,6 +75,8 @@ pub struct JobOptions {
     pub exr_precision: ExrPrecision,
     /// An environment image to light the scene with, in place of its background.
     pub environment: Option<EnvironmentMap>,
+    /// A MaterialX document whose (first) material every shape wears (`--material`).
+    pub material: Option<PathBuf>,
 }
 
 /// An equirectangular image that lights the scene from every direction
@@ -98,6 +100,33 @@ impl EnvironmentMap {
             strength: 1.0,
         }
     }
+}
+
+/// Dresses every shape of `scene` in the first material of the MaterialX document
+/// `path`; emissive meshes stop being lights. Returns the document's warnings.
+fn wear(scene: &mut Scene, path: &Path) -> Result<Vec<String>> {
+    let bytes = crate::util::file::read_regular(path, 1 << 24)
+        .map_err(|e| Error::file(path, format!("cannot read: {e}")))?;
+    if !format::materialx::is_materialx(&bytes) {
+        return Err(Error::file(
+            path,
+            "expected a MaterialX document (XML) for --material",
+        ));
+    }
+    let m = format::materialx::load(path, None)?;
+    let base = scene.images.len() as u32;
+    scene.images.extend(m.images);
+    let mut surface = m.surface;
+    for slot in surface.image_slots_mut() {
+        slot.image += base;
+    }
+    scene.materials = vec![m.material];
+    scene.surfaces = vec![surface];
+    scene.material_of.iter_mut().for_each(|k| *k = 0);
+    scene
+        .lights
+        .retain(|l| !matches!(l.kind, crate::scene::LightKind::Mesh { .. }));
+    Ok(m.warnings)
 }
 
 /// Sets `scene`'s background to the environment `env`, about the vertical `up`.
@@ -286,6 +315,10 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
     }
     if let Some(env) = &options.environment {
         light_with(&mut scene, env, default_up)?;
+    }
+    let mut warnings = warnings;
+    if let Some(material) = &options.material {
+        warnings.extend(wear(&mut scene, material)?);
     }
     // The path model is lit by an environment it is given; the whitted model, which
     // gathers light from lights only, keeps the default key and fill beside it.

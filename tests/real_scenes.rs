@@ -362,3 +362,44 @@ fn an_environment_image_lights_a_path_render_and_needs_its_file() {
     assert!(!orphan.status.success());
     assert!(String::from_utf8_lossy(&orphan.stderr).contains("--environment"));
 }
+
+#[test]
+fn a_materialx_material_dresses_a_model_and_a_2014_file_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "t.obj", RIGHT_TRIANGLE);
+    let red = write(
+        dir.path(),
+        "red.mtlx",
+        r#"<materialx version="1.39" colorspace="lin_rec709">
+  <open_pbr_surface name="red" type="surfaceshader">
+    <input name="base_color" type="color3" value="1, 0, 0" />
+    <input name="specular_weight" type="float" value="0" />
+  </open_pbr_surface>
+</materialx>"#,
+    );
+    let out = dir.path().join("t.png");
+    let render = |material: &std::path::Path| {
+        prism()
+            .args(["render"])
+            .arg(&obj)
+            .arg(&out)
+            .args(["--look-from", "0,0,5", "--look-at", "0,0,0", "--fov", "60"])
+            .args(["--width", "32", "--height", "16", "--quiet", "--material"])
+            .arg(material)
+            .output()
+            .unwrap()
+    };
+    let o = render(&red);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap().to_rgb8();
+    let lit = img.pixels().filter(|p| p.0[0] > 2 * p.0[1] + 10).count();
+    assert!(lit > 10, "red pixels: {lit}");
+    let old = write(
+        dir.path(),
+        "old.mtlx",
+        "newmtl red 255 0 0 1 1 0 1 1 0 0 0\n",
+    );
+    let o = render(&old);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("expected a MaterialX document"));
+}

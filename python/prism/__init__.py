@@ -207,7 +207,9 @@ def render(
     as ``"4G"``: a render whose estimate is larger is refused; default half the
     machine's memory), ``environment`` (an equirectangular ``.hdr``, ``.exr`` or 8-bit
     image lighting the scene, with ``environment_rotate`` in degrees about the vertical
-    and ``environment_strength``). ``camera`` (:class:`Camera`) replaces the scene's own.
+    and ``environment_strength``), ``material`` (a MaterialX ``.mtlx`` document whose
+    OpenPBR material every shape wears). ``camera`` (:class:`Camera`) replaces the
+    scene's own.
 
     Returns an H x W x 3 ``float32`` array of linear values (0..1 for the classic
     model, radiance for whitted), or with ``srgb=True`` the H x W x 3 ``uint8`` values

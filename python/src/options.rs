@@ -51,6 +51,7 @@ pub fn job_options(
                 let file: std::path::PathBuf = value.extract()?;
                 o.environment = Some(prism::job::EnvironmentMap::new(file));
             }
+            "material" => o.material = Some(value.extract()?),
             // Read below, once the environment they turn and scale is known.
             "environment_rotate" | "environment_strength" => {}
             "threads" => o.threads = Some(value.extract()?),

@@ -21,6 +21,7 @@
 pub mod cmr;
 pub mod gltf;
 pub mod image_file;
+pub mod materialx;
 pub mod mtl;
 pub mod mtlx;
 pub mod obj;

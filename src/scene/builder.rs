@@ -87,6 +87,11 @@ impl SceneBuilder {
         self.scene.materials.len() as u32
     }
 
+    /// Images added so far: the index the next one takes.
+    pub fn image_count(&self) -> u32 {
+        self.scene.images.len() as u32
+    }
+
     /// An image read at texture coordinates; returns its index (for `TextureSlot`s).
     pub fn add_image(&mut self, image: ImageTexture) -> u32 {
         self.scene.images.push(image);

@@ -253,6 +253,32 @@ impl OpenPbr {
         textured_fields!(slots)
     }
 
+    /// The scalar parameter the specification calls `name`.
+    pub fn scalar_mut(&mut self, name: &str) -> Option<&mut Scalar> {
+        macro_rules! find {
+            ([$($s:ident),*], [$($c:ident),*]) => {
+                match name {
+                    $(stringify!($s) => Some(&mut self.$s),)*
+                    _ => None,
+                }
+            };
+        }
+        textured_fields!(find)
+    }
+
+    /// The colour parameter the specification calls `name`.
+    pub fn color_mut(&mut self, name: &str) -> Option<&mut Color> {
+        macro_rules! find {
+            ([$($s:ident),*], [$($c:ident),*]) => {
+                match name {
+                    $(stringify!($c) => Some(&mut self.$c),)*
+                    _ => None,
+                }
+            };
+        }
+        textured_fields!(find)
+    }
+
     /// Whether any parameter reads a texture: a hit on it needs texture coordinates.
     pub fn reads_textures(&self) -> bool {
         macro_rules! any {

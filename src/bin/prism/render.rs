@@ -143,6 +143,9 @@ pub struct JobArgs {
     /// image read as sRGB), seen where rays leave the scene.
     #[arg(long, value_name = "FILE")]
     pub environment: Option<PathBuf>,
+    /// Dress every shape in this MaterialX document's (first) OpenPBR material.
+    #[arg(long, value_name = "FILE.mtlx")]
+    pub material: Option<PathBuf>,
     /// Turn the environment about the scene's vertical by this many degrees.
     #[arg(
         long,
@@ -200,6 +203,7 @@ impl JobArgs {
                 .exr_precision
                 .parse::<ExrPrecision>()
                 .map_err(settings_error)?,
+            material: self.material.clone(),
             environment: self.environment.clone().map(|file| EnvironmentMap {
                 rotate: self.environment_rotate.unwrap_or(0.0),
                 strength: self.environment_strength.unwrap_or(1.0),

@@ -29,6 +29,9 @@ pub fn build(
     images: &mut crate::scene::SceneBuilder,
     cache: &mut ImageCache,
 ) -> Result<BuiltMaterial> {
+    if let Some(file) = &raw.file {
+        return super::openpbr::from_materialx(source, raw, file, name, images);
+    }
     match &raw.kind {
         Some(kind) if kind.get_ref() == "openpbr" => {
             return super::openpbr::build(source, raw, name, images, cache);

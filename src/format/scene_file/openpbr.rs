@@ -371,3 +371,49 @@ pub fn build(
     let material = classic(name, &surface, base.value, None);
     Ok(BuiltMaterial { material, surface })
 }
+
+/// `[[material]] file = "x.mtlx"`: the MaterialX document's material of this name, or
+/// its first; nothing else may be said of it.
+pub fn from_materialx(
+    source: &Source,
+    raw: &RawMaterial,
+    file: &Spanned<String>,
+    name: String,
+    images: &mut crate::scene::SceneBuilder,
+) -> Result<BuiltMaterial> {
+    let said = phong_keys(raw)
+        .into_iter()
+        .filter_map(|(k, s)| Some((k, s?)))
+        .chain(openpbr_keys(raw))
+        .chain(raw.kind.as_ref().map(|k| ("type", k.span())))
+        .next();
+    if let Some((key, span)) = said {
+        return Err(source.error_at(
+            span,
+            format!(
+                "`{key}` goes with a material of its own, not with `file` (a MaterialX document)"
+            ),
+        ));
+    }
+    let path = source.resolve(file.get_ref());
+    let bytes = crate::util::file::read_regular(&path, 1 << 24)
+        .map_err(|e| source.error(file, format!("cannot read {}: {e}", path.display())))?;
+    if !crate::format::materialx::is_materialx(&bytes) {
+        return Err(source.error(file, "expected a MaterialX document (XML)"));
+    }
+    let wanted = crate::format::materialx::load(&path, Some(&name))
+        .or_else(|_| crate::format::materialx::load(&path, None))?;
+    let base = images.image_count();
+    for image in wanted.images {
+        images.add_image(image);
+    }
+    let mut surface = wanted.surface;
+    for slot in surface.image_slots_mut() {
+        slot.image += base;
+    }
+    let material = crate::scene::Material {
+        name,
+        ..wanted.material
+    };
+    Ok(BuiltMaterial { material, surface })
+}

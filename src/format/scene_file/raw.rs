@@ -245,6 +245,8 @@ pub struct RawMaterial {
     /// `"openpbr"` for an OpenPBR Surface material, whose keys follow.
     #[serde(rename = "type")]
     pub kind: S<String>,
+    /// A MaterialX document whose material (the one of this name, else its first) this is.
+    pub file: S<String>,
     pub base_weight: S<toml::Value>,
     pub base_diffuse_roughness: S<toml::Value>,
     pub base_metalness: S<toml::Value>,

@@ -119,3 +119,39 @@ fn a_scene_given_as_data_takes_openpbr_materials() {
         crate::scene::Albedo::Color(v(0.2, 0.4, 0.6))
     );
 }
+
+#[test]
+fn a_material_may_be_a_materialx_documents() {
+    let dir = Folder::new();
+    dir.write(
+        "paint.mtlx",
+        r#"<materialx version="1.39" colorspace="lin_rec709">
+  <surfacematerial name="Blue" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="blue" />
+  </surfacematerial>
+  <open_pbr_surface name="blue" type="surfaceshader">
+    <input name="base_color" type="color3" value="0.1, 0.2, 0.8" />
+    <input name="coat_weight" type="float" value="1" />
+  </open_pbr_surface>
+</materialx>"#,
+    );
+    let f = dir.load(&format!(
+        "[[material]]\nname = \"m\"\nfile = \"paint.mtlx\"\n{OBJECT}"
+    ));
+    let s = &f.scene.surfaces[0];
+    assert_eq!(s.albedo, crate::scene::Albedo::Color(v(0.1, 0.2, 0.8)));
+    assert_eq!(s.openpbr.as_ref().unwrap().coat_weight.value, 1.0);
+    assert_eq!(f.scene.materials[0].name, "m");
+    let e = dir.error(&format!(
+        "[[material]]\nname = \"m\"\nfile = \"paint.mtlx\"\ncoat_weight = 0.5\n{OBJECT}"
+    ));
+    assert!(
+        e.contains("scene.toml:4") && e.contains("not with `file`"),
+        "{e}"
+    );
+    dir.write("old.mtlx", "newmtl red 255 0 0 1 1 0 1 1 0 0 0\n");
+    let e = dir.error(&format!(
+        "[[material]]\nname = \"m\"\nfile = \"old.mtlx\"\n{OBJECT}"
+    ));
+    assert!(e.contains("expected a MaterialX document"), "{e}");
+}
