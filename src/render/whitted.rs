@@ -202,7 +202,7 @@ impl<'a> Whitted<'a> {
         // What a sample lights at the point before its shadow ray, or `None` where it
         // lights nothing (and no shadow ray is traced).
         let shading = |ls: &LightSample| {
-            let (f, _, cos) = bsdf.eval_pdf(ls.dir);
+            let (f, cos) = bsdf.eval_cos(ls.dir);
             let shade = f * cos;
             (shade.max_element() > 0.0).then_some(shade)
         };

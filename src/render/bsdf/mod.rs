@@ -84,6 +84,7 @@ impl Bsdf {
     /// there, `n` and `ng` the shading and geometric normals turned to `wo`'s side,
     /// `entering` whether `wo` is on the side the surface faces.
     #[allow(clippy::too_many_arguments)]
+    #[inline]
     pub fn at(
         scene: &Scene,
         s: &Surface,
@@ -193,6 +194,18 @@ impl Bsdf {
         }
     }
 
+    /// [`Bsdf::eval_pdf`]'s value and cosine without the density, for the whitted model.
+    #[inline]
+    pub fn eval_cos(&self, wi: Vec3) -> (Vec3, f32) {
+        match self {
+            Bsdf::Phong(b) => b.eval_cos(wi),
+            Bsdf::OpenPbr(_) => {
+                let (f, _, cos) = self.eval_pdf(wi);
+                (f, cos)
+            }
+        }
+    }
+
     /// A direction drawn for `wo`: `pick` chooses the lobe, `u` the direction in it.
     /// `None` where the surface absorbs.
     #[inline]
@@ -210,6 +223,7 @@ impl Bsdf {
 }
 
 /// A Phong surface's terms at a hit: its albedo and maps read there.
+#[inline]
 pub fn phong_terms(
     scene: &Scene,
     s: &Surface,

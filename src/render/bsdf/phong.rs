@@ -9,7 +9,7 @@
 //! chosen with their own probabilities and never found by `eval`.
 
 use super::Sampled;
-use crate::math::{Vec3, normalize, sin_cos};
+use crate::math::{Vec3, highlight_pow, normalize, sin_cos};
 use crate::render::optics::{fresnel_dielectric, refract};
 use std::f32::consts::{FRAC_1_PI, TAU};
 
@@ -70,11 +70,9 @@ pub struct Terms {
 /// A Phong surface's BSDF seen from `wo`.
 #[derive(Clone, Copy, Debug)]
 pub struct PhongBsdf {
-    /// Shading normal and geometric normal, both on `wo`'s side, and a frame.
+    /// Shading normal and geometric normal, both on `wo`'s side.
     n: Vec3,
     ng: Vec3,
-    t: Vec3,
-    b: Vec3,
     wo: Vec3,
     cos_o: f32,
     diffuse: Vec3,
@@ -109,12 +107,12 @@ impl PhongBsdf {
     /// `terms` seen from `wo` at a point with shading normal `n` and geometric normal
     /// `ng`, both turned to `wo`'s side. A surface that would reflect and transmit more
     /// than it receives is scaled down to conserve energy.
+    #[inline]
     pub fn new(terms: &Terms, wo: Vec3, n: Vec3, ng: Vec3) -> PhongBsdf {
         // A shading normal that faces away from the viewer says nothing useful about
         // reflection: the geometric one stands in.
         let n = if n.dot(wo) > 1e-4 { n } else { ng };
         let cos_o = n.dot(wo).max(1e-4);
-        let (t, b) = n.any_orthonormal_pair();
         let d = -wo;
         let refracted = if terms.transmission.max_element() > 0.0 {
             refract(d, n, terms.eta_i, terms.eta_t)
@@ -188,8 +186,6 @@ impl PhongBsdf {
         PhongBsdf {
             n,
             ng,
-            t,
-            b,
             wo,
             cos_o,
             diffuse,
@@ -250,6 +246,22 @@ impl PhongBsdf {
         (f, if self.p_smooth > 0.0 { pdf } else { 0.0 }, cos_i)
     }
 
+    /// [`PhongBsdf::eval`] and the cosine, without the density: what a model that only
+    /// gathers light from lights needs (the value is [`PhongBsdf::eval_pdf`]'s, bit for
+    /// bit).
+    #[inline]
+    pub fn eval_cos(&self, wi: Vec3) -> (Vec3, f32) {
+        let cos_i = self.n.dot(wi);
+        if cos_i <= 0.0 || wi.dot(self.ng) <= 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let f = match self.highlight {
+            Highlight::None => self.diffuse * FRAC_1_PI,
+            _ => self.diffuse * FRAC_1_PI + self.highlight_value(wi, cos_i),
+        };
+        (f, cos_i)
+    }
+
     /// A direction drawn for `wo`: `pick` chooses the lobe, `u` the direction in it.
     /// `None` where the surface absorbs (black, or a draw below the surface).
     pub fn sample(&self, pick: f32, u: (f32, f32)) -> Option<Sampled> {
@@ -287,10 +299,12 @@ impl PhongBsdf {
         weight.is_finite().then_some(Sampled { wi, weight, pdf })
     }
 
-    /// A direction given in the frame (t, b, n).
+    /// A direction given in a frame about the normal: made when a direction is drawn,
+    /// not for every hit (the whitted model draws none).
     #[inline]
     fn local(&self, v: Vec3) -> Vec3 {
-        self.t * v.x + self.b * v.y + self.n * v.z
+        let (t, b) = self.n.any_orthonormal_pair();
+        t * v.x + b * v.y + self.n * v.z
     }
 
     fn highlight_value(&self, wi: Vec3, cos_i: f32) -> Vec3 {
@@ -301,14 +315,14 @@ impl PhongBsdf {
                 if c <= 0.0 {
                     return Vec3::ZERO;
                 }
-                ks * ((exponent + 2.0) * 0.5 * FRAC_1_PI * c.powf(exponent))
+                ks * ((exponent + 2.0) * 0.5 * FRAC_1_PI * highlight_pow(c, exponent))
             }
             Highlight::Blinn { ks, exponent } => {
                 let c = self.n.dot(normalize(self.wo + wi));
                 if c <= 0.0 {
                     return Vec3::ZERO;
                 }
-                ks * (blinn_normalization(exponent) * c.powf(exponent))
+                ks * (blinn_normalization(exponent) * highlight_pow(c, exponent))
             }
             Highlight::Ggx { f0, alpha } => {
                 let h = (self.wo + wi).normalize_or_zero();
@@ -331,7 +345,7 @@ impl PhongBsdf {
                 if c <= 0.0 {
                     return 0.0;
                 }
-                (exponent + 1.0) * 0.5 * FRAC_1_PI * c.powf(exponent)
+                (exponent + 1.0) * 0.5 * FRAC_1_PI * highlight_pow(c, exponent)
             }
             Highlight::Blinn { exponent, .. } => {
                 let h = normalize(self.wo + wi);
@@ -339,7 +353,7 @@ impl PhongBsdf {
                 if c <= 0.0 || o <= 0.0 {
                     return 0.0;
                 }
-                (exponent + 1.0) * 0.5 * FRAC_1_PI * c.powf(exponent) / (4.0 * o)
+                (exponent + 1.0) * 0.5 * FRAC_1_PI * highlight_pow(c, exponent) / (4.0 * o)
             }
             Highlight::Ggx { alpha, .. } => {
                 let h = (self.wo + wi).normalize_or_zero();
