@@ -264,13 +264,7 @@ fn parse(text: &str, path: &Path, name: Option<&str>) -> crate::Result<Materialx
             tint: base_color.value,
         },
     };
-    let depth = p.transmission_depth.value;
-    let absorption = if depth > 0.0 && p.transmission_color.texture.is_none() {
-        let c = p.transmission_color.value.max(Vec3::splat(1e-6));
-        -Vec3::new(c.x.ln(), c.y.ln(), c.z.ln()) / depth
-    } else {
-        Vec3::ZERO
-    };
+    let absorption = p.absorption();
     if opacity < 0.5 {
         warnings.push(format!(
             "{}: {material_name}.geometry_opacity {opacity}: partial opacity is not rendered; the surface is kept",

@@ -279,6 +279,18 @@ impl OpenPbr {
         textured_fields!(find)
     }
 
+    /// Beer's absorption per unit length inside the volume (`Surface::absorption`):
+    /// `transmission_color` is what remains after `transmission_depth`. Zero without a
+    /// depth or with a textured colour (a volume has one colour).
+    pub fn absorption(&self) -> Vec3 {
+        let depth = self.transmission_depth.value;
+        if !(depth > 0.0 && depth.is_finite()) || self.transmission_color.texture.is_some() {
+            return Vec3::ZERO;
+        }
+        let c = self.transmission_color.value.max(Vec3::splat(1e-6));
+        -Vec3::new(c.x.ln(), c.y.ln(), c.z.ln()) / depth
+    }
+
     /// Whether any parameter reads a texture: a hit on it needs texture coordinates.
     pub fn reads_textures(&self) -> bool {
         macro_rules! any {

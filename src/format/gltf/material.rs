@@ -362,10 +362,9 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
         let d = v.attenuation_distance();
         if !p.geometry_thin_walled && d.is_finite() && d > 0.0 {
             // Beer: attenuationColor is what remains after `d`.
-            let c = linear(v.attenuation_color()).max(Vec3::splat(1e-6));
-            p.transmission_color = Color::constant(c);
+            p.transmission_color = Color::constant(linear(v.attenuation_color()));
             p.transmission_depth = Scalar::constant(d);
-            s.absorption = -Vec3::new(c.x.ln(), c.y.ln(), c.z.ln()) / d;
+            s.absorption = p.absorption();
         }
     }
     extensions::read(m, &mut p, images, &mut sets)?;

@@ -349,13 +349,7 @@ pub fn build(
             r.cache.get(source, file, false, r.images)?,
         )),
     };
-    let depth = p.transmission_depth.value;
-    let absorption = if depth > 0.0 && p.transmission_color.texture.is_none() {
-        let c = p.transmission_color.value.max(Vec3::splat(1e-6));
-        -Vec3::new(c.x.ln(), c.y.ln(), c.z.ln()) / depth
-    } else {
-        Vec3::ZERO
-    };
+    let absorption = p.absorption();
     let surface = Surface {
         albedo,
         ambient: Vec3::ZERO,
