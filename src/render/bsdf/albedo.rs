@@ -248,23 +248,19 @@ pub fn dielectric(mu: f32, r: f32, eta: f32) -> [f32; 2] {
 
 /// The albedo of a perfect GGX reflector of perceptual roughness `r` at cosine `mu`.
 pub fn metal(mu: f32, r: f32) -> f32 {
-    let t = tables();
-    let (i, fi) = place((mu - MIN_MU) / (1.0 - MIN_MU), N_MU);
-    let (j, fj) = place(r, N_R);
-    let at = |i: usize, j: usize| t.metal[i * N_R + j];
-    lerp(
-        lerp(at(i, j), at(i, j + 1), fj),
-        lerp(at(i + 1, j), at(i + 1, j + 1), fj),
-        fi,
-    )
+    bilinear(&tables().metal, mu, r)
 }
 
 /// The albedo of a white fuzz lobe of roughness `r` at cosine `mu`.
 pub fn fuzz(mu: f32, r: f32) -> f32 {
-    let t = tables();
+    bilinear(&tables().fuzz, mu, r)
+}
+
+/// A table by (mu, roughness) read between its points.
+fn bilinear(table: &[f32], mu: f32, r: f32) -> f32 {
     let (i, fi) = place((mu - MIN_MU) / (1.0 - MIN_MU), N_MU);
     let (j, fj) = place(r, N_R);
-    let at = |i: usize, j: usize| t.fuzz[i * N_R + j];
+    let at = |i: usize, j: usize| table[i * N_R + j];
     lerp(
         lerp(at(i, j), at(i, j + 1), fj),
         lerp(at(i + 1, j), at(i + 1, j + 1), fj),
