@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::film::{ExrPrecision, Image, OutputOptions, PngBits};
 use crate::format::{self, SceneDialect, SceneFile};
 use crate::math::Vec3;
-use crate::options::{Aov, Region, RenderOptions};
+use crate::options::{Aov, IntegratorKind, Region, RenderOptions};
 use crate::render::{Observer, RenderSettings, RenderStats, Renderer};
 use crate::scene::framing::{self, DEFAULT_SIZE};
 use crate::scene::{Camera, Scene};
@@ -166,6 +166,16 @@ fn light_with(scene: &mut Scene, env: &EnvironmentMap, up: Vec3) -> Result<()> {
         intensity: env.strength,
     };
     Ok(())
+}
+
+/// Lights a model that brings no light: the default studio around `camera`, which
+/// lights the path model, and for the models that gather light from lights alone the
+/// key and fill where its softboxes are.
+fn light_unlit(scene: &mut Scene, camera: &Camera, up: Vec3, integrator: IntegratorKind) {
+    framing::add_studio(scene, camera, up);
+    if integrator != IntegratorKind::Path {
+        framing::add_default_lights(scene, camera);
+    }
 }
 
 /// A scene ready to render and write: the scene (with default lights added if it needed
@@ -323,8 +333,7 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
     // The path model is lit by an environment it is given; the whitted model, which
     // gathers light from lights only, keeps the default key and fill beside it.
     let integrator = o.integrator.unwrap_or(dialect.default_integrator());
-    let lit_by_environment =
-        options.environment.is_some() && integrator == crate::options::IntegratorKind::Path;
+    let lit_by_environment = options.environment.is_some() && integrator == IntegratorKind::Path;
     let needs_lights =
         |scene: &Scene| scene.lights.is_empty() && !has_emission(scene) && !lit_by_environment;
     let file_camera = match chosen_camera(&cameras, options)? {
@@ -335,9 +344,9 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
         (Some(path), _) => format::load_camera(path)?,
         (None, Some(c)) => {
             // A model with a camera of its own but no lights (glTF) is lit as one
-            // without: the key and fill, from that camera.
+            // without, from that camera.
             if dialect == SceneDialect::Gltf && needs_lights(&scene) {
-                framing::add_default_lighting(&mut scene, &c);
+                light_unlit(&mut scene, &c, default_up, integrator);
             }
             c
         }
@@ -346,7 +355,7 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
             let up = options.look.up.unwrap_or(default_up);
             let c = framing::three_quarter_view(scene.bounds(), up, w, h);
             if needs_lights(&scene) {
-                framing::add_default_lighting(&mut scene, &c);
+                light_unlit(&mut scene, &c, up, integrator);
             }
             c
         }
@@ -589,6 +598,29 @@ mod tests {
         assert!(e.to_string().contains("none.hdr"), "{e}");
         let e = resolve(ball_file(SceneDialect::WavefrontObj), &path(0.0, -1.0)).unwrap_err();
         assert!(e.to_string().contains("strength"), "{e}");
+    }
+
+    #[test]
+    fn an_unlit_model_is_shown_in_the_studio_which_alone_lights_the_path_model() {
+        let studio = |integrator| {
+            let o = JobOptions {
+                render: RenderOptions {
+                    integrator: Some(integrator),
+                    ..RenderOptions::default()
+                },
+                ..JobOptions::default()
+            };
+            resolve(ball_file(SceneDialect::WavefrontObj), &o).unwrap()
+        };
+        let path = studio(IntegratorKind::Path);
+        assert!(path.scene.lights.is_empty(), "{:?}", path.scene.lights);
+        let crate::scene::Background::Environment { image, .. } = path.scene.background else {
+            panic!("{:?}", path.scene.background);
+        };
+        assert_eq!(path.scene.images[image as usize].name, "the default studio");
+        let whitted = studio(IntegratorKind::Whitted);
+        assert_eq!(whitted.scene.lights.len(), 2, "the key and the fill");
+        assert_eq!(whitted.scene.background, path.scene.background);
     }
 
     #[test]

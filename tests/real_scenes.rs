@@ -392,7 +392,10 @@ fn a_materialx_material_dresses_a_model_and_a_2014_file_is_refused() {
     let o = render(&red);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let img = image::open(&out).unwrap().to_rgb8();
-    let lit = img.pixels().filter(|p| p.0[0] > 2 * p.0[1] + 10).count();
+    let lit = img
+        .pixels()
+        .filter(|p| u32::from(p.0[0]) > 2 * u32::from(p.0[1]) + 10)
+        .count();
     assert!(lit > 10, "red pixels: {lit}");
     let old = write(
         dir.path(),

@@ -3,8 +3,9 @@
 //! paths resolved against the library's folder. No image is loaded here.
 //!
 //! Keys are case-sensitive as in the Wavefront manual, except that `map_bump`,
-//! `map_Bump` and `bump` all name the bump map. Keys Prism does not use (PBR extensions,
-//! `disp`, `map_Ns`, ...) are counted and reported, never fatal; a malformed number is
+//! `map_Bump` and `bump` all name the bump map. The PBR extension's keys (`Pr`, `Pm`,
+//! `Ps`, `Pc`, `Pcr`, `aniso`, `anisor`, and the maps of the first five) are read; keys Prism does not use
+//! (`map_aniso`, `disp`, `map_Ns`, ...) are counted and reported, never fatal; a malformed number is
 //! an error at its line and column. `docs/formats.md` ("OBJ/MTL") lists every decision.
 
 use std::collections::BTreeMap;
@@ -57,10 +58,49 @@ pub struct MtlMaterial {
     pub norm: Option<TextureMap>,
     /// `refl`: a reflection map; for a cube map, its first face.
     pub refl: Option<TextureMap>,
+    /// The PBR extension's scalars and their maps.
+    pub pbr: MtlPbr,
     /// The library that defines it, and the line of its `newmtl`, for messages.
     pub path: PathBuf,
     /// 1-based line of the `newmtl` in `path`.
     pub line: usize,
+}
+
+/// The PBR extension of MTL (Exocortex's, as tinyobjloader, Blender and three.js read
+/// it): scalars in 0..1, each optionally multiplied by a map's first channel.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MtlPbr {
+    /// `Pr`, the roughness.
+    pub roughness: Option<f32>,
+    /// `Pm`, the metalness.
+    pub metallic: Option<f32>,
+    /// `Ps`, the sheen.
+    pub sheen: Option<f32>,
+    /// `Pc`, the clear coat's thickness (its weight).
+    pub clearcoat: Option<f32>,
+    /// `Pcr`, the clear coat's roughness.
+    pub clearcoat_roughness: Option<f32>,
+    /// `aniso`, the anisotropy of the roughness.
+    pub anisotropy: Option<f32>,
+    /// `anisor`, the anisotropy's direction: a rotation of the tangent in turns.
+    pub anisotropy_rotation: Option<f32>,
+    /// `map_Pr`.
+    pub map_roughness: Option<TextureMap>,
+    /// `map_Pm`.
+    pub map_metallic: Option<TextureMap>,
+    /// `map_Ps`.
+    pub map_sheen: Option<TextureMap>,
+    /// `map_Pc`.
+    pub map_clearcoat: Option<TextureMap>,
+    /// `map_Pcr`.
+    pub map_clearcoat_roughness: Option<TextureMap>,
+}
+
+impl MtlPbr {
+    /// Whether the material says anything in the PBR extension.
+    pub fn is_given(&self) -> bool {
+        *self != MtlPbr::default()
+    }
 }
 
 /// A texture statement: the file and the options Prism applies; the others are kept
@@ -156,18 +196,6 @@ const SKIPPED_KEYS: &[&str] = &[
     "map_Tr",
     "map_aat",
     "sharpness",
-    "Pr",
-    "Pm",
-    "Ps",
-    "Pc",
-    "Pcr",
-    "aniso",
-    "anisor",
-    "map_Pr",
-    "map_Pm",
-    "map_Ps",
-    "map_Pc",
-    "map_Pcr",
     "map_aniso",
     "map_anisor",
     "Km",
@@ -311,6 +339,34 @@ impl Parser<'_> {
                 current.tr = Some((tr, line.number));
             }
             b"illum" => m.illum = Some(self.illumination(line, keyword, tokens)?),
+            b"Pr" => m.pbr.roughness = Some(self.scalar(line, keyword, tokens, "the roughness")?),
+            b"Pm" => m.pbr.metallic = Some(self.scalar(line, keyword, tokens, "the metalness")?),
+            b"Ps" => m.pbr.sheen = Some(self.scalar(line, keyword, tokens, "the sheen")?),
+            b"Pc" => {
+                m.pbr.clearcoat = Some(self.scalar(line, keyword, tokens, "the clear coat")?)
+            }
+            b"Pcr" => {
+                let what = "the clear coat's roughness";
+                m.pbr.clearcoat_roughness = Some(self.scalar(line, keyword, tokens, what)?)
+            }
+            b"aniso" => {
+                m.pbr.anisotropy = Some(self.scalar(line, keyword, tokens, "the anisotropy")?)
+            }
+            b"anisor" => {
+                let what = "the anisotropy's rotation";
+                m.pbr.anisotropy_rotation = Some(self.scalar(line, keyword, tokens, what)?)
+            }
+            b"map_Pr" | b"map_Pm" | b"map_Ps" | b"map_Pc" | b"map_Pcr" => {
+                let map = self.texture(line, keyword, tokens)?;
+                let slot = match keyword.bytes {
+                    b"map_Pr" => &mut m.pbr.map_roughness,
+                    b"map_Pm" => &mut m.pbr.map_metallic,
+                    b"map_Ps" => &mut m.pbr.map_sheen,
+                    b"map_Pc" => &mut m.pbr.map_clearcoat,
+                    _ => &mut m.pbr.map_clearcoat_roughness,
+                };
+                *slot = map.or(slot.take());
+            }
             b"map_Kd" => m.map_kd = self.texture(line, keyword, tokens)?.or(m.map_kd.take()),
             b"map_Ks" => m.map_ks = self.texture(line, keyword, tokens)?.or(m.map_ks.take()),
             b"map_Ka" => m.map_ka = self.texture(line, keyword, tokens)?.or(m.map_ka.take()),

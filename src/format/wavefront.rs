@@ -8,9 +8,10 @@ use super::obj::{ObjFile, load_obj};
 use super::{SceneDialect, SceneFile, SourceCounts};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
+use crate::scene::openpbr::{Channel, Color, Scalar};
 use crate::scene::{
-    Albedo, Group, ImageTexture, Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface,
-    TextureSlot,
+    Albedo, Group, ImageTexture, Material, MeshAttributes, MeshMaterials, OpenPbr, SceneBuilder,
+    Surface, TextureSlot,
 };
 use crate::util::text::{shown, shown_path};
 use rayon::prelude::*;
@@ -321,7 +322,12 @@ fn convert_material(
         }
     }
 
+    if m.pbr.is_given() {
+        s = pbr_surface(m, s, images, warnings)?;
+    }
+
     // The classic reading: display colour, the 2014 factors.
+    let seen = s.resolved();
     let material = Material {
         name: m.name.clone(),
         color: linear_to_display(kd),
@@ -330,12 +336,84 @@ fn convert_material(
         specular: ks.max_element().clamp(0.0, 1.0),
         shininess: ns.max(1.0),
         ior,
-        reflect: s.reflection.max_element().clamp(0.0, 1.0),
-        refract: s.transmission.max_element().clamp(0.0, 1.0),
-        transparent: s.is_transmissive(),
+        reflect: seen.reflection.max_element().clamp(0.0, 1.0),
+        refract: seen.transmission.max_element().clamp(0.0, 1.0),
+        transparent: seen.is_transmissive(),
         texture: None,
     };
     Ok((material, s))
+}
+
+/// A material of MTL's PBR extension on OpenPBR, from the Phong reading `phong` of its
+/// other keys (its colour, emission, maps): `Kd` the base colour, `Pm` the metalness,
+/// `Pr` the roughness (without it, Blender's reading of `Ns`), `Ps` the fuzz, `Pc` and
+/// `Pcr` the coat, `aniso` and `anisor` the anisotropy, `Ni` the index (1.5 where it
+/// is absent or 1, which exporters write for opaque materials), and illumination
+/// models 4, 6, 7 and 9 glass of colour `Tf`. A map multiplies its key's value (1
+/// when the key is absent) by its first channel. `Ks` is not read: the extension
+/// keeps it for Phong readers.
+fn pbr_surface(
+    m: &MtlMaterial,
+    phong: Surface,
+    images: &mut ImageCache,
+    warnings: &mut Vec<String>,
+) -> Result<Surface> {
+    let pbr = &m.pbr;
+    let ns = m.ns.unwrap_or(10.0).clamp(0.0, 1000.0);
+    let unit = |v: Option<f32>, or: f32| Scalar::constant(v.unwrap_or(or).clamp(0.0, 1.0));
+    let mut p = OpenPbr {
+        base_metalness: unit(pbr.metallic, 0.0),
+        specular_roughness: unit(pbr.roughness, 1.0 - (ns / 1000.0).sqrt()),
+        specular_roughness_anisotropy: unit(pbr.anisotropy, 0.0),
+        specular_ior: Scalar::constant(m.ni.filter(|&n| n > 1.0).unwrap_or(1.5)),
+        fuzz_weight: unit(pbr.sheen, 0.0),
+        coat_weight: unit(pbr.clearcoat, 0.0),
+        coat_roughness: unit(pbr.clearcoat_roughness, 0.0),
+        tangent_rotation: pbr.anisotropy_rotation.unwrap_or(0.0).rem_euclid(1.0),
+        ..OpenPbr::default()
+    };
+    for (map, given, scalar) in [
+        (&pbr.map_roughness, pbr.roughness, &mut p.specular_roughness),
+        (&pbr.map_metallic, pbr.metallic, &mut p.base_metalness),
+        (&pbr.map_sheen, pbr.sheen, &mut p.fuzz_weight),
+        (&pbr.map_clearcoat, pbr.clearcoat, &mut p.coat_weight),
+        (
+            &pbr.map_clearcoat_roughness,
+            pbr.clearcoat_roughness,
+            &mut p.coat_roughness,
+        ),
+    ] {
+        if let Some(map) = map
+            && let Some(slot) = images.slot(map, Encoding::Linear, m, warnings)?
+        {
+            scalar.value = given.map_or(1.0, |v| v.clamp(0.0, 1.0));
+            scalar.texture = Some((slot, Channel::R));
+        }
+    }
+    if matches!(m.illum, Some(4 | 6 | 7 | 9)) {
+        p.transmission_weight = Scalar::constant(1.0);
+        p.transmission_color =
+            Color::constant(m.tf.unwrap_or(Vec3::ONE).clamp(Vec3::ZERO, Vec3::ONE));
+    } else if m.d.is_some_and(|d| d < 1.0) {
+        warnings.push(format!(
+            "{}:{}: d {} of PBR material {} is read as opaque: partial opacity is not rendered",
+            m.path.display(),
+            m.line,
+            m.d.unwrap_or(1.0),
+            shown(&m.name)
+        ));
+    }
+    Ok(Surface {
+        albedo: phong.albedo,
+        emission: phong.emission,
+        emission_map: phong.emission_map,
+        alpha_map: phong.alpha_map,
+        normal_map: phong.normal_map,
+        lit: phong.lit,
+        ior: p.specular_ior.value,
+        openpbr: Some(Box::new(p)),
+        ..Surface::default()
+    })
 }
 
 /// A Fresnel surface's reflection tint: white when the file gives none (a glass with

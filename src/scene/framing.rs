@@ -1,5 +1,5 @@
 //! A view for a model that brings no camera or lights: a three-quarter view framing
-//! its bounds, a key and a fill light, a neutral background. What `prism render
+//! its bounds, a key and a fill light, the neutral studio around it. What `prism render
 //! model.obj out.png` shows.
 
 use super::{Background, Camera, Light, LightKind, Scene};
@@ -49,12 +49,13 @@ fn horizontal_axes(up: Vec3) -> (Vec3, Vec3) {
     (front, right)
 }
 
-/// Adds what an unlit model needs to be seen from `camera`: a key light from the
-/// camera's upper left, a fill from its right at a third of the strength, and a
-/// neutral grey background where there is none. Directional lights: the scale of the
-/// model does not matter. Their irradiance is pi times the key's 0.9 and the fill's
-/// 0.3, so a white Lambert surface facing the key shows 0.9.
-pub fn add_default_lighting(scene: &mut Scene, camera: &Camera) {
+/// Adds the lights an unlit model needs to be seen from `camera` by a model that
+/// gathers light from lights alone (whitted, classic): a key light from the camera's
+/// upper left, a fill from its right at a third of the strength, where the studio's
+/// softboxes are. Directional lights: the scale of the model does not matter. Their
+/// irradiance is pi times the key's 0.9 and the fill's 0.3, so a white Lambert surface
+/// facing the key shows 0.9.
+pub fn add_default_lights(scene: &mut Scene, camera: &Camera) {
     let f = camera.frame();
     let up = -f.down;
     let key = normalize(-f.right + 1.2 * up - 0.6 * f.forward);
@@ -69,9 +70,26 @@ pub fn add_default_lighting(scene: &mut Scene, camera: &Camera) {
         });
     }
     scene.ambient = scene.ambient.max(Vec3::splat(0.03));
-    if scene.background == Background::Black {
-        scene.background = Background::Color(Vec3::splat(0.18));
+}
+
+/// Surrounds an unlit model with the default studio ([`super::studio`]), turned so
+/// its key softbox is above `camera`'s left shoulder with `up` the vertical, where
+/// the scene has no background of its own. It is what the path model is lit by, and
+/// what mirrors and glass show in every model.
+pub fn add_studio(scene: &mut Scene, camera: &Camera, up: Vec3) {
+    if scene.background != Background::Black {
+        return;
     }
+    let up = up.normalize_or(Vec3::Y);
+    let forward = camera.frame().forward;
+    let forward = (forward - up * up.dot(forward)).normalize_or(-horizontal_axes(up).0);
+    scene.images.push(super::studio::studio_image());
+    scene.background = Background::Environment {
+        image: (scene.images.len() - 1) as u32,
+        up,
+        forward,
+        intensity: 1.0,
+    };
 }
 
 #[cfg(test)]
@@ -122,10 +140,11 @@ mod tests {
     }
 
     #[test]
-    fn default_lighting_adds_a_key_and_a_fill_and_a_grey_background() {
+    fn default_lighting_adds_a_key_and_a_fill_and_the_studio_about_the_camera() {
         let mut s = Scene::default();
         let c = three_quarter_view(Aabb::EMPTY, Vec3::Y, 16, 9);
-        add_default_lighting(&mut s, &c);
+        add_default_lights(&mut s, &c);
+        add_studio(&mut s, &c, Vec3::Y);
         assert_eq!(s.lights.len(), 2);
         assert!(s.lights[0].intensity > s.lights[1].intensity);
         // The key light comes from above.
@@ -133,6 +152,28 @@ mod tests {
             panic!("{:?}", s.lights[0]);
         };
         assert!(direction.y < 0.0);
-        assert_eq!(s.background, Background::Color(Vec3::splat(0.18)));
+        // The studio's centre looks along the camera's view made level, so its key
+        // softbox sits where the key light comes from.
+        let Background::Environment { up, forward, .. } = s.background else {
+            panic!("{:?}", s.background);
+        };
+        assert_eq!(up, Vec3::Y);
+        assert!(forward.y.abs() < 1e-6);
+        let level = normalize(Vec3::new(c.frame().forward.x, 0.0, c.frame().forward.z));
+        assert!((forward - level).length() < 1e-5, "{forward}");
+        let image = &s.images[0];
+        let key = image.sample_direction(-direction, up, forward);
+        assert!(
+            key.x > 4.0,
+            "the key softbox is where the key light is: {key}"
+        );
+        // A scene's own background stays.
+        let mut t = Scene {
+            background: Background::Color(Vec3::ONE),
+            ..Scene::default()
+        };
+        add_studio(&mut t, &c, Vec3::Y);
+        assert_eq!(t.background, Background::Color(Vec3::ONE));
+        assert!(t.images.is_empty());
     }
 }

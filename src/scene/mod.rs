@@ -11,6 +11,7 @@ pub mod openpbr;
 mod shading;
 pub mod shape;
 pub mod shapes;
+pub mod studio;
 mod surface_point;
 pub mod texture;
 

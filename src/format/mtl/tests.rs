@@ -120,7 +120,7 @@ fn texture_options_are_applied_or_kept_and_names_keep_their_spaces() {
 #[test]
 fn unused_keys_are_counted_with_one_warning_per_kind() {
     let lib = parse_str(
-        "Kd 1 1 1\nnewmtl pbr\nPr 0.2\nPm 0.3\nPr 0.4\nmap_Pr r.tex\ndisp d.png\n\
+        "Kd 1 1 1\nnewmtl pbr\nmap_anisor 0.2\nsharpness 0.3\nmap_anisor 0.4\nmap_aniso r.tex\ndisp d.png\n\
          Kd spectral a.rfl 1\nfoo bar\nbaz\n",
     )
     .unwrap();
@@ -128,10 +128,10 @@ fn unused_keys_are_counted_with_one_warning_per_kind() {
     assert_eq!(
         skipped,
         [
-            ("Pm", 1),
-            ("Pr", 2),
             ("disp", 1),
-            ("map_Pr", 1),
+            ("map_aniso", 1),
+            ("map_anisor", 2),
+            ("sharpness", 1),
             ("unknown", 2)
         ]
     );
@@ -143,14 +143,48 @@ fn unused_keys_are_counted_with_one_warning_per_kind() {
              follows until the first newmtl",
             "lib/m.mtl:8: Kd `spectral` is not supported: the colour is left unset",
             "lib/m.mtl:9: unknown material statement `foo` skipped",
-            "lib/m.mtl:4: 1 `Pm` statements skipped: Prism does not use them",
-            "lib/m.mtl:3: 2 `Pr` statements skipped: Prism does not use them",
             "lib/m.mtl:7: 1 `disp` statements skipped: Prism does not use them",
-            "lib/m.mtl:6: 1 `map_Pr` statements skipped: Prism does not use them",
+            "lib/m.mtl:6: 1 `map_aniso` statements skipped: Prism does not use them",
+            "lib/m.mtl:3: 2 `map_anisor` statements skipped: Prism does not use them",
+            "lib/m.mtl:4: 1 `sharpness` statements skipped: Prism does not use them",
             "lib/m.mtl:9: 2 unknown material statements skipped",
         ]
     );
     assert_eq!(lib.materials[0].kd, None);
+}
+
+#[test]
+fn the_pbr_extension_is_read_with_its_maps() {
+    // tinyobjloader's pbr-mat-ext.mtl, as its test reads it.
+    let lib = parse_str(
+        "newmtl pbr\nKd 1 1 1\nKe 0.1 0.1 0.1\nPr 0.2\nPm 0.3\nPs 0.4\nPc 0.5\nPcr 0.6\n\
+         aniso 0.7\nanisor 0.8\nmap_Pr roughness.tex\nmap_Pm -s 2 2 metallic.tex\n\
+         map_Ps sheen.tex\nmap_Pc coat.tex\nmap_Pcr coat roughness.tex\n",
+    )
+    .unwrap();
+    let p = &lib.materials[0].pbr;
+    assert!(p.is_given());
+    assert_eq!(
+        (p.roughness, p.metallic, p.sheen, p.clearcoat),
+        (Some(0.2), Some(0.3), Some(0.4), Some(0.5))
+    );
+    assert_eq!(
+        (p.clearcoat_roughness, p.anisotropy),
+        (Some(0.6), Some(0.7))
+    );
+    let name = |m: &Option<TextureMap>| m.as_ref().unwrap().name.clone();
+    assert_eq!(name(&p.map_roughness), "roughness.tex");
+    assert_eq!(name(&p.map_metallic), "metallic.tex");
+    assert_eq!(p.map_metallic.as_ref().unwrap().scale, [2.0, 2.0, 1.0]);
+    assert_eq!(name(&p.map_sheen), "sheen.tex");
+    assert_eq!(name(&p.map_clearcoat), "coat.tex");
+    assert_eq!(name(&p.map_clearcoat_roughness), "coat roughness.tex");
+    assert_eq!(p.anisotropy_rotation, Some(0.8));
+    assert!(lib.skipped.is_empty(), "{:?}", lib.skipped);
+    assert!(!MtlPbr::default().is_given());
+    // A malformed value is an error at its column, as for any key.
+    let e = parse_str("newmtl a\nPm x\n").unwrap_err().to_string();
+    assert!(e.contains(":2:4") && e.contains("the metalness"), "{e}");
 }
 
 #[test]

@@ -346,7 +346,7 @@ fn materials_resolve_by_name_across_libraries() {
             ("a.mtl", "newmtl red\nKd 1 0 0\nnewmtl early\n"),
             (
                 "b c.mtl",
-                "newmtl my blue\nKd 0 0 1\nnewmtl red\nKd 0 1 0\nPr 0.5\n",
+                "newmtl my blue\nKd 0 0 1\nnewmtl red\nKd 0 1 0\nmap_aniso a.png\n",
             ),
         ],
     )
@@ -359,13 +359,13 @@ fn materials_resolve_by_name_across_libraries() {
     assert_eq!(
         messages(&o),
         [
-            "dir/b c.mtl:5: 1 `Pr` statements skipped: Prism does not use them",
+            "dir/b c.mtl:5: 1 `map_aniso` statements skipped: Prism does not use them",
             "dir/b c.mtl:3: material `red` is defined again: the first definition (dir/a.mtl:1) is kept",
             "dir/m.obj:2: material library skipped, its materials are unknown: dir/missing.mtl: cannot read: not found",
             "dir/m.obj:12: usemtl names material `nowhere`, which no material library defines: its faces get the default material",
         ]
     );
-    assert_eq!(o.skipped.get("mtl:Pr"), Some(&1));
+    assert_eq!(o.skipped.get("mtl:map_aniso"), Some(&1));
     // Without libraries every name is unknown, and the faces still load.
     let bare = obj(text);
     assert!(bare.triangles.iter().all(|t| t.material.is_none()));

@@ -178,3 +178,83 @@ fn the_cornell_box_has_its_ceiling_light_as_an_area_light() {
     // The light is 0.47 x 0.38 in the file.
     assert!((area - 0.47 * 0.38).abs() < 1e-3, "{area}");
 }
+
+#[test]
+fn the_pbr_extension_reads_onto_openpbr() {
+    let mtl = "newmtl brushed\nKd 0.9 0.8 0.7\nKs 0.5 0.5 0.5\nPm 1\nPr 0.3\naniso 0.6\nanisor 1.25\n\
+               newmtl car\nKd 0.5 0 0\nPr 0.5\nPc 1\nPcr 0.1\nPs 0.25\nNi 1\n\
+               newmtl shiny\nKd 1 1 1\nNs 250\nPm 0\nNi 1.33\n\
+               newmtl glass\nKd 1 1 1\nPr 0.2\nNi 1.5\nTf 1 0.9 0.8\nillum 7\n\
+               newmtl mapped\nKd 1 1 1\nmap_Pr rough.png\nPm 0.5\nmap_Pm -s 2 2 rough.png\n";
+    let mut png = Vec::new();
+    image::RgbaImage::from_pixel(1, 1, image::Rgba([64, 0, 0, 255]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    let mut obj = String::from("mtllib s.mtl\n");
+    obj += QUAD;
+    for name in ["brushed", "car", "shiny", "glass", "mapped"] {
+        obj += &format!("usemtl {name}\nf 1 2 3\n");
+    }
+    let (_dir, file) = load_files(&[
+        ("scene.obj", obj.as_bytes()),
+        ("s.mtl", mtl.as_bytes()),
+        ("rough.png", &png),
+    ]);
+    assert!(file.warnings.is_empty(), "{:?}", file.warnings);
+    let s = &file.scene;
+    let pbr = |i: usize| {
+        s.surfaces[i]
+            .openpbr
+            .as_deref()
+            .expect("an OpenPBR material")
+    };
+    let brushed = pbr(0);
+    assert_eq!(
+        s.surfaces[0].albedo,
+        Albedo::Color(Vec3::new(0.9, 0.8, 0.7))
+    );
+    assert_eq!(brushed.base_metalness.value, 1.0);
+    assert_eq!(brushed.specular_roughness.value, 0.3);
+    assert_eq!(brushed.specular_roughness_anisotropy.value, 0.6);
+    assert_eq!(brushed.tangent_rotation, 0.25);
+    // Ks is the Phong readers' and leaves OpenPBR's specular as it is.
+    assert_eq!(brushed.specular_weight.value, 1.0);
+    assert_eq!(s.surfaces[0].specular, Vec3::ZERO);
+    let car = pbr(1);
+    assert_eq!(
+        (car.coat_weight.value, car.coat_roughness.value),
+        (1.0, 0.1)
+    );
+    assert_eq!(car.fuzz_weight.value, 0.25);
+    assert_eq!(
+        car.specular_ior.value, 1.5,
+        "Ni 1 is an exporter's placeholder"
+    );
+    // Without Pr, Ns as Blender reads it: 1 - sqrt(Ns / 1000).
+    let shiny = pbr(2);
+    assert_eq!(shiny.specular_roughness.value, 0.5);
+    assert_eq!(shiny.specular_ior.value, 1.33);
+    assert_eq!(s.surfaces[2].ior, 1.33);
+    let glass = pbr(3);
+    assert_eq!(glass.transmission_weight.value, 1.0);
+    assert_eq!(glass.transmission_color.value, Vec3::new(1.0, 0.9, 0.8));
+    assert!(s.surfaces[3].resolved().is_transmissive());
+    assert!(
+        s.materials[3].transparent,
+        "the classic reading refracts too"
+    );
+    // A map multiplies its key's value, 1 where there is none, by its red channel.
+    let mapped = pbr(4);
+    let (slot, channel) = mapped.specular_roughness.texture.expect("map_Pr");
+    assert_eq!(
+        (mapped.specular_roughness.value, channel),
+        (1.0, Channel::R)
+    );
+    let texel = s.images[slot.image as usize].texel(0, 0);
+    assert!(
+        (texel.x - 64.0 / 255.0).abs() < 1e-6,
+        "read linear: {texel}"
+    );
+    let (slot, _) = mapped.base_metalness.texture.expect("map_Pm");
+    assert_eq!((mapped.base_metalness.value, slot.scale), (0.5, [2.0, 2.0]));
+}

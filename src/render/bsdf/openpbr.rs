@@ -300,7 +300,9 @@ impl OpenPbrBsdf {
         };
         let mut weights = [0.0; LOBES];
         let r_spec = p.specular_roughness;
-        if !outside && !p.thin_walled {
+        // The back of a surface that lets no light through is shaded as its front:
+        // it is an open mesh or a plane seen from behind, not the inside of a solid.
+        if !outside && !p.thin_walled && p.transmission_weight > 0.0 {
             // Inside a transmissive solid only its boundary is met: light reflects or
             // leaves, untinted (the volume coloured it on the way).
             b.eta = 1.0 / weighted_ior(p.specular_ior, p.specular_weight);

@@ -61,6 +61,14 @@ fn white_furnace_rough_metal_clear_glass_and_white_plastic_keep_all_light() {
             }),
         ),
         (
+            "rough diamond",
+            params(|m| {
+                m.transmission_weight.value = 1.0;
+                m.specular_roughness.value = 0.8;
+                m.specular_ior.value = 2.42;
+            }),
+        ),
+        (
             "smooth clear glass",
             params(|m| {
                 m.transmission_weight.value = 1.0;
@@ -128,6 +136,27 @@ fn white_furnace_rough_metal_clear_glass_and_white_plastic_keep_all_light() {
     let glass = &cases[1].1;
     let e = albedo(glass, view(30.0), false, 200_000);
     assert!((e - Vec3::ONE).abs().max_element() < 0.03, "inside: {e}");
+}
+
+#[test]
+fn an_opaque_surface_seen_from_behind_is_shaded_as_from_the_front() {
+    // An open mesh or a plane: its back is not the inside of a solid.
+    for p in [
+        Params::of(&OpenPbr::default(), Vec3::new(0.8, 0.1, 0.1)),
+        params(|m| {
+            m.base_metalness.value = 1.0;
+            m.specular_roughness.value = 0.5;
+        }),
+    ] {
+        let (front, back) = (
+            OpenPbrBsdf::new(&p, view(30.0), true),
+            OpenPbrBsdf::new(&p, view(30.0), false),
+        );
+        for wi in [view(-20.0), view(60.0), Vec3::new(0.3, 0.4, -0.866)] {
+            assert_eq!(front.eval_pdf(wi), back.eval_pdf(wi), "{wi}");
+        }
+        assert_eq!(back.deltas().1, Vec3::ZERO, "nothing crosses");
+    }
 }
 
 /// `∫ f |cos| dwi` over the sphere by uniform directions equals the sampled albedo of
