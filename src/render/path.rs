@@ -190,23 +190,25 @@ impl<'a> Path<'a> {
                 break;
             };
             let s = self.surface(hit.shape);
-            let mut sp = match cut_point {
+            let sp = match cut_point {
                 Some(sp) => sp,
                 None => self
                     .scene
                     .surface_point(hit.shape, &ray, hit.t, s.reads_texture_coords()),
             };
-            if let Some(slot) = &s.normal_map {
-                sp.n = self
+            // The normal map bends the base's normal; `sp.n` stays unbent for a coat.
+            let mapped = match &s.normal_map {
+                Some(slot) => self
                     .scene
-                    .normal_mapped(&sp, hit.shape, slot, s.normal_scale);
-            }
+                    .normal_mapped(&sp, hit.shape, slot, s.normal_scale),
+                None => sp.n,
+            };
             let sp = &sp;
             let entering = ray.dir.dot(sp.ng) < 0.0;
             let (ng, n) = if entering {
-                (sp.ng, sp.n)
+                (sp.ng, mapped)
             } else {
-                (-sp.ng, -sp.n)
+                (-sp.ng, -mapped)
             };
             if !entering && s.absorption != Vec3::ZERO {
                 beta *= (-s.absorption * hit.t).exp();

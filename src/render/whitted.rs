@@ -162,18 +162,19 @@ impl<'a> Whitted<'a> {
         };
         let s = self.surface(hit.shape);
         let d = ray.dir;
-        let mut sp = sp;
-        if let Some(slot) = &s.normal_map {
-            sp.n = self
+        // The normal map bends the base's normal; `sp.n` stays unbent for a coat.
+        let mapped = match &s.normal_map {
+            Some(slot) => self
                 .scene
-                .normal_mapped(&sp, hit.shape, slot, s.normal_scale);
-        }
+                .normal_mapped(&sp, hit.shape, slot, s.normal_scale),
+            None => sp.n,
+        };
         // Inside/outside from the geometric normal; shading normals turned to the ray.
         let entering = d.dot(sp.ng) < 0.0;
         let (ng, n) = if entering {
-            (sp.ng, sp.n)
+            (sp.ng, mapped)
         } else {
-            (-sp.ng, -sp.n)
+            (-sp.ng, -mapped)
         };
         // Beer: the ray crossed this surface's medium to get here from inside.
         let absorbed = if entering || s.absorption == Vec3::ZERO {
@@ -245,6 +246,12 @@ impl<'a> Whitted<'a> {
                 let dir = reflect(d, bsdf.normal());
                 let child = Ray::new(offset_origin(sp.p, ng, dir), dir);
                 l += kr * self.radiance(&child, depth + 1, weight * kr, sampler, count);
+            }
+            if let Some((kc, dir)) = framed.coat_reflection()
+                && (weight * kc).max_element() >= self.min_weight
+            {
+                let child = Ray::new(offset_origin(sp.p, ng, dir), dir);
+                l += kc * self.radiance(&child, depth + 1, weight * kc, sampler, count);
             }
             if let Some(dir) = framed.refracted()
                 && (weight * kt).max_element() >= self.min_weight

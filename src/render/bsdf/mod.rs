@@ -54,6 +54,15 @@ impl Framed {
         self.local.glossy()
     }
 
+    /// Where the coat has a normal of its own, what it reflects (its mirror's weight
+    /// plus its rough lobe faded by roughness) and the world direction it reflects
+    /// along, for a model that traces both.
+    pub fn coat_reflection(&self) -> Option<(Vec3, Vec3)> {
+        self.local
+            .coat_reflection()
+            .map(|(k, wi)| (k, self.to_world(wi)))
+    }
+
     /// The refraction delta's direction in world space.
     pub fn refracted(&self) -> Option<Vec3> {
         self.local.refracted().map(|w| self.to_world(w))
@@ -71,6 +80,8 @@ impl Framed {
 }
 
 /// A surface's BSDF seen from `wo`.
+// Made on the stack at every hit: boxing the larger variant would allocate per ray.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug)]
 pub enum Bsdf {
     /// Phong terms.
@@ -99,12 +110,31 @@ impl Bsdf {
         match &s.openpbr {
             Some(m) => {
                 let params = Params::at(scene, m, albedo, sp);
-                let tangent = if params.specular_roughness_anisotropy > 0.0 {
+                let tangent = if params.specular_roughness_anisotropy > 0.0
+                    || params.coat_roughness_anisotropy > 0.0
+                {
                     scene.dpdu(shape)
                 } else {
                     None
                 };
-                Bsdf::openpbr(&params, wo, n, ng, tangent, m.tangent_rotation, entering)
+                // The coat's normal: its own map on the unperturbed normal, or that
+                // normal itself (a base's normal map bumps what lies under the coat).
+                let coat_normal = (params.coat_weight > 0.0).then(|| {
+                    let c = match &m.geometry_coat_normal {
+                        Some((slot, scale)) => scene.normal_mapped(sp, shape, slot, *scale),
+                        None => sp.n,
+                    };
+                    if entering { c } else { -c }
+                });
+                Bsdf::openpbr(
+                    &params,
+                    wo,
+                    [n, ng],
+                    tangent,
+                    m.tangent_rotation,
+                    entering,
+                    coat_normal,
+                )
             }
             None => Bsdf::Phong(PhongBsdf::new(
                 &phong_terms(scene, s, sp, albedo, entering),
@@ -117,15 +147,16 @@ impl Bsdf {
 
     /// OpenPBR parameters `p` seen from `wo` at a point of shading normal `n` and
     /// geometric normal `ng` (both on `wo`'s side); the anisotropy's tangent follows
-    /// `tangent` (where given) turned by `rotation` turns.
+    /// `tangent` (where given) turned by `rotation` turns; the coat lies along
+    /// `coat_normal` (on `wo`'s side) where it is given and differs from `n`.
     pub fn openpbr(
         p: &Params,
         wo: Vec3,
-        n: Vec3,
-        ng: Vec3,
+        [n, ng]: [Vec3; 2],
         tangent: Option<Vec3>,
         rotation: f32,
         outside: bool,
+        coat_normal: Option<Vec3>,
     ) -> Bsdf {
         // A shading normal that faces away from the viewer says nothing useful about
         // reflection: the geometric one stands in.
@@ -146,12 +177,23 @@ impl Bsdf {
             (t, b) = (t * c + b * s, b * c - t * s);
         }
         let local = crate::math::normalize(Vec3::new(wo.dot(t), wo.dot(b), wo.dot(n).max(1e-4)));
+        // A coat normal facing away from the viewer, or the base's own, leaves the
+        // coat in the base's frame.
+        let coat_frame = coat_normal
+            .filter(|c| c.dot(wo) > 1e-4 && (*c - n).length_squared() > 1e-10)
+            .map(|c| {
+                openpbr::CoatFrame::about(crate::math::normalize(Vec3::new(
+                    c.dot(t),
+                    c.dot(b),
+                    c.dot(n),
+                )))
+            });
         Bsdf::OpenPbr(Framed {
             t,
             b,
             n,
             ng,
-            local: OpenPbrBsdf::new(p, local, outside),
+            local: OpenPbrBsdf::with_coat_frame(p, local, outside, coat_frame),
         })
     }
 

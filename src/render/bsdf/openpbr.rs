@@ -209,6 +209,43 @@ fn mean(c: Vec3) -> f32 {
     (c.x + c.y + c.z) / 3.0
 }
 
+/// The coat's shading frame in the base's local frame: its tangent, bitangent and
+/// normal, orthonormal.
+#[derive(Clone, Copy, Debug)]
+pub struct CoatFrame {
+    t: Vec3,
+    b: Vec3,
+    n: Vec3,
+}
+
+impl CoatFrame {
+    /// The frame about `n` (unit, local) whose tangent is the base's x axis made
+    /// perpendicular to it (so the coat's anisotropy follows the base's tangent).
+    pub fn about(n: Vec3) -> CoatFrame {
+        let t = (Vec3::X - n * n.x).normalize_or_zero();
+        let t = if t == Vec3::ZERO {
+            n.any_orthonormal_pair().0
+        } else {
+            t
+        };
+        CoatFrame {
+            t,
+            b: crate::math::cross(n, t),
+            n,
+        }
+    }
+
+    #[inline]
+    fn to_coat(self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
+    }
+
+    #[inline]
+    fn coat_to_local(self, v: Vec3) -> Vec3 {
+        self.t * v.x + self.b * v.y + self.n * v.z
+    }
+}
+
 /// Which smooth lobe a sample came from.
 const DIFFUSE: usize = 0;
 const SPEC_R: usize = 1;
@@ -242,6 +279,13 @@ pub struct OpenPbrBsdf {
     coat: Ggx,
     coat_eta: f32,
     coat_w: f32,
+    /// The coat's own frame where its normal is not the base's (`geometry_coat_normal`,
+    /// or the unperturbed normal over a normal-mapped base), with its mirror's weight
+    /// and the rough coat's faded albedo, which then leave along the coat's mirror
+    /// direction rather than the base's.
+    coat_frame: Option<CoatFrame>,
+    coat_mirror: Vec3,
+    coat_glossy: Vec3,
     /// The fuzz's colour times its presence, and its roughness.
     fuzz: Vec3,
     fuzz_roughness: f32,
@@ -251,6 +295,7 @@ pub struct OpenPbrBsdf {
     p: [f32; LOBES],
     p_mirror: f32,
     p_transmit: f32,
+    p_coat_mirror: f32,
     /// Weights of the deltas as seen from `wo` (times `cos / pdf`: what a path's
     /// throughput is multiplied by when it is chosen with probability 1).
     mirror: Vec3,
@@ -267,6 +312,17 @@ impl OpenPbrBsdf {
     /// side the coat is on, and the index is `specular_ior` beyond), which a thin wall
     /// does not tell apart.
     pub fn new(p: &Params, wo: Vec3, outside: bool) -> OpenPbrBsdf {
+        OpenPbrBsdf::with_coat_frame(p, wo, outside, None)
+    }
+
+    /// [`OpenPbrBsdf::new`] with the coat in a frame of its own (its normal, in the
+    /// base's local frame, facing `wo`).
+    pub fn with_coat_frame(
+        p: &Params,
+        wo: Vec3,
+        outside: bool,
+        coat_frame: Option<CoatFrame>,
+    ) -> OpenPbrBsdf {
         let mu_o = wo.z.clamp(1e-4, 1.0);
         let spec = Ggx::from_roughness(p.specular_roughness, p.specular_roughness_anisotropy);
         let coat = Ggx::from_roughness(p.coat_roughness, p.coat_roughness_anisotropy);
@@ -287,12 +343,16 @@ impl OpenPbrBsdf {
             coat,
             coat_eta: p.coat_ior,
             coat_w: 0.0,
+            coat_frame,
+            coat_mirror: Vec3::ZERO,
+            coat_glossy: Vec3::ZERO,
             fuzz: Vec3::ZERO,
             fuzz_roughness: p.fuzz_roughness,
             film: None,
             p: [0.0; LOBES],
             p_mirror: 0.0,
             p_transmit: 0.0,
+            p_coat_mirror: 0.0,
             mirror: Vec3::ZERO,
             transmit: Vec3::ZERO,
             glossy: Vec3::ZERO,
@@ -341,16 +401,24 @@ impl OpenPbrBsdf {
         let c = p.coat_weight;
         let mut below = Vec3::splat(above);
         if c > 0.0 {
-            let (er, et) = interface(coat, p.coat_roughness, p.coat_ior, mu_o);
+            let mu_c = match &b.coat_frame {
+                None => mu_o,
+                Some(f) => f.to_coat(wo).z.clamp(1e-4, 1.0),
+            };
+            let (er, et) = interface(coat, p.coat_roughness, p.coat_ior, mu_c);
             let (e_c, _) = compensate(er, et, p.coat_ior);
             b.coat_w = above * c * ratio(e_c, er);
             weights[COAT] = above * c * e_c;
+            let (glossy, mirror) = match b.coat_frame {
+                None => (&mut b.glossy, &mut b.mirror),
+                Some(_) => (&mut b.coat_glossy, &mut b.coat_mirror),
+            };
             if !coat.is_delta() {
                 let gloss = (1.0 - p.coat_roughness) * (1.0 - p.coat_roughness);
-                b.glossy += Vec3::splat(above * c * e_c * gloss);
+                *glossy += Vec3::splat(above * c * e_c * gloss);
             }
             if coat.is_delta() {
-                b.mirror += Vec3::splat(above * c * er);
+                *mirror += Vec3::splat(above * c * er);
             }
             below *= Vec3::ONE.lerp(p.coat_color * (1.0 - e_c), c)
                 * Vec3::ONE.lerp(darkening(p, mu_o), c * p.coat_darkening);
@@ -456,11 +524,13 @@ impl OpenPbrBsdf {
         if self.coat.is_delta() {
             weights[COAT] = 0.0;
         }
-        let total: f32 = weights.iter().sum::<f32>() + delta_mirror + delta_transmit;
+        let delta_coat = mean(self.coat_mirror);
+        let total: f32 = weights.iter().sum::<f32>() + delta_mirror + delta_transmit + delta_coat;
         if total > 0.0 && total.is_finite() {
             self.p = weights.map(|w| w / total);
             self.p_mirror = delta_mirror / total;
             self.p_transmit = delta_transmit / total;
+            self.p_coat_mirror = delta_coat / total;
         }
     }
 
@@ -488,6 +558,17 @@ impl OpenPbrBsdf {
     /// for the blurred scene they show).
     pub fn glossy(&self) -> (Vec3, Vec3) {
         (self.glossy, self.glossy_transmit)
+    }
+
+    /// Where the coat has a normal of its own: its mirror's weight plus its rough
+    /// lobe's faded albedo, and their direction (the coat's mirror direction, local).
+    pub fn coat_reflection(&self) -> Option<(Vec3, Vec3)> {
+        let f = self.coat_frame?;
+        let o = f.to_coat(self.wo);
+        Some((
+            self.coat_mirror + self.coat_glossy,
+            f.coat_to_local(Vec3::new(-o.x, -o.y, o.z)),
+        ))
     }
 
     /// The mirror and refraction deltas' weights (what a path multiplies by when it
@@ -521,6 +602,10 @@ impl OpenPbrBsdf {
             let h = (wo + wi).normalize_or_zero();
             let oh = wo.dot(h);
             if oh <= 0.0 || h.z <= 0.0 {
+                if let Some(frame) = self.coat_frame {
+                    let (fc, pc) = self.coat_in(frame, wi);
+                    return (f + fc, pdf + pc);
+                }
                 return (f, pdf);
             }
             let k = 1.0 / (4.0 * mu_o * mu_i);
@@ -539,7 +624,11 @@ impl OpenPbrBsdf {
                 f += self.metal_w * self.f82.at(oh) * (g.d(h) * g.g2(wo, wi) * k);
                 pdf += self.p[METAL] * g.visible_pdf(wo, h) / (4.0 * oh);
             }
-            if self.p[COAT] > 0.0 {
+            if let Some(frame) = self.coat_frame {
+                let (fc, pc) = self.coat_in(frame, wi);
+                f += fc;
+                pdf += pc;
+            } else if self.p[COAT] > 0.0 {
                 let g = self.coat;
                 let fr = fresnel_dielectric(oh, 1.0, self.coat_eta);
                 f += Vec3::splat(self.coat_w * fr * g.d(h) * g.g2(wo, wi) * k);
@@ -579,6 +668,26 @@ impl OpenPbrBsdf {
         (f, pdf)
     }
 
+    /// The rough coat's value and density for light from `wi` (above the base), worked
+    /// in the coat's own frame. The value is scaled by the ratio of the cosines to the
+    /// two normals, as the caller multiplies by the base's.
+    fn coat_in(&self, frame: CoatFrame, wi: Vec3) -> (Vec3, f32) {
+        let (o, i) = (frame.to_coat(self.wo), frame.to_coat(wi));
+        if self.p[COAT] <= 0.0 || o.z <= 0.0 || i.z <= 0.0 || wi.z <= 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let h = (o + i).normalize_or_zero();
+        let oh = o.dot(h);
+        if oh <= 0.0 || h.z <= 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let g = self.coat;
+        let fr = fresnel_dielectric(oh, 1.0, self.coat_eta);
+        let k = 1.0 / (4.0 * o.z.max(1e-4) * wi.z);
+        let f = Vec3::splat(self.coat_w * fr * g.d(h) * g.g2(o, i) * k);
+        (f, self.p[COAT] * g.visible_pdf(o, h) / (4.0 * oh))
+    }
+
     /// A direction drawn for `wo`: `pick` chooses the lobe, `u` the direction in it.
     pub fn sample(&self, pick: f32, u: (f32, f32)) -> Option<Sampled> {
         let wo = self.wo;
@@ -598,6 +707,15 @@ impl OpenPbrBsdf {
             });
         }
         rest -= self.p_transmit;
+        if rest < self.p_coat_mirror {
+            let (_, wi) = self.coat_reflection()?;
+            return (wi.z > 0.0).then(|| Sampled {
+                wi,
+                weight: self.coat_mirror / self.p_coat_mirror,
+                pdf: 0.0,
+            });
+        }
+        rest -= self.p_coat_mirror;
         let mut lobe = LOBES;
         for (k, &p) in self.p.iter().enumerate() {
             if p > 0.0 && rest < p {
@@ -618,7 +736,16 @@ impl OpenPbrBsdf {
             DIFFUSE | FUZZ => cosine_hemisphere(u),
             SPEC_R => reflect(self.spec)?,
             METAL => reflect(self.metal)?,
-            COAT => reflect(self.coat)?,
+            COAT => match self.coat_frame {
+                None => reflect(self.coat)?,
+                Some(frame) => {
+                    let o = frame.to_coat(wo);
+                    let m = self.coat.sample_visible(o, u);
+                    let c = o.dot(m);
+                    let wi = frame.coat_to_local(m * (2.0 * c) - o);
+                    (c > 0.0 && wi.z > 0.0).then_some(wi)?
+                }
+            },
             SPEC_T if self.thin => {
                 let w = reflect(self.spec)?;
                 Vec3::new(w.x, w.y, -w.z)

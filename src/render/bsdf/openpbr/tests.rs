@@ -242,80 +242,10 @@ fn sampling_follows_the_pdf() {
             }),
         ),
     ];
-    let (nt, np) = (16, 32);
     for (name, p) in &lobes {
         for (deg, outside) in [(30.0, true), (70.0, true), (30.0, false)] {
             let b = OpenPbrBsdf::new(p, view(deg), outside);
-            let cell = |w: Vec3| {
-                let t = ((w.z.clamp(-1.0, 1.0) + 1.0) * 0.5 * nt as f32) as usize;
-                let ph = (w.y.atan2(w.x) + std::f32::consts::PI) / std::f32::consts::TAU;
-                t.min(nt - 1) * np + ((ph * np as f32) as usize).min(np - 1)
-            };
-            let n = 200_000;
-            let mut observed = vec![0.0f64; nt * np];
-            let mut rng = Rng(11);
-            let mut drawn = 0;
-            for _ in 0..n {
-                let pick = rng.f32();
-                let u = (rng.f32(), rng.f32());
-                if let Some(s) = b.sample(pick, u)
-                    && s.pdf > 0.0
-                {
-                    observed[cell(s.wi)] += 1.0;
-                    drawn += 1;
-                }
-            }
-            if !b.has_smooth() {
-                assert_eq!(drawn, 0, "{name}: a delta-only surface drew from a pdf");
-                continue;
-            }
-            // Expected counts: the pdf integrated over each cell (the pdf of the
-            // smooth lobes, scaled to the draws that came from them).
-            let mut expected = vec![0.0f64; nt * np];
-            let sub = 24;
-            let mut total = 0.0;
-            for (k, cell) in expected.iter_mut().enumerate() {
-                let (ti, pi) = (k / np, k % np);
-                for a in 0..sub {
-                    for c in 0..sub {
-                        let z =
-                            -1.0 + 2.0 * (ti as f32 + (a as f32 + 0.5) / sub as f32) / nt as f32;
-                        let ph = -std::f32::consts::PI
-                            + std::f32::consts::TAU * (pi as f32 + (c as f32 + 0.5) / sub as f32)
-                                / np as f32;
-                        let r = (1.0 - z * z).max(0.0).sqrt();
-                        let w = Vec3::new(r * ph.cos(), r * ph.sin(), z);
-                        let area = 4.0 * std::f64::consts::PI / (nt * np * sub * sub) as f64;
-                        let pdf = b.eval_pdf(w).1 as f64 * area;
-                        *cell += pdf;
-                        total += pdf;
-                    }
-                }
-            }
-            let mut chi2 = 0.0;
-            let mut dof = 0;
-            let mut pooled = (0.0, 0.0);
-            for (k, &expected) in expected.iter().enumerate() {
-                let e = expected / total * drawn as f64;
-                if e < 5.0 {
-                    pooled.0 += observed[k];
-                    pooled.1 += e;
-                    continue;
-                }
-                chi2 += (observed[k] - e).powi(2) / e;
-                dof += 1;
-            }
-            if pooled.1 > 5.0 {
-                chi2 += (pooled.0 - pooled.1).powi(2) / pooled.1;
-                dof += 1;
-            }
-            // A chi-square of `dof` degrees has mean dof and sd sqrt(2 dof): far beyond
-            // 5 sd means the draws do not follow the pdf.
-            let limit = dof as f64 + 5.0 * (2.0 * dof as f64).sqrt();
-            assert!(
-                chi2 < limit,
-                "{name} at {deg} (outside {outside}): chi2 {chi2:.1} over {dof} cells"
-            );
+            assert_follows_pdf(&b, &format!("{name} at {deg} (outside {outside})"));
         }
     }
 }
@@ -402,4 +332,130 @@ fn coat_darkening_darkens_a_grey_base_and_spares_a_white_one() {
     assert!(grey.x < bright.x - 0.02, "{grey} {bright}");
     let white = albedo(&coated(1.0, 1.0), wo, true, 100_000);
     assert!((white.x - 1.0).abs() < 0.02, "{white}");
+}
+
+/// Chi-square of `b`'s sampled directions against its `pdf`, on a grid over the sphere.
+fn assert_follows_pdf(b: &OpenPbrBsdf, name: &str) {
+    let (nt, np) = (16, 32);
+    let cell = |w: Vec3| {
+        let t = ((w.z.clamp(-1.0, 1.0) + 1.0) * 0.5 * nt as f32) as usize;
+        let ph = (w.y.atan2(w.x) + std::f32::consts::PI) / std::f32::consts::TAU;
+        t.min(nt - 1) * np + ((ph * np as f32) as usize).min(np - 1)
+    };
+    let n = 200_000;
+    let mut observed = vec![0.0f64; nt * np];
+    let mut rng = Rng(11);
+    let mut drawn = 0;
+    for _ in 0..n {
+        let pick = rng.f32();
+        let u = (rng.f32(), rng.f32());
+        if let Some(s) = b.sample(pick, u)
+            && s.pdf > 0.0
+        {
+            observed[cell(s.wi)] += 1.0;
+            drawn += 1;
+        }
+    }
+    if !b.has_smooth() {
+        assert_eq!(drawn, 0, "{name}: a delta-only surface drew from a pdf");
+        return;
+    }
+    // Expected counts: the pdf integrated over each cell (the pdf of the
+    // smooth lobes, scaled to the draws that came from them).
+    let mut expected = vec![0.0f64; nt * np];
+    let sub = 24;
+    let mut total = 0.0;
+    for (k, cell) in expected.iter_mut().enumerate() {
+        let (ti, pi) = (k / np, k % np);
+        for a in 0..sub {
+            for c in 0..sub {
+                let z = -1.0 + 2.0 * (ti as f32 + (a as f32 + 0.5) / sub as f32) / nt as f32;
+                let ph = -std::f32::consts::PI
+                    + std::f32::consts::TAU * (pi as f32 + (c as f32 + 0.5) / sub as f32)
+                        / np as f32;
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                let w = Vec3::new(r * ph.cos(), r * ph.sin(), z);
+                let area = 4.0 * std::f64::consts::PI / (nt * np * sub * sub) as f64;
+                let pdf = b.eval_pdf(w).1 as f64 * area;
+                *cell += pdf;
+                total += pdf;
+            }
+        }
+    }
+    let mut chi2 = 0.0;
+    let mut dof = 0;
+    let mut pooled = (0.0, 0.0);
+    for (k, &expected) in expected.iter().enumerate() {
+        let e = expected / total * drawn as f64;
+        if e < 5.0 {
+            pooled.0 += observed[k];
+            pooled.1 += e;
+            continue;
+        }
+        chi2 += (observed[k] - e).powi(2) / e;
+        dof += 1;
+    }
+    if pooled.1 > 5.0 {
+        chi2 += (pooled.0 - pooled.1).powi(2) / pooled.1;
+        dof += 1;
+    }
+    // A chi-square of `dof` degrees has mean dof and sd sqrt(2 dof): far beyond
+    // 5 sd means the draws do not follow the pdf.
+    let limit = dof as f64 + 5.0 * (2.0 * dof as f64).sqrt();
+    assert!(chi2 < limit, "{name}: chi2 {chi2:.1} over {dof} cells");
+}
+
+#[test]
+fn a_coat_of_its_own_normal_reflects_about_it() {
+    // A smooth coat tilted 20 degrees from the base: its mirror leaves along the
+    // reflection about its own normal, with the coat's Fresnel at its own cosine.
+    let smooth = params(|m| {
+        m.coat_weight.value = 1.0;
+        m.coat_roughness.value = 0.0;
+        m.specular_roughness.value = 0.5;
+    });
+    let (nc, wo) = (view(20.0), view(-10.0));
+    let b = OpenPbrBsdf::with_coat_frame(&smooth, wo, true, Some(CoatFrame::about(nc)));
+    let (k, wi) = b.coat_reflection().expect("a coat of its own");
+    let mirror = nc * (2.0 * wo.dot(nc)) - wo;
+    assert!((wi - mirror).length() < 1e-5, "{wi} vs {mirror}");
+    let f = fresnel_dielectric(wo.dot(nc), 1.0, 1.6);
+    assert!(
+        (k - Vec3::splat(f)).abs().max_element() < 1e-4,
+        "{k} vs {f}"
+    );
+    assert_eq!(
+        b.deltas().0,
+        Vec3::ZERO,
+        "the base's mirror holds none of it"
+    );
+    let drawn: Vec<_> = (0..1000)
+        .filter_map(|i| b.sample(i as f32 / 1000.0, (0.3, 0.6)))
+        .filter(|s| s.pdf == 0.0)
+        .collect();
+    assert!(!drawn.is_empty());
+    assert!(drawn.iter().all(|s| (s.wi - mirror).length() < 1e-5));
+    // A rough tilted coat: sampling follows its density.
+    let rough = params(|m| {
+        m.coat_weight.value = 1.0;
+        m.coat_roughness.value = 0.3;
+        m.specular_roughness.value = 0.6;
+    });
+    let tilted = CoatFrame::about(crate::math::normalize(Vec3::new(-0.2, 0.1, 1.0)));
+    for deg in [30.0, 70.0] {
+        let b = OpenPbrBsdf::with_coat_frame(&rough, view(deg), true, Some(tilted));
+        assert_follows_pdf(&b, &format!("a tilted rough coat at {deg}"));
+    }
+    // The base's own frame given as the coat's changes nothing.
+    let same =
+        OpenPbrBsdf::with_coat_frame(&rough, view(40.0), true, Some(CoatFrame::about(Vec3::Z)));
+    let none = OpenPbrBsdf::new(&rough, view(40.0), true);
+    for wi in [view(-30.0), view(10.0), Vec3::new(0.3, -0.5, 0.812)] {
+        let (a, b) = (same.eval_pdf(wi), none.eval_pdf(wi));
+        assert!(
+            (a.0 - b.0).abs().max_element() <= 1e-5 * b.0.max_element(),
+            "{a:?} {b:?}"
+        );
+        assert!((a.1 - b.1).abs() <= 1e-5 * b.1, "{a:?} {b:?}");
+    }
 }
