@@ -151,6 +151,8 @@ impl<'a> Path<'a> {
         // `None` for the camera and after a mirror or refraction (nothing else could
         // have found what the ray meets, so it counts in full).
         let mut last: Option<(Vec3, f32)> = None;
+        // The colour channel the path carries alone once it crossed a dispersive surface.
+        let mut channel: Option<usize> = None;
         let mut depth = 0;
         loop {
             count.rays += 1;
@@ -232,8 +234,19 @@ impl<'a> Path<'a> {
                 l += beta * albedo;
                 break;
             }
+            // A dispersive surface splits light by colour: the path goes on as one
+            // channel, drawn once, carrying three times its share.
+            if channel.is_none() && s.openpbr.as_ref().is_some_and(|m| m.disperses()) {
+                let c = ((sampler.next_f32() * 3.0) as usize).min(2);
+                let mut only = [0.0; 3];
+                only[c] = 3.0 * beta[c];
+                beta = Vec3::from_array(only);
+                channel = Some(c);
+            }
             let wo = -ray.dir;
-            let bsdf = Bsdf::at(self.scene, s, sp, hit.shape, albedo, wo, n, ng, entering);
+            let bsdf = Bsdf::at(
+                self.scene, s, sp, hit.shape, albedo, wo, n, ng, entering, channel,
+            );
             if bsdf.has_smooth() {
                 l += beta * self.direct(&bsdf, sp, ng, sampler, count);
             }

@@ -199,7 +199,9 @@ impl<'a> Whitted<'a> {
         let shadow_from = sp.shadow_origin(ng);
         let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
         // Light from lights is gathered through the surface's BSDF, the path model's.
-        let bsdf = Bsdf::at(self.scene, s, &sp, hit.shape, albedo, v, n, ng, entering);
+        let bsdf = Bsdf::at(
+            self.scene, s, &sp, hit.shape, albedo, v, n, ng, entering, None,
+        );
         // What a sample lights at the point before its shadow ray, or `None` where it
         // lights nothing (and no shadow ray is traced).
         let shading = |ls: &LightSample| {

@@ -279,6 +279,13 @@ impl OpenPbr {
         textured_fields!(find)
     }
 
+    /// Whether light crossing it splits by colour (`transmission_dispersion_scale`
+    /// above 0 on a surface that transmits).
+    pub fn disperses(&self) -> bool {
+        self.transmission_dispersion_scale.value > 0.0
+            && (self.transmission_weight.value > 0.0 || self.transmission_weight.texture.is_some())
+    }
+
     /// Beer's absorption per unit length inside the volume (`Surface::absorption`):
     /// `transmission_color` is what remains after `transmission_depth`. Zero without a
     /// depth or with a textured colour (a volume has one colour).

@@ -93,7 +93,8 @@ pub enum Bsdf {
 impl Bsdf {
     /// Surface `s` at hit `sp` of shape `shape`, seen from `wo`; `albedo` its base colour
     /// there, `n` and `ng` the shading and geometric normals turned to `wo`'s side,
-    /// `entering` whether `wo` is on the side the surface faces.
+    /// `entering` whether `wo` is on the side the surface faces; `channel` the one
+    /// colour channel a path carries once a dispersive surface has split it.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn at(
@@ -106,10 +107,15 @@ impl Bsdf {
         n: Vec3,
         ng: Vec3,
         entering: bool,
+        channel: Option<usize>,
     ) -> Bsdf {
         match &s.openpbr {
             Some(m) => {
                 let params = Params::at(scene, m, albedo, sp);
+                let params = match channel {
+                    Some(c) if m.disperses() => params.for_channel(m, c),
+                    _ => params,
+                };
                 let tangent = if params.specular_roughness_anisotropy > 0.0
                     || params.coat_roughness_anisotropy > 0.0
                 {

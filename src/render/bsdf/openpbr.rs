@@ -143,6 +143,40 @@ impl Params {
     }
 }
 
+/// The dielectric's index at wavelength `nm` where OpenPBR's dispersion is on: Cauchy's
+/// `A + B / λ²` through `n_d` at the d line (587.6 nm) with Abbe number
+/// `abbe / scale` (the specification's parametrisation); `n_d` where `scale` is 0.
+pub fn dispersed_ior(n_d: f32, abbe: f32, scale: f32, nm: f32) -> f32 {
+    // The Fraunhofer C, d and F lines.
+    const LAMBDA_C: f32 = 656.3;
+    const LAMBDA_D: f32 = 587.6;
+    const LAMBDA_F: f32 = 486.1;
+    if scale.is_nan() || scale <= 0.0 || !abbe.is_finite() {
+        return n_d;
+    }
+    // Below an Abbe number of 1 no real dielectric disperses: the bound keeps B finite.
+    let v = (abbe / scale).max(1.0);
+    let b = (n_d - 1.0) / (v * (1.0 / (LAMBDA_F * LAMBDA_F) - 1.0 / (LAMBDA_C * LAMBDA_C)));
+    let a = n_d - b / (LAMBDA_D * LAMBDA_D);
+    a + b / (nm * nm)
+}
+
+impl Params {
+    /// These parameters for light of one colour channel (red, green or blue, at the
+    /// thin film's wavelengths) where `m` disperses: `specular_ior` that channel's.
+    pub fn for_channel(mut self, m: &OpenPbr, channel: usize) -> Params {
+        let nm = super::thin_film::WAVELENGTHS[channel.min(2)];
+        self.specular_ior = dispersed_ior(
+            self.specular_ior,
+            m.transmission_dispersion_abbe_number.value,
+            m.transmission_dispersion_scale.value,
+            nm,
+        )
+        .clamp(1.0 / 3.0, 3.0);
+        self
+    }
+}
+
 fn finite_or(v: f32, or: f32) -> f32 {
     if v.is_finite() { v } else { or }
 }

@@ -7,7 +7,7 @@ use crate::math::Vec3;
 use std::f32::consts::PI;
 
 /// The wavelengths, in nanometres, the red, green and blue channels stand for.
-const WAVELENGTHS: [f32; 3] = [620.0, 540.0, 450.0];
+pub const WAVELENGTHS: [f32; 3] = [620.0, 540.0, 450.0];
 
 /// Reflectance at incidence cosine `cos` (from index 1) of a film of index `film`
 /// and thickness `nm` over a substrate of index `base`. Where light cannot enter the

@@ -788,3 +788,47 @@ fn a_coat_keeps_the_unbent_normal_under_a_base_normal_map() {
         "{l} vs {bent}"
     );
 }
+
+/// Dispersion splits a path by colour: each path carries one channel, three times its
+/// share, so a clear dispersive glass ball in a white furnace still shows 1 in every
+/// channel, while each channel refracts at its own index.
+#[test]
+fn a_dispersive_glass_ball_passes_the_furnace_channel_by_channel() {
+    use crate::render::bsdf::Params;
+    use crate::scene::OpenPbr;
+    use crate::scene::openpbr::Scalar;
+    let glass = OpenPbr {
+        transmission_weight: Scalar::constant(1.0),
+        specular_roughness: Scalar::constant(0.0),
+        transmission_dispersion_scale: Scalar::constant(1.0),
+        transmission_dispersion_abbe_number: Scalar::constant(20.0),
+        ..OpenPbr::default()
+    };
+    assert!(glass.disperses());
+    let p = Params::of(&glass, Vec3::ONE);
+    let iors = [0, 1, 2].map(|c| p.for_channel(&glass, c).specular_ior);
+    assert!(iors[0] < iors[1] && iors[1] < iors[2], "{iors:?}");
+    let s = scene(
+        vec![(
+            Shape::Sphere(Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            }),
+            Surface {
+                albedo: Albedo::Color(Vec3::ONE),
+                openpbr: Some(Box::new(glass)),
+                ..Surface::default()
+            },
+        )],
+        vec![],
+        Background::Color(Vec3::ONE),
+    );
+    for x in [0.0f32, 0.7] {
+        let ray = Ray::new(Vec3::new(x, 0.0, 5.0), -Vec3::Z);
+        let (l, error) = estimate(&s, ray, 6000, Weighing::PowerHeuristic);
+        assert!(
+            (l - Vec3::ONE).abs().max_element() < 0.04 + 4.0 * error.max_element(),
+            "at x {x}: {l} ± {error}"
+        );
+    }
+}

@@ -459,3 +459,17 @@ fn a_coat_of_its_own_normal_reflects_about_it() {
         assert!((a.1 - b.1).abs() <= 1e-5 * b.1, "{a:?} {b:?}");
     }
 }
+
+#[test]
+fn dispersion_meets_its_abbe_number_through_the_d_line() {
+    let n = |nm| dispersed_ior(1.5, 20.0, 1.0, nm);
+    assert!((n(587.6) - 1.5).abs() < 1e-6);
+    // V_d = (n_d - 1) / (n_F - n_C).
+    let v = (n(587.6) - 1.0) / (n(486.1) - n(656.3));
+    assert!((v - 20.0).abs() < 1e-2, "{v}");
+    // Half the scale, twice the Abbe number; none, the index as given.
+    let half = (n(587.6) - 1.0)
+        / (dispersed_ior(1.5, 20.0, 0.5, 486.1) - dispersed_ior(1.5, 20.0, 0.5, 656.3));
+    assert!((half - 40.0).abs() < 2e-2, "{half}");
+    assert_eq!(dispersed_ior(1.5, 20.0, 0.0, 450.0), 1.5);
+}
