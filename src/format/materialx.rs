@@ -138,7 +138,6 @@ fn parse(text: &str, path: &Path, name: Option<&str>) -> crate::Result<Materialx
     let mut warnings = Vec::new();
     let mut base_color = Color::constant(crate::scene::openpbr::DEFAULT_BASE_COLOR);
     let (mut luminance, mut emission_color) = (0.0f32, Color::constant(Vec3::ONE));
-    let mut opacity = 1.0f32;
     for input in shader.children().filter(|n| n.has_tag_name("input")) {
         let key = input.attribute("name").unwrap_or("");
         let kind = input.attribute("type").unwrap_or("");
@@ -209,7 +208,6 @@ fn parse(text: &str, path: &Path, name: Option<&str>) -> crate::Result<Materialx
                 };
                 match key {
                     "emission_luminance" => luminance = v.max(0.0),
-                    "geometry_opacity" => opacity = v,
                     _ => match p.scalar_mut(key) {
                         Some(s) => *s = scalar,
                         None => warnings.push(format!(
@@ -265,12 +263,6 @@ fn parse(text: &str, path: &Path, name: Option<&str>) -> crate::Result<Materialx
         },
     };
     let absorption = p.absorption();
-    if opacity < 0.5 {
-        warnings.push(format!(
-            "{}: {material_name}.geometry_opacity {opacity}: partial opacity is not rendered; the surface is kept",
-            path.display()
-        ));
-    }
     let surface = Surface {
         albedo,
         emission: emission_color.value * luminance,

@@ -349,7 +349,7 @@ fn convert_material(
 /// `Pr` the roughness (without it, Blender's reading of `Ns`), `Ps` the fuzz, `Pc` and
 /// `Pcr` the coat, `aniso` and `anisor` the anisotropy, `Ni` the index (1.5 where it
 /// is absent or 1, which exporters write for opaque materials), and illumination
-/// models 4, 6, 7 and 9 glass of colour `Tf`. A map multiplies its key's value (1
+/// models 4, 6, 7 and 9 glass of colour `Tf`, `d` its presence. A map multiplies its key's value (1
 /// when the key is absent) by its first channel. `Ks` is not read: the extension
 /// keeps it for Phong readers.
 fn pbr_surface(
@@ -394,14 +394,8 @@ fn pbr_surface(
         p.transmission_weight = Scalar::constant(1.0);
         p.transmission_color =
             Color::constant(m.tf.unwrap_or(Vec3::ONE).clamp(Vec3::ZERO, Vec3::ONE));
-    } else if m.d.is_some_and(|d| d < 1.0) {
-        warnings.push(format!(
-            "{}:{}: d {} of PBR material {} is read as opaque: partial opacity is not rendered",
-            m.path.display(),
-            m.line,
-            m.d.unwrap_or(1.0),
-            shown(&m.name)
-        ));
+    } else if let Some(d) = m.d.filter(|&d| d < 1.0) {
+        p.geometry_opacity = Scalar::constant(d.clamp(0.0, 1.0));
     }
     Ok(Surface {
         albedo: phong.albedo,

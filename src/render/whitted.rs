@@ -249,6 +249,12 @@ impl<'a> Whitted<'a> {
                 let child = Ray::new(offset_origin(sp.p, ng, dir), dir);
                 l += kr * self.radiance(&child, depth + 1, weight * kr, sampler, count);
             }
+            // Where the surface is only partly present, the rest passes straight on.
+            let kp = Vec3::splat(framed.pass_through());
+            if (weight * kp).max_element() >= self.min_weight {
+                let child = Ray::new(offset_origin(sp.p, ng, d), d);
+                l += kp * self.radiance(&child, depth + 1, weight * kp, sampler, count);
+            }
             if let Some((kc, dir)) = framed.coat_reflection()
                 && (weight * kc).max_element() >= self.min_weight
             {

@@ -255,7 +255,10 @@ impl Surface {
             } else {
                 p.transmission_color.value
             };
-            s.transmission = tint * p.transmission_weight.value.clamp(0.0, 1.0);
+            // Light passes where the surface is absent, or present and transmitting.
+            let present = p.geometry_opacity.value.clamp(0.0, 1.0);
+            s.transmission = tint * (p.transmission_weight.value.clamp(0.0, 1.0) * present)
+                + Vec3::splat(1.0 - present);
             s.ior = p.specular_ior.value;
         }
         s

@@ -7,8 +7,9 @@
 //! Three of the specification's parameters live on the [`Surface`](super::Surface)
 //! that carries these, because every model reads them: `base_color` is the surface's
 //! albedo (constant, image or checker, times vertex colours), the emission
-//! (`emission_luminance × emission_color`) its `emission`, `geometry_opacity` its
-//! cut-out and `geometry_normal` its normal map.
+//! (`emission_luminance × emission_color`) its `emission`, a cut-out (glTF's alpha
+//! mask) its alpha map and `geometry_normal` its normal map. A fractional presence is
+//! `geometry_opacity` here: the BSDF lets the rest of the light straight through.
 
 use super::TextureSlot;
 use crate::math::Vec3;
@@ -137,6 +138,9 @@ pub struct OpenPbr {
     pub thin_film_ior: Scalar,
     /// A thin shell (a leaf, a bubble) instead of the boundary of a solid.
     pub geometry_thin_walled: bool,
+    /// Presence of the surface, 0 to 1: where below 1, light passes straight through
+    /// the rest of the time.
+    pub geometry_opacity: Scalar,
     /// A tangent-space normal map of the coat, and its scale.
     pub geometry_coat_normal: Option<(TextureSlot, f32)>,
     /// Rotation of the anisotropy's tangent about the normal, in turns (0 to 1): the
@@ -183,6 +187,7 @@ impl Default for OpenPbr {
             thin_film_thickness: s(0.5),
             thin_film_ior: s(1.4),
             geometry_thin_walled: false,
+            geometry_opacity: s(1.0),
             geometry_coat_normal: None,
             tangent_rotation: 0.0,
         }
@@ -222,7 +227,8 @@ macro_rules! textured_fields {
                 fuzz_roughness,
                 thin_film_weight,
                 thin_film_thickness,
-                thin_film_ior
+                thin_film_ior,
+                geometry_opacity
             ],
             [
                 specular_color,

@@ -282,10 +282,12 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
         }
         None => Albedo::Color(tint),
     };
+    let mut blend = 1.0;
     match m.alpha_mode() {
         AlphaMode::Opaque => {}
         AlphaMode::Mask | AlphaMode::Blend => {
-            // BLEND has no order-free meaning for rays: it is cut at half, as MASK.
+            // BLEND has no order-free meaning for rays: a texture's alpha is cut at
+            // half, as MASK; a constant alpha is the surface's presence.
             let cutoff = if m.alpha_mode() == AlphaMode::Mask {
                 m.alpha_cutoff().unwrap_or(0.5)
             } else {
@@ -298,7 +300,9 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
                     s.alpha_map = Some(images.slot(info, true)?);
                     s.alpha_cutoff = cutoff / alpha;
                 }
-                // A constant alpha: the whole surface is there or is not.
+                // A constant alpha blended: the surface is that much present.
+                _ if m.alpha_mode() == AlphaMode::Blend => blend = alpha,
+                // A constant alpha masked: the whole surface is there or is not.
                 _ if alpha < cutoff => s.alpha_map = Some(TextureSlot::new(images.clear())),
                 _ => {}
             }
@@ -367,6 +371,7 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
             s.absorption = p.absorption();
         }
     }
+    p.geometry_opacity = Scalar::constant(blend);
     extensions::read(m, &mut p, images, &mut sets)?;
     s.ior = p.specular_ior.value;
     s.openpbr = Some(Box::new(p));

@@ -10,7 +10,7 @@ use super::values::Color as TomlColor;
 use crate::error::Result;
 use crate::math::Vec3;
 use crate::scene::openpbr::{Channel, Color, OpenPbr, Scalar};
-use crate::scene::{Albedo, ImageTexture, Surface, Texels, TextureSlot};
+use crate::scene::{Albedo, Surface, TextureSlot};
 use serde::Deserialize;
 use toml::{Spanned, Value};
 
@@ -322,27 +322,10 @@ pub fn build(
         None => Color::constant(Vec3::ONE),
         Some(v) => r.color(v)?,
     };
-    let alpha_map = match &raw.geometry_opacity {
-        None => None,
-        Some(v) => {
-            let s = r.scalar("geometry_opacity", v, UNIT)?;
-            if s.texture.is_some() {
-                return Err(source.error(v, "expected geometry_opacity as a number (Prism cuts out; opacity maps are not read yet)"));
-            }
-            // Rays cut out: a surface less than half there is not there.
-            (s.value < 0.5).then(|| {
-                TextureSlot::new(r.images.add_image(ImageTexture {
-                    name: "(transparent)".into(),
-                    width: 1,
-                    height: 1,
-                    texels: Texels::Rgba8 {
-                        texels: vec![[0; 4]],
-                        srgb: false,
-                    },
-                }))
-            })
-        }
-    };
+    // A presence below 1 lets the rest of the light straight through (a map too).
+    if let Some(v) = &raw.geometry_opacity {
+        p.geometry_opacity = r.scalar("geometry_opacity", v, UNIT)?;
+    }
     let normal_map = match &raw.geometry_normal {
         None => None,
         Some(file) => Some(TextureSlot::new(
@@ -357,7 +340,6 @@ pub fn build(
         emission_map: emission_color.texture,
         ior: p.specular_ior.value,
         absorption,
-        alpha_map,
         normal_map,
         openpbr: Some(Box::new(p)),
         ..Surface::default()

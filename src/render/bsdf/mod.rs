@@ -63,6 +63,11 @@ impl Framed {
             .map(|(k, wi)| (k, self.to_world(wi)))
     }
 
+    /// The share of light that passes straight through (`1 - geometry_opacity`).
+    pub fn pass_through(&self) -> f32 {
+        self.local.pass_through()
+    }
+
     /// The refraction delta's direction in world space.
     pub fn refracted(&self) -> Option<Vec3> {
         self.local.refracted().map(|w| self.to_world(w))

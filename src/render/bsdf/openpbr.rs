@@ -58,6 +58,7 @@ pub struct Params {
     pub thin_film_thickness: f32,
     pub thin_film_ior: f32,
     pub thin_walled: bool,
+    pub opacity: f32,
 }
 
 impl Params {
@@ -139,6 +140,7 @@ impl Params {
             thin_film_thickness: finite_or(scalar(&m.thin_film_thickness), 0.0).clamp(0.0, 100.0),
             thin_film_ior: ior(&m.thin_film_ior),
             thin_walled: m.geometry_thin_walled,
+            opacity: unit(&m.geometry_opacity),
         }
     }
 }
@@ -330,6 +332,10 @@ pub struct OpenPbrBsdf {
     p_mirror: f32,
     p_transmit: f32,
     p_coat_mirror: f32,
+    /// Presence (`geometry_opacity`): the lobes and deltas are scaled by it, and the
+    /// rest of the light passes straight through, with probability `p_pass`.
+    opacity: f32,
+    p_pass: f32,
     /// Weights of the deltas as seen from `wo` (times `cos / pdf`: what a path's
     /// throughput is multiplied by when it is chosen with probability 1).
     mirror: Vec3,
@@ -387,6 +393,8 @@ impl OpenPbrBsdf {
             p_mirror: 0.0,
             p_transmit: 0.0,
             p_coat_mirror: 0.0,
+            opacity: p.opacity,
+            p_pass: 0.0,
             mirror: Vec3::ZERO,
             transmit: Vec3::ZERO,
             glossy: Vec3::ZERO,
@@ -546,6 +554,15 @@ impl OpenPbrBsdf {
     /// Sets the sampling probabilities from the lobes' albedos at `wo`: deltas take
     /// their share from the smooth ones.
     fn finish(&mut self, mut weights: [f32; LOBES]) {
+        let present = self.opacity;
+        self.mirror *= present;
+        self.transmit *= present;
+        self.coat_mirror *= present;
+        self.glossy *= present;
+        self.glossy_transmit *= present;
+        self.coat_glossy *= present;
+        weights = weights.map(|w| w * present);
+        let pass = 1.0 - present;
         let delta_mirror = mean(self.mirror);
         let delta_transmit = mean(self.transmit);
         if self.spec.is_delta() || self.matched {
@@ -559,12 +576,14 @@ impl OpenPbrBsdf {
             weights[COAT] = 0.0;
         }
         let delta_coat = mean(self.coat_mirror);
-        let total: f32 = weights.iter().sum::<f32>() + delta_mirror + delta_transmit + delta_coat;
+        let total: f32 =
+            weights.iter().sum::<f32>() + delta_mirror + delta_transmit + delta_coat + pass;
         if total > 0.0 && total.is_finite() {
             self.p = weights.map(|w| w / total);
             self.p_mirror = delta_mirror / total;
             self.p_transmit = delta_transmit / total;
             self.p_coat_mirror = delta_coat / total;
+            self.p_pass = pass / total;
         }
     }
 
@@ -605,6 +624,12 @@ impl OpenPbrBsdf {
         ))
     }
 
+    /// The share of light that passes straight through where the surface is absent
+    /// (`1 - geometry_opacity`).
+    pub fn pass_through(&self) -> f32 {
+        1.0 - self.opacity
+    }
+
     /// The mirror and refraction deltas' weights (what a path multiplies by when it
     /// follows them).
     pub fn deltas(&self) -> (Vec3, Vec3) {
@@ -623,6 +648,12 @@ impl OpenPbrBsdf {
     /// The smooth lobes' value for light from `wi` (no cosine) and the density with
     /// which [`OpenPbrBsdf::sample`] draws `wi`.
     pub fn eval_pdf(&self, wi: Vec3) -> (Vec3, f32) {
+        let (f, pdf) = self.eval_present(wi);
+        (f * self.opacity, pdf)
+    }
+
+    /// [`OpenPbrBsdf::eval_pdf`] of the surface where it is present.
+    fn eval_present(&self, wi: Vec3) -> (Vec3, f32) {
         let wo = self.wo;
         let mu_o = wo.z.max(1e-4);
         let mut f = Vec3::ZERO;
@@ -725,6 +756,14 @@ impl OpenPbrBsdf {
     /// A direction drawn for `wo`: `pick` chooses the lobe, `u` the direction in it.
     pub fn sample(&self, pick: f32, u: (f32, f32)) -> Option<Sampled> {
         let wo = self.wo;
+        if pick < self.p_pass {
+            return Some(Sampled {
+                wi: -wo,
+                weight: Vec3::splat((1.0 - self.opacity) / self.p_pass),
+                pdf: 0.0,
+            });
+        }
+        let pick = pick - self.p_pass;
         if pick < self.p_mirror {
             return Some(Sampled {
                 wi: Vec3::new(-wo.x, -wo.y, wo.z),

@@ -832,3 +832,53 @@ fn a_dispersive_glass_ball_passes_the_furnace_channel_by_channel() {
         );
     }
 }
+
+/// `geometry_opacity`: a surface present a third of the time lets the rest of the light
+/// straight through. A black, unreflecting quad before a white environment shows
+/// exactly what passes, in both physical models; shadow rays are dimmed alike.
+#[test]
+fn a_partly_present_surface_lets_the_rest_of_the_light_through() {
+    use crate::scene::OpenPbr;
+    use crate::scene::openpbr::Scalar;
+    let veil = OpenPbr {
+        specular_weight: Scalar::constant(0.0),
+        geometry_opacity: Scalar::constant(0.3),
+        ..OpenPbr::default()
+    };
+    let s = scene(
+        vec![(
+            Shape::Rectangle(Rectangle {
+                v: [
+                    Vec3::new(-1.0, -1.0, 0.0),
+                    Vec3::new(1.0, -1.0, 0.0),
+                    Vec3::new(1.0, 1.0, 0.0),
+                    Vec3::new(-1.0, 1.0, 0.0),
+                ],
+            }),
+            Surface {
+                albedo: Albedo::Color(Vec3::ZERO),
+                openpbr: Some(Box::new(veil)),
+                ..Surface::default()
+            },
+        )],
+        vec![],
+        Background::Color(Vec3::ONE),
+    );
+    let ray = Ray::new(Vec3::new(0.2, 0.1, 5.0), -Vec3::Z);
+    let l = mean_radiance(&s, ray, 16);
+    assert!((l - Vec3::splat(0.7)).abs().max_element() < 1e-6, "{l}");
+    let accel = Accel::build(AccelKind::List, &s.shapes);
+    let surfaces = s.resolved_surfaces();
+    assert_eq!(
+        surfaces[0].transmission,
+        Vec3::splat(0.7),
+        "shadows pass 0.7"
+    );
+    let whitted = crate::render::whitted::Whitted::new(&s, &accel, &surfaces, 4, 0.0);
+    let mut sampler = PixelSampler::for_sample(1, 0, 0, 0);
+    let w = whitted.radiance(&ray, 0, Vec3::ONE, &mut sampler, &mut RayCount::default());
+    assert!(
+        (w - Vec3::splat(0.7)).abs().max_element() < 1e-6,
+        "whitted {w}"
+    );
+}

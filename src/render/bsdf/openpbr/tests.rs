@@ -473,3 +473,40 @@ fn dispersion_meets_its_abbe_number_through_the_d_line() {
     assert!((half - 40.0).abs() < 2e-2, "{half}");
     assert_eq!(dispersed_ior(1.5, 20.0, 0.0, 450.0), 1.5);
 }
+
+#[test]
+fn a_partly_present_surface_scales_its_lobes_and_passes_the_rest() {
+    let solid = params(|m| m.specular_roughness.value = 0.4);
+    let veil = params(|m| {
+        m.specular_roughness.value = 0.4;
+        m.geometry_opacity.value = 0.25;
+    });
+    let (a, b) = (
+        OpenPbrBsdf::new(&solid, view(30.0), true),
+        OpenPbrBsdf::new(&veil, view(30.0), true),
+    );
+    for wi in [view(-20.0), view(50.0)] {
+        let (fa, fb) = (a.eval_pdf(wi).0, b.eval_pdf(wi).0);
+        assert!((fb - fa * 0.25).abs().max_element() < 1e-6, "{fa} {fb}");
+    }
+    assert_eq!(b.pass_through(), 0.75);
+    // The furnace: what is reflected plus what passes is all the light (nothing is
+    // refracted, so no radiance scale is undone).
+    let mut rng = Rng(5);
+    let n = 200_000;
+    let mut e = Vec3::ZERO;
+    for _ in 0..n {
+        let pick = rng.f32();
+        if let Some(s) = b.sample(pick, (rng.f32(), rng.f32())) {
+            e += s.weight;
+        }
+    }
+    let e = e / n as f32;
+    assert!((e - Vec3::ONE).abs().max_element() < 0.03, "{e}");
+    // Passing draws go straight on.
+    let straight = (0..100)
+        .filter_map(|i| b.sample(i as f32 / 100.0, (0.5, 0.5)))
+        .filter(|s| s.wi == -view(30.0))
+        .count();
+    assert!((70..=80).contains(&straight), "{straight}");
+}
