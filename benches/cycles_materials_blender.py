@@ -31,9 +31,11 @@ the glTF extension means, each reported in the JSON:
     1 + ln(c) / (k d), which is glTF's coefficient exactly.
   - alphaMode MASK: Cycles ignores Blender's Alpha Clip and blends by alpha; the alpha
     is stepped at alphaCutoff (1 where alpha >= cutoff, else 0), as glTF says.
-  - alphaMode BLEND: stepped at 0.5 too. This one is Prism's reading, not glTF's: Prism
-    reads BLEND as a cut-out at 0.5 (docs/materials.md), glTF blends; it is made the
-    same in Cycles so that the material extensions are compared, and reported.
+  - alphaMode BLEND: stepped at 0.5 too. This one is Prism's reading of an alpha
+    texture under BLEND, not glTF's: Prism cuts it at 0.5 (docs/formats.md; a constant
+    BLEND alpha is a presence instead, which none of these models uses), glTF blends;
+    it is made the same in Cycles so that the material extensions are compared, and
+    reported.
   - IOR exactly 1 on a transmissive material: 1.001. Cycles 3.4's rough GGX refraction
     is singular at an index of 1 and renders such glass nearly black (a rough sphere
     of IOR 1.0: 0.12 where IOR 1.001 and 1.01 give 0.50, as Prism does at 1.0).
