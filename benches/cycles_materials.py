@@ -104,14 +104,20 @@ Run of 2026-12-05 (Prism at db5a7f3, Blender 3.4.1, 256 x 256, 512 spp; exit 1):
   SpecularTest               -3.0% -3.3% -4.1%     7.5%          +173 %       not comparable
   AttenuationTest            -1.9% -2.5% -3.6%     3.5%          -41 %        out (1 block)
 
+Run again after Prism's fixes (3ee0b83: an opaque surface's back shaded as its
+front, the coat along the unbent normal under a base normal map):
+
+  ClearCoatTest              -2.1% -1.1% -2.4%     7.2%          -62 %        out (worst block only)
+
 What the failing blocks are:
-  - ClearCoatTest, the Partial-coating "coating only" tile (x,y 208,64): through its
-    cut-out stripes Cycles sees the inside of the tile's back faces (dark), Prism sees
-    the sky. Prism shades every non-thin-walled OpenPBR surface hit from its back as
-    the inside of a transmissive solid (OpenPbrBsdf::new, `!outside &&
-    !p.thin_walled`: a bare dielectric boundary of inverted index, untinted), whatever
-    its transmission weight: an opaque red quad seen from behind renders (0.55, 0.51,
-    0.50), metal or dielectric alike, where Cycles gives its red (0.28, 0.05, 0.07).
+  - ClearCoatTest, first run, the Partial-coating "coating only" tile (x,y 208,64):
+    through its cut-out stripes Cycles saw the inside of the tile's back faces (dark),
+    Prism the sky: Prism shaded every non-thin-walled OpenPBR surface hit from its back
+    as the inside of a transmissive solid, whatever its transmission weight (an opaque
+    red quad seen from behind rendered (0.55, 0.51, 0.50) where Cycles gives (0.28,
+    0.05, 0.07)). Fixed in Prism; the blocks' mean |rel| fell from 23.8% to 7.2%. What
+    remains is the coated column: Cycles' Disney coat (fed 4x) adds to the base where
+    OpenPBR's coat takes its reflection from it and darkens it.
   - TransmissionRoughnessTest, the roughest high-index cells (diamond, sapphire): Prism
     0.23, Cycles with Multiscatter GGX 0.43, with plain GGX (--no-fixups) 0.06; how
     rough glass of index 2.4 gives back its lost energy is where the models differ.
