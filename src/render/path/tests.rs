@@ -778,6 +778,14 @@ fn a_coat_keeps_the_unbent_normal_under_a_base_normal_map() {
     let head_on = fresnel_dielectric(1.0, 1.0, 1.6);
     let bent = fresnel_dielectric(30f32.to_radians().cos(), 1.0, 1.6);
     let l = mean_radiance(&coated(false), ray, 64);
+    // The whitted model traces the coat's own mirror as a third ray, to the same value.
+    let flat = coated(false);
+    let accel = Accel::build(AccelKind::List, &flat.shapes);
+    let surfaces = flat.resolved_surfaces();
+    let whitted = crate::render::whitted::Whitted::new(&flat, &accel, &surfaces, 4, 0.0);
+    let mut sampler = PixelSampler::for_sample(1, 0, 0, 0);
+    let w = whitted.radiance(&ray, 0, Vec3::ONE, &mut sampler, &mut RayCount::default());
+    assert!((w - l).abs().max_element() < 1e-6, "whitted {w}, path {l}");
     assert!(
         (l - Vec3::splat(head_on)).abs().max_element() < 1e-4,
         "{l} vs {head_on}"
