@@ -749,15 +749,7 @@ fn a_coat_keeps_the_unbent_normal_under_a_base_normal_map() {
         };
         let mut s = scene(
             vec![(
-                // A rectangle: its tangent (dP/du) is its first edge, +x.
-                Shape::Rectangle(Rectangle {
-                    v: [
-                        Vec3::new(-1.0, -1.0, 0.0),
-                        Vec3::new(1.0, -1.0, 0.0),
-                        Vec3::new(1.0, 1.0, 0.0),
-                        Vec3::new(-1.0, 1.0, 0.0),
-                    ],
-                }),
+                unit_quad(),
                 Surface {
                     albedo: Albedo::Color(Vec3::ZERO),
                     ..Surface::default()
@@ -780,11 +772,7 @@ fn a_coat_keeps_the_unbent_normal_under_a_base_normal_map() {
     let l = mean_radiance(&coated(false), ray, 64);
     // The whitted model traces the coat's own mirror as a third ray, to the same value.
     let flat = coated(false);
-    let accel = Accel::build(AccelKind::List, &flat.shapes);
-    let surfaces = flat.resolved_surfaces();
-    let whitted = crate::render::whitted::Whitted::new(&flat, &accel, &surfaces, 4, 0.0);
-    let mut sampler = PixelSampler::for_sample(1, 0, 0, 0);
-    let w = whitted.radiance(&ray, 0, Vec3::ONE, &mut sampler, &mut RayCount::default());
+    let w = whitted_radiance(&flat, ray);
     assert!((w - l).abs().max_element() < 1e-6, "whitted {w}, path {l}");
     assert!(
         (l - Vec3::splat(head_on)).abs().max_element() < 1e-4,
@@ -855,14 +843,7 @@ fn a_partly_present_surface_lets_the_rest_of_the_light_through() {
     };
     let s = scene(
         vec![(
-            Shape::Rectangle(Rectangle {
-                v: [
-                    Vec3::new(-1.0, -1.0, 0.0),
-                    Vec3::new(1.0, -1.0, 0.0),
-                    Vec3::new(1.0, 1.0, 0.0),
-                    Vec3::new(-1.0, 1.0, 0.0),
-                ],
-            }),
+            unit_quad(),
             Surface {
                 albedo: Albedo::Color(Vec3::ZERO),
                 openpbr: Some(Box::new(veil)),
@@ -875,18 +856,36 @@ fn a_partly_present_surface_lets_the_rest_of_the_light_through() {
     let ray = Ray::new(Vec3::new(0.2, 0.1, 5.0), -Vec3::Z);
     let l = mean_radiance(&s, ray, 16);
     assert!((l - Vec3::splat(0.7)).abs().max_element() < 1e-6, "{l}");
-    let accel = Accel::build(AccelKind::List, &s.shapes);
-    let surfaces = s.resolved_surfaces();
     assert_eq!(
-        surfaces[0].transmission,
+        s.resolved_surfaces()[0].transmission,
         Vec3::splat(0.7),
         "shadows pass 0.7"
     );
-    let whitted = crate::render::whitted::Whitted::new(&s, &accel, &surfaces, 4, 0.0);
-    let mut sampler = PixelSampler::for_sample(1, 0, 0, 0);
-    let w = whitted.radiance(&ray, 0, Vec3::ONE, &mut sampler, &mut RayCount::default());
+    let w = whitted_radiance(&s, ray);
     assert!(
         (w - Vec3::splat(0.7)).abs().max_element() < 1e-6,
         "whitted {w}"
     );
+}
+
+/// A 2 x 2 square about the origin in the plane z = 0; its tangent (dP/du) is its first
+/// edge, +x.
+fn unit_quad() -> Shape {
+    Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+    })
+}
+
+/// The whitted model's radiance along `ray` in `s` (one sample, four bounces).
+fn whitted_radiance(s: &Scene, ray: Ray) -> Vec3 {
+    let accel = Accel::build(AccelKind::List, &s.shapes);
+    let surfaces = s.resolved_surfaces();
+    let whitted = crate::render::whitted::Whitted::new(s, &accel, &surfaces, 4, 0.0);
+    let mut sampler = PixelSampler::for_sample(1, 0, 0, 0);
+    whitted.radiance(&ray, 0, Vec3::ONE, &mut sampler, &mut RayCount::default())
 }
