@@ -12,6 +12,7 @@ mod environment;
 mod lanes;
 #[cfg(test)]
 mod tests;
+mod wave;
 
 pub use super::bsdf::{Bsdf, Highlight, PhongBsdf, Sampled, Terms};
 use super::cut_outs::{MAX_CUT_OUTS, first_uncut};
@@ -143,136 +144,142 @@ impl<'a> Path<'a> {
         sampler: &mut PixelSampler,
         count: &mut RayCount,
     ) -> Vec3 {
-        let mut l = Vec3::ZERO;
-        let mut beta = Vec3::ONE;
-        let mut ray = ray;
-        let mut known = Some(hit);
-        // Where the last scattering was and the density its direction was drawn with;
-        // `None` for the camera and after a mirror or refraction (nothing else could
-        // have found what the ray meets, so it counts in full).
-        let mut last: Option<(Vec3, f32)> = None;
-        // The colour channel the path carries alone once it crossed a dispersive surface.
-        let mut channel: Option<usize> = None;
-        let mut depth = 0;
-        loop {
-            count.rays += 1;
-            // Without cut-outs the closest hit is the surface, and its shading point is
-            // made in place below: passed through an `Option` it was copied, two
-            // hundred bytes a vertex.
-            let (hit, cut_point) = if self.cuts_out {
-                match first_uncut(self.scene, self.accel, self.surfaces, &ray, known.take()) {
-                    Some((hit, sp)) => (Some(hit), Some(sp)),
-                    None => (None, None),
-                }
-            } else {
-                let hit = match known.take() {
-                    Some(hit) => hit,
-                    None => self.accel.closest(&ray, f32::INFINITY),
-                };
-                (hit, None)
-            };
-            let t_scene = hit.map_or(f32::INFINITY, |h| h.t);
-            if let Some((light, t, normal)) = self.shaped_light_hit(&ray, t_scene) {
-                let le = light.color * light.intensity;
-                let w = last.map_or(1.0, |(p, pdf)| {
-                    self.weighing
-                        .of(pdf, light.pdf_incident(p, ray.at(t), normal), false)
-                });
-                l += beta * le * w;
-                break;
-            }
-            let Some(hit) = hit else {
-                if let Some(env) = &self.environment {
-                    let le = env.radiance(self.scene, ray.dir);
-                    let w = last.map_or(1.0, |(_, pdf)| {
-                        self.weighing.of(pdf, env.pdf(ray.dir), false)
-                    });
-                    l += beta * le * w;
-                }
-                break;
-            };
-            let s = self.surface(hit.shape);
-            let sp = match cut_point {
-                Some(sp) => sp,
-                None => self
-                    .scene
-                    .surface_point(hit.shape, &ray, hit.t, s.reads_texture_coords()),
-            };
-            // The normal map bends the base's normal; `sp.n` stays unbent for a coat.
-            let mapped = match &s.normal_map {
-                Some(slot) => self
-                    .scene
-                    .normal_mapped(&sp, hit.shape, slot, s.normal_scale),
-                None => sp.n,
-            };
-            let sp = &sp;
-            let entering = ray.dir.dot(sp.ng) < 0.0;
-            let (ng, n) = if entering {
-                (sp.ng, mapped)
-            } else {
-                (-sp.ng, -mapped)
-            };
-            if !entering && s.absorption != Vec3::ZERO {
-                beta *= (-s.absorption * hit.t).exp();
-            }
-            if entering && s.emission != Vec3::ZERO {
-                let light = self.light_of(hit.shape);
-                let le = s.emission
-                    * self.scene.map(&s.emission_map, sp)
-                    * light.map_or(1.0, |light| light.intensity);
-                let w = match (last, light) {
-                    (Some((p, pdf)), Some(light)) => {
-                        self.weighing
-                            .of(pdf, light.pdf_incident(p, sp.p, sp.ng), false)
-                    }
-                    _ => 1.0,
-                };
-                l += beta * le * w;
-            }
-            let albedo = self.scene.albedo(s, sp, hit.shape) * sp.color;
-            if !s.lit {
-                l += beta * albedo;
-                break;
-            }
-            // A dispersive surface splits light by colour: the path goes on as one
-            // channel, drawn once, carrying three times its share.
-            if channel.is_none() && s.openpbr.as_ref().is_some_and(|m| m.disperses()) {
-                let c = ((sampler.next_f32() * 3.0) as usize).min(2);
-                let mut only = [0.0; 3];
-                only[c] = 3.0 * beta[c];
-                beta = Vec3::from_array(only);
-                channel = Some(c);
-            }
-            let wo = -ray.dir;
-            let bsdf = Bsdf::at(
-                self.scene, s, sp, hit.shape, albedo, wo, n, ng, entering, channel,
-            );
-            if bsdf.has_smooth() {
-                l += beta * self.direct(&bsdf, sp, ng, sampler, count);
-            }
-            if depth >= self.max_depth {
-                break;
-            }
-            let pick = sampler.next_f32();
-            let Some(scattered) = bsdf.sample(pick, sampler.next_2d()) else {
-                break;
-            };
-            beta *= scattered.weight;
-            last = (scattered.pdf > 0.0).then_some((sp.p, scattered.pdf));
-            ray = Ray::new(offset_origin(sp.p, ng, scattered.wi), scattered.wi);
-            depth += 1;
-            if depth >= ROULETTE_DEPTH {
-                let q = beta.max_element().min(MAX_CONTINUE);
-                if sampler.next_f32() >= q {
-                    break;
-                }
-                beta /= q;
-            }
-            if !beta.is_finite() || beta.max_element() <= 0.0 {
-                break;
-            }
+        let mut path = PathState::new(ray);
+        let mut hit = hit;
+        while self.vertex(&mut path, hit, sampler, count) {
+            hit = self.accel.closest(&path.ray, f32::INFINITY);
         }
-        if l.is_finite() { l } else { Vec3::ZERO }
+        path.radiance()
+    }
+
+    /// One step of `path`: what its ray meets (`hit`, the ray's closest hit) adds to
+    /// its radiance, and where it scatters next. False once the path has ended.
+    #[inline]
+    fn vertex(
+        &self,
+        path: &mut PathState,
+        hit: Option<Hit>,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) -> bool {
+        let PathState {
+            ray,
+            l,
+            beta,
+            last,
+            channel,
+            depth,
+        } = path;
+        count.rays += 1;
+        // Without cut-outs the closest hit is the surface, and its shading point is
+        // made in place below: passed through an `Option` it was copied, two hundred
+        // bytes a vertex.
+        let (hit, cut_point) = if self.cuts_out {
+            match first_uncut(self.scene, self.accel, self.surfaces, ray, Some(hit)) {
+                Some((hit, sp)) => (Some(hit), Some(sp)),
+                None => (None, None),
+            }
+        } else {
+            (hit, None)
+        };
+        let t_scene = hit.map_or(f32::INFINITY, |h| h.t);
+        if let Some((light, t, normal)) = self.shaped_light_hit(ray, t_scene) {
+            let le = light.color * light.intensity;
+            let w = last.map_or(1.0, |(p, pdf)| {
+                self.weighing
+                    .of(pdf, light.pdf_incident(p, ray.at(t), normal), false)
+            });
+            *l += *beta * le * w;
+            return false;
+        }
+        let Some(hit) = hit else {
+            if let Some(env) = &self.environment {
+                let le = env.radiance(self.scene, ray.dir);
+                let w = last.map_or(1.0, |(_, pdf)| {
+                    self.weighing.of(pdf, env.pdf(ray.dir), false)
+                });
+                *l += *beta * le * w;
+            }
+            return false;
+        };
+        let s = self.surface(hit.shape);
+        let sp = match cut_point {
+            Some(sp) => sp,
+            None => self
+                .scene
+                .surface_point(hit.shape, ray, hit.t, s.reads_texture_coords()),
+        };
+        // The normal map bends the base's normal; `sp.n` stays unbent for a coat.
+        let mapped = match &s.normal_map {
+            Some(slot) => self
+                .scene
+                .normal_mapped(&sp, hit.shape, slot, s.normal_scale),
+            None => sp.n,
+        };
+        let sp = &sp;
+        let entering = ray.dir.dot(sp.ng) < 0.0;
+        let (ng, n) = if entering {
+            (sp.ng, mapped)
+        } else {
+            (-sp.ng, -mapped)
+        };
+        if !entering && s.absorption != Vec3::ZERO {
+            *beta *= (-s.absorption * hit.t).exp();
+        }
+        if entering && s.emission != Vec3::ZERO {
+            let light = self.light_of(hit.shape);
+            let le = s.emission
+                * self.scene.map(&s.emission_map, sp)
+                * light.map_or(1.0, |light| light.intensity);
+            let w = match (*last, light) {
+                (Some((p, pdf)), Some(light)) => {
+                    self.weighing
+                        .of(pdf, light.pdf_incident(p, sp.p, sp.ng), false)
+                }
+                _ => 1.0,
+            };
+            *l += *beta * le * w;
+        }
+        let albedo = self.scene.albedo(s, sp, hit.shape) * sp.color;
+        if !s.lit {
+            *l += *beta * albedo;
+            return false;
+        }
+        // A dispersive surface splits light by colour: the path goes on as one
+        // channel, drawn once, carrying three times its share.
+        if channel.is_none() && s.openpbr.as_ref().is_some_and(|m| m.disperses()) {
+            let c = ((sampler.next_f32() * 3.0) as usize).min(2);
+            let mut only = [0.0; 3];
+            only[c] = 3.0 * beta[c];
+            *beta = Vec3::from_array(only);
+            *channel = Some(c);
+        }
+        let wo = -ray.dir;
+        let bsdf = Bsdf::at(
+            self.scene, s, sp, hit.shape, albedo, wo, n, ng, entering, *channel,
+        );
+        if bsdf.has_smooth() {
+            *l += *beta * self.direct(&bsdf, sp, ng, sampler, count);
+        }
+        if *depth >= self.max_depth {
+            return false;
+        }
+        let pick = sampler.next_f32();
+        let Some(scattered) = bsdf.sample(pick, sampler.next_2d()) else {
+            return false;
+        };
+        *beta *= scattered.weight;
+        *last = (scattered.pdf > 0.0).then_some((sp.p, scattered.pdf));
+        *ray = Ray::new(offset_origin(sp.p, ng, scattered.wi), scattered.wi);
+        *depth += 1;
+        if *depth >= ROULETTE_DEPTH {
+            let q = beta.max_element().min(MAX_CONTINUE);
+            if sampler.next_f32() >= q {
+                return false;
+            }
+            *beta /= q;
+        }
+        beta.is_finite() && beta.max_element() > 0.0
     }
 
     /// Light arriving at the hit straight from every light and the environment, each
@@ -393,6 +400,45 @@ impl<'a> Path<'a> {
     }
 }
 
+/// A path between its vertices: the ray it goes on along and what it carries.
+struct PathState {
+    ray: Ray,
+    /// Radiance gathered so far.
+    l: Vec3,
+    /// Throughput: what the path's next radiance is weighed by.
+    beta: Vec3,
+    /// Where the last scattering was and the density its direction was drawn with;
+    /// `None` for the camera and after a mirror or refraction (nothing else could have
+    /// found what the ray meets, so it counts in full).
+    last: Option<(Vec3, f32)>,
+    /// The colour channel the path carries alone once it crossed a dispersive surface.
+    channel: Option<usize>,
+    /// Scatterings so far.
+    depth: u32,
+}
+
+impl PathState {
+    fn new(ray: Ray) -> PathState {
+        PathState {
+            ray,
+            l: Vec3::ZERO,
+            beta: Vec3::ONE,
+            last: None,
+            channel: None,
+            depth: 0,
+        }
+    }
+
+    /// The path's radiance; a path whose arithmetic overflowed adds nothing.
+    fn radiance(&self) -> Vec3 {
+        if self.l.is_finite() {
+            self.l
+        } else {
+            Vec3::ZERO
+        }
+    }
+}
+
 /// Veach's power heuristic for a sample drawn with density `a` that another strategy
 /// would have drawn with density `b`.
 #[inline]
@@ -444,6 +490,18 @@ impl Integrator for Path<'_> {
             for (rays, hits, samplers, first) in chunks_of_lanes(rays, hits, samplers) {
                 let mut l = [Vec3::ZERO; lanes::LANES];
                 self.radiance_lanes(lights, rays, hits, samplers, count, &mut l);
+                for (k, l) in l.iter().take(rays.len()).enumerate() {
+                    let acc = &mut accs[slot(accs, first + k)];
+                    acc.sum += *l;
+                    acc.weight += 1.0;
+                }
+            }
+            return;
+        }
+        if samplers.len() == rays.len() {
+            for (rays, hits, samplers, first) in chunks_of_lanes(rays, hits, samplers) {
+                let mut l = [Vec3::ZERO; lanes::LANES];
+                self.radiance_wave(rays, hits, samplers, count, &mut l);
                 for (k, l) in l.iter().take(rays.len()).enumerate() {
                     let acc = &mut accs[slot(accs, first + k)];
                     acc.sum += *l;

@@ -8,8 +8,8 @@
 //! in the same order, so a pixel's value is the same bit for bit either way (and
 //! whichever vector instructions the processor has). That holds for the scenes whose
 //! every surface is Lambertian and whose every light is an emissive mesh, without an
-//! environment: the ones [`Path::lanes_apply`] accepts; the others take the path at a
-//! time.
+//! environment: the ones [`Path::lanes_apply`] accepts; the others step their paths
+//! together through the path at a time's own step (`wave.rs`).
 
 // Each lane's work is a loop over the lanes that reads and writes several arrays at
 // the lane's index: the shape the compiler turns into vector instructions.

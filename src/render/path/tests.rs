@@ -889,3 +889,142 @@ fn whitted_radiance(s: &Scene, ray: Ray) -> Vec3 {
     let mut sampler = PixelSampler::for_sample(1, 0, 0, 0);
     whitted.radiance(&ray, 0, Vec3::ONE, &mut sampler, &mut RayCount::default())
 }
+
+/// A pixel's paths stepped together ([`Path::radiance_wave`]) give each path the
+/// radiance and the ray count of [`Path::radiance`], bit for bit, in a scene of every
+/// kind of OpenPBR lobe and delta (coat, rough metal, dispersive glass, partial
+/// presence), a cut-out, a quad light, a point light and an environment.
+#[test]
+fn paths_stepped_together_give_each_the_radiance_of_the_path_at_a_time() {
+    use crate::scene::openpbr::Scalar;
+    use crate::scene::{ImageTexture, OpenPbr, Texels, TextureSlot};
+    use rand_core::Rng;
+    let openpbr = |m: OpenPbr| Surface {
+        albedo: Albedo::Color(Vec3::new(0.8, 0.6, 0.3)),
+        openpbr: Some(Box::new(m)),
+        ..Surface::default()
+    };
+    let ball = |x: f32, y: f32| {
+        Shape::Sphere(Sphere {
+            center: Vec3::new(x, y, 0.0),
+            radius: 0.5,
+        })
+    };
+    let coated = OpenPbr {
+        coat_weight: Scalar::constant(1.0),
+        coat_roughness: Scalar::constant(0.0),
+        base_diffuse_roughness: Scalar::constant(0.5),
+        ..OpenPbr::default()
+    };
+    let metal = OpenPbr {
+        base_metalness: Scalar::constant(1.0),
+        specular_roughness: Scalar::constant(0.4),
+        ..OpenPbr::default()
+    };
+    let glass = OpenPbr {
+        transmission_weight: Scalar::constant(1.0),
+        specular_roughness: Scalar::constant(0.0),
+        transmission_dispersion_scale: Scalar::constant(1.0),
+        ..OpenPbr::default()
+    };
+    let veil = OpenPbr {
+        geometry_opacity: Scalar::constant(0.4),
+        ..OpenPbr::default()
+    };
+    let pane = Surface {
+        alpha_map: Some(TextureSlot::new(0)),
+        ..matte(0.7)
+    };
+    let floor = Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-3.0, -3.0, -0.5),
+            Vec3::new(3.0, -3.0, -0.5),
+            Vec3::new(3.0, 3.0, -0.5),
+            Vec3::new(-3.0, 3.0, -0.5),
+        ],
+    });
+    let mut s = scene(
+        vec![
+            (ball(-0.6, 0.6), openpbr(coated)),
+            (ball(0.6, 0.6), openpbr(metal)),
+            (ball(-0.6, -0.6), openpbr(glass)),
+            (ball(0.6, -0.6), openpbr(veil)),
+            (unit_quad(), pane),
+            (floor, matte(0.5)),
+        ],
+        vec![
+            area_light(
+                LightKind::Quad {
+                    u: Vec3::X,
+                    v: -Vec3::Y,
+                },
+                Vec3::new(0.0, 0.0, 3.0),
+                4.0,
+            ),
+            Light {
+                falloff: crate::scene::Falloff::InverseSquare,
+                ..area_light(LightKind::Point, Vec3::new(2.0, 1.0, 2.0), 5.0)
+            },
+        ],
+        Background::Color(Vec3::splat(0.3)),
+    );
+    // A checkerboard of holes: half the pane is cut out.
+    s.images.push(ImageTexture {
+        name: "holes".into(),
+        width: 2,
+        height: 2,
+        texels: Texels::RgbaF32([0.0, 1.0, 1.0, 0.0].map(|a| [1.0, 1.0, 1.0, a]).to_vec()),
+    });
+    let accel = Accel::build(AccelKind::Bvh, &s.shapes);
+    let surfaces = s.resolved_surfaces();
+    let path = Path::new(&s, &accel, &surfaces, crate::options::MAX_PATH_DEPTH);
+    assert!(
+        path.lanes.is_none(),
+        "the vectorised lanes take Lambertian scenes"
+    );
+    let mut rng = rand_pcg::Pcg32::new(11, 0x2545_f491_4f6c_dd1d);
+    let mut u = || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
+    let mut lit = 0;
+    for round in 0..64 {
+        let n = 1 + round % lanes::LANES;
+        let rays: Vec<Ray> = (0..n)
+            .map(|_| {
+                let origin = Vec3::new(u() - 0.5, u() - 0.5, 4.0);
+                let target = Vec3::new(3.0 * u() - 1.5, 3.0 * u() - 1.5, 0.0);
+                Ray::new(origin, normalize(target - origin))
+            })
+            .collect();
+        let hits: Vec<_> = rays
+            .iter()
+            .map(|r| accel.closest(r, f32::INFINITY))
+            .collect();
+        let samplers = || -> Vec<PixelSampler> {
+            (0..n)
+                .map(|k| PixelSampler::for_sample(3, round as u32, 7, k as u32))
+                .collect()
+        };
+        let mut alone_count = RayCount::default();
+        let mut one = samplers();
+        let alone: Vec<_> = (0..n)
+            .map(|k| path.radiance(rays[k], hits[k], &mut one[k], &mut alone_count))
+            .map(|l| l.to_array().map(f32::to_bits))
+            .collect();
+        let mut wave_count = RayCount::default();
+        let mut together = [Vec3::ZERO; lanes::LANES];
+        path.radiance_wave(
+            &rays,
+            &hits,
+            &mut samplers(),
+            &mut wave_count,
+            &mut together,
+        );
+        let together: Vec<_> = together[..n]
+            .iter()
+            .map(|l| l.to_array().map(f32::to_bits))
+            .collect();
+        assert_eq!(alone, together, "round {round}");
+        assert_eq!(alone_count.rays, wave_count.rays, "round {round}");
+        lit += alone.iter().filter(|l| **l != [0; 3]).count();
+    }
+    assert!(lit > 400, "{lit} of 544 paths found light");
+}
