@@ -10,6 +10,7 @@
 
 mod environment;
 mod lanes;
+mod subsurface;
 #[cfg(test)]
 mod tests;
 mod wave;
@@ -168,7 +169,7 @@ impl<'a> Path<'a> {
             beta,
             last,
             channel,
-            depth,
+            ..
         } = path;
         count.rays += 1;
         // Without cut-outs the closest hit is the surface, and its shading point is
@@ -256,30 +257,58 @@ impl<'a> Path<'a> {
         }
         let wo = -ray.dir;
         let bsdf = Bsdf::at(
-            self.scene, s, sp, hit.shape, albedo, wo, n, ng, entering, *channel,
+            self.scene, s, sp, hit.shape, albedo, wo, n, ng, entering, *channel, true,
         );
         if bsdf.has_smooth() {
             *l += *beta * self.direct(&bsdf, sp, ng, sampler, count);
         }
-        if *depth >= self.max_depth {
+        self.scatter(path, &bsdf, sp.p, ng, sampler, count)
+    }
+
+    /// The path goes on from `p` (geometric normal `ng` on its side) in a direction
+    /// `bsdf` draws, through the subsurface medium where the draw enters it; false
+    /// where it ends (the depth reached, absorbed, or ended by Russian roulette).
+    #[inline]
+    fn scatter(
+        &self,
+        path: &mut PathState,
+        bsdf: &Bsdf,
+        p: Vec3,
+        ng: Vec3,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) -> bool {
+        if path.depth >= self.max_depth {
             return false;
         }
         let pick = sampler.next_f32();
         let Some(scattered) = bsdf.sample(pick, sampler.next_2d()) else {
             return false;
         };
-        *beta *= scattered.weight;
-        *last = (scattered.pdf > 0.0).then_some((sp.p, scattered.pdf));
-        *ray = Ray::new(offset_origin(sp.p, ng, scattered.wi), scattered.wi);
-        *depth += 1;
-        if *depth >= ROULETTE_DEPTH {
-            let q = beta.max_element().min(MAX_CONTINUE);
+        path.beta *= scattered.weight;
+        if scattered.subsurface
+            && let Some(medium) = bsdf.medium()
+        {
+            return self.through_medium(path, &medium, p, ng, scattered.wi, sampler, count);
+        }
+        path.last = (scattered.pdf > 0.0).then_some((p, scattered.pdf));
+        path.ray = Ray::new(offset_origin(p, ng, scattered.wi), scattered.wi);
+        self.bounced(path, sampler)
+    }
+
+    /// A scattering counted: Russian roulette from [`ROULETTE_DEPTH`] on, and the
+    /// path ends where its throughput is spent or overflowed.
+    #[inline]
+    fn bounced(&self, path: &mut PathState, sampler: &mut PixelSampler) -> bool {
+        path.depth += 1;
+        if path.depth >= ROULETTE_DEPTH {
+            let q = path.beta.max_element().min(MAX_CONTINUE);
             if sampler.next_f32() >= q {
                 return false;
             }
-            *beta /= q;
+            path.beta /= q;
         }
-        beta.is_finite() && beta.max_element() > 0.0
+        path.beta.is_finite() && path.beta.max_element() > 0.0
     }
 
     /// Light arriving at the hit straight from every light and the environment, each

@@ -200,7 +200,7 @@ impl<'a> Whitted<'a> {
         let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
         // Light from lights is gathered through the surface's BSDF, the path model's.
         let bsdf = Bsdf::at(
-            self.scene, s, &sp, hit.shape, albedo, v, n, ng, entering, None,
+            self.scene, s, &sp, hit.shape, albedo, v, n, ng, entering, None, false,
         );
         // What a sample lights at the point before its shadow ray, or `None` where it
         // lights nothing (and no shadow ray is traced).

@@ -373,6 +373,12 @@ fn surface(m: &gltf::Material, images: &mut Images) -> Result<(Surface, usize), 
     }
     p.geometry_opacity = Scalar::constant(blend);
     extensions::read(m, &mut p, images, &mut sets)?;
+    // Diffuse transmission without a volume is a thin sheet's (glTF's reading): there
+    // is no medium under it to walk through.
+    if m.volume().is_none() && p.subsurface_weight.value > 0.0 && p.transmission_weight.value == 0.0
+    {
+        p.geometry_thin_walled = true;
+    }
     s.ior = p.specular_ior.value;
     s.openpbr = Some(Box::new(p));
     if let Some(normal) = m.normal_texture() {

@@ -12,6 +12,7 @@ mod fuzz;
 pub mod microfacet;
 pub mod openpbr;
 mod phong;
+pub mod subsurface;
 mod thin_film;
 
 pub use openpbr::{OpenPbrBsdf, Params};
@@ -30,6 +31,9 @@ pub struct Sampled {
     /// The density the direction was drawn with per unit solid angle; zero for a
     /// mirror or refraction (a delta).
     pub pdf: f32,
+    /// The direction enters the surface's subsurface medium ([`Bsdf::medium`]): light
+    /// leaves it elsewhere, where a walk through the medium ends.
+    pub subsurface: bool,
 }
 
 /// An OpenPBR BSDF in world space: its shading frame and geometric normal.
@@ -99,7 +103,9 @@ impl Bsdf {
     /// Surface `s` at hit `sp` of shape `shape`, seen from `wo`; `albedo` its base colour
     /// there, `n` and `ng` the shading and geometric normals turned to `wo`'s side,
     /// `entering` whether `wo` is on the side the surface faces; `channel` the one
-    /// colour channel a path carries once a dispersive surface has split it.
+    /// colour channel a path carries once a dispersive surface has split it; `walks`
+    /// whether the model follows light through a subsurface medium (else the medium's
+    /// colour is a diffuse lobe's, the look it tends to as it grows dense).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn at(
@@ -113,10 +119,12 @@ impl Bsdf {
         ng: Vec3,
         entering: bool,
         channel: Option<usize>,
+        walks: bool,
     ) -> Bsdf {
         match &s.openpbr {
             Some(m) => {
-                let params = Params::at(scene, m, albedo, sp);
+                let mut params = Params::at(scene, m, albedo, sp);
+                params.subsurface_walk = walks;
                 let params = match channel {
                     Some(c) if m.disperses() => params.for_channel(m, c),
                     _ => params,
@@ -206,6 +214,15 @@ impl Bsdf {
             ng,
             local: OpenPbrBsdf::with_coat_frame(p, local, outside, coat_frame),
         })
+    }
+
+    /// The medium under the surface that [`Bsdf::sample`] may send light into.
+    #[inline]
+    pub fn medium(&self) -> Option<subsurface::Medium> {
+        match self {
+            Bsdf::Phong(_) => None,
+            Bsdf::OpenPbr(f) => f.local.medium(),
+        }
     }
 
     /// The shading normal the BSDF's cosines are taken to.

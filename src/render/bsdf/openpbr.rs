@@ -18,6 +18,7 @@
 use super::albedo::{self, refract_about};
 use super::diffuse::eon;
 use super::microfacet::Ggx;
+use super::subsurface::Medium;
 use super::{Sampled, cosine_hemisphere};
 use crate::math::Vec3;
 use crate::render::optics::fresnel_dielectric;
@@ -44,6 +45,12 @@ pub struct Params {
     pub transmission_tint: Vec3,
     pub subsurface_weight: f32,
     pub subsurface_color: Vec3,
+    /// The mean free path per channel: `subsurface_radius × subsurface_radius_scale`.
+    pub subsurface_radius: Vec3,
+    pub subsurface_scatter_anisotropy: f32,
+    /// Whether the subsurface is a medium light is walked through (the path model)
+    /// rather than a diffuse lobe of its colour. Set by the model, not the material.
+    pub subsurface_walk: bool,
     pub coat_weight: f32,
     pub coat_color: Vec3,
     pub coat_roughness: f32,
@@ -127,6 +134,18 @@ impl Params {
             },
             subsurface_weight: unit(&m.subsurface_weight),
             subsurface_color: rgb(&m.subsurface_color),
+            subsurface_radius: {
+                let r = finite_or(scalar(&m.subsurface_radius), 0.0).max(0.0)
+                    * color(&m.subsurface_radius_scale);
+                if r.is_finite() {
+                    r.max(Vec3::ZERO)
+                } else {
+                    Vec3::ZERO
+                }
+            },
+            subsurface_scatter_anisotropy: finite_or(scalar(&m.subsurface_scatter_anisotropy), 0.0)
+                .clamp(-1.0, 1.0),
+            subsurface_walk: false,
             coat_weight: unit(&m.coat_weight),
             coat_color: rgb(&m.coat_color),
             coat_roughness: unit(&m.coat_roughness),
@@ -327,6 +346,11 @@ pub struct OpenPbrBsdf {
     fuzz_roughness: f32,
     /// A thin film on the dielectric interface: presence, thickness (nm), index.
     film: Option<(f32, f32, f32)>,
+    /// What enters the subsurface medium (a walk through it follows), the medium,
+    /// and the probability of drawing the entry.
+    enter: Vec3,
+    medium: Option<Medium>,
+    p_enter: f32,
     /// Probabilities of the smooth lobes, then of the two deltas.
     p: [f32; LOBES],
     p_mirror: f32,
@@ -393,6 +417,9 @@ impl OpenPbrBsdf {
             p_mirror: 0.0,
             p_transmit: 0.0,
             p_coat_mirror: 0.0,
+            enter: Vec3::ZERO,
+            medium: None,
+            p_enter: 0.0,
             opacity: p.opacity,
             p_pass: 0.0,
             mirror: Vec3::ZERO,
@@ -543,8 +570,27 @@ impl OpenPbrBsdf {
             }
             // base_weight scales the albedo EON is given, as the reference does: its
             // multiple-scattering term then darkens a dim base as it does a dark one.
-            b.rho = p.base_color.lerp(p.subsurface_color, p.subsurface_weight) * p.base_weight;
-            b.diffuse = below * (d * (1.0 - t) * (1.0 - r));
+            let opaque = below * (d * (1.0 - t) * (1.0 - r));
+            let medium = if p.subsurface_walk && !p.thin_walled && p.subsurface_weight > 0.0 {
+                Medium::subsurface(
+                    p.subsurface_color,
+                    p.subsurface_radius,
+                    p.subsurface_scatter_anisotropy,
+                )
+            } else {
+                None
+            };
+            if medium.is_some() {
+                // Light the interface passes into the medium leaves it elsewhere.
+                let w = p.subsurface_weight;
+                b.rho = p.base_color * p.base_weight;
+                b.diffuse = opaque * (1.0 - w);
+                b.enter = opaque * (w * p.base_weight);
+                b.medium = medium;
+            } else {
+                b.rho = p.base_color.lerp(p.subsurface_color, p.subsurface_weight) * p.base_weight;
+                b.diffuse = opaque;
+            }
             weights[DIFFUSE] = mean(b.diffuse * b.rho);
         }
         b.finish(weights);
@@ -558,6 +604,7 @@ impl OpenPbrBsdf {
         self.mirror *= present;
         self.transmit *= present;
         self.coat_mirror *= present;
+        self.enter *= present;
         self.glossy *= present;
         self.glossy_transmit *= present;
         self.coat_glossy *= present;
@@ -576,9 +623,11 @@ impl OpenPbrBsdf {
             weights[COAT] = 0.0;
         }
         let delta_coat = mean(self.coat_mirror);
+        let enter = mean(self.enter);
         let total: f32 =
-            weights.iter().sum::<f32>() + delta_mirror + delta_transmit + delta_coat + pass;
+            weights.iter().sum::<f32>() + delta_mirror + delta_transmit + delta_coat + enter + pass;
         if total > 0.0 && total.is_finite() {
+            self.p_enter = enter / total;
             self.p = weights.map(|w| w / total);
             self.p_mirror = delta_mirror / total;
             self.p_transmit = delta_transmit / total;
@@ -622,6 +671,11 @@ impl OpenPbrBsdf {
             self.coat_mirror + self.coat_glossy,
             f.coat_to_local(Vec3::new(-o.x, -o.y, o.z)),
         ))
+    }
+
+    /// The medium under the surface that [`OpenPbrBsdf::sample`] may send light into.
+    pub fn medium(&self) -> Option<Medium> {
+        self.medium
     }
 
     /// The share of light that passes straight through where the surface is absent
@@ -761,6 +815,7 @@ impl OpenPbrBsdf {
                 wi: -wo,
                 weight: Vec3::splat((1.0 - self.opacity) / self.p_pass),
                 pdf: 0.0,
+                subsurface: false,
             });
         }
         let pick = pick - self.p_pass;
@@ -769,6 +824,7 @@ impl OpenPbrBsdf {
                 wi: Vec3::new(-wo.x, -wo.y, wo.z),
                 weight: self.mirror / self.p_mirror,
                 pdf: 0.0,
+                subsurface: false,
             });
         }
         let mut rest = pick - self.p_mirror;
@@ -777,6 +833,7 @@ impl OpenPbrBsdf {
                 wi: self.refracted()?,
                 weight: self.transmit / self.p_transmit,
                 pdf: 0.0,
+                subsurface: false,
             });
         }
         rest -= self.p_transmit;
@@ -786,9 +843,20 @@ impl OpenPbrBsdf {
                 wi,
                 weight: self.coat_mirror / self.p_coat_mirror,
                 pdf: 0.0,
+                subsurface: false,
             });
         }
         rest -= self.p_coat_mirror;
+        if rest < self.p_enter {
+            let d = cosine_hemisphere(u);
+            return Some(Sampled {
+                wi: Vec3::new(d.x, d.y, -d.z),
+                weight: self.enter / self.p_enter,
+                pdf: 0.0,
+                subsurface: true,
+            });
+        }
+        rest -= self.p_enter;
         let mut lobe = LOBES;
         for (k, &p) in self.p.iter().enumerate() {
             if p > 0.0 && rest < p {
@@ -837,7 +905,12 @@ impl OpenPbrBsdf {
             return None;
         }
         let weight = f * (wi.z.abs() / pdf);
-        weight.is_finite().then_some(Sampled { wi, weight, pdf })
+        weight.is_finite().then_some(Sampled {
+            wi,
+            weight,
+            pdf,
+            subsurface: false,
+        })
     }
 }
 

@@ -67,6 +67,21 @@ pub struct Terms {
     pub eta_t: f32,
 }
 
+impl Terms {
+    /// A Lambertian surface of reflectance `diffuse`, nothing else.
+    pub fn diffuse(diffuse: Vec3) -> Terms {
+        Terms {
+            diffuse,
+            highlight: Highlight::None,
+            reflection: Vec3::ZERO,
+            transmission: Vec3::ZERO,
+            fresnel: false,
+            eta_i: 1.0,
+            eta_t: 1.0,
+        }
+    }
+}
+
 /// A Phong surface's BSDF seen from `wo`.
 #[derive(Clone, Copy, Debug)]
 pub struct PhongBsdf {
@@ -271,6 +286,7 @@ impl PhongBsdf {
                 wi,
                 weight: self.mirror / self.p_mirror,
                 pdf: 0.0,
+                subsurface: false,
             });
         }
         if pick < self.p_mirror + self.p_transmit {
@@ -279,6 +295,7 @@ impl PhongBsdf {
                 wi,
                 weight: self.transmit / self.p_transmit,
                 pdf: 0.0,
+                subsurface: false,
             });
         }
         if self.p_smooth <= 0.0 {
@@ -296,7 +313,12 @@ impl PhongBsdf {
             return None;
         }
         let weight = f * (cos_i / pdf);
-        weight.is_finite().then_some(Sampled { wi, weight, pdf })
+        weight.is_finite().then_some(Sampled {
+            wi,
+            weight,
+            pdf,
+            subsurface: false,
+        })
     }
 
     /// A direction given in a frame about the normal: made when a direction is drawn,
