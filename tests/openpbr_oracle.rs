@@ -158,6 +158,12 @@ impl Material {
         self
     }
 
+    fn coat_color(mut self, c: Vec3) -> Material {
+        self.m.coat_color.value = c;
+        self.tokens += &format!(" coat_color={},{},{}", c.x, c.y, c.z);
+        self
+    }
+
     fn params(&self) -> Params {
         Params::of(&self.m, self.base_color)
     }
@@ -267,7 +273,7 @@ fn directional_albedos_agree_with_the_reference() {
     };
     let mut rng = Rng(2);
     let n = 20_000;
-    let categories: [(&str, &MakeMaterial, f32); 7] = [
+    let categories: [(&str, &MakeMaterial, f32); 8] = [
         (
             "metal",
             &|r| {
@@ -308,6 +314,19 @@ fn directional_albedos_agree_with_the_reference() {
                     .set("coat_darkening", 0.0)
             },
             0.08,
+        ),
+        (
+            "coloured coat (coat_darkening 0)",
+            &|r| {
+                Material::new(r.color())
+                    .set("specular_roughness", r.f32())
+                    .set("coat_weight", r.f32())
+                    .set("coat_roughness", r.f32())
+                    .set("coat_darkening", 0.0)
+                    .coat_color(r.color())
+            },
+            // At grazing `wo` the layering differs as for a clear coat (above).
+            0.1,
         ),
         (
             "coated plastic (coat_darkening 1)",

@@ -3,7 +3,7 @@
 //! `1 - E(wo)`), with single-scattering GGX lobes restored to the energy they lose.
 //!
 //! ```text
-//! f = C f_coat + mix(1, coat_color (1 - E_coat), C) base
+//! f = C f_coat + mix(1, T(ωo), C) mix(1, T(ωi), C) (1 - C E_coat) base
 //! base = M metal + (1 - M) dielectric
 //! dielectric = (S f_R + t T f_T) / E_RT + (1 - t) (1 - E_R / E_RT) w_b f_EON(rho)
 //! metal = F82(wo.h) f_GGX (1 + F0 (1 - E_m) / E_m)
@@ -341,6 +341,11 @@ pub struct OpenPbrBsdf {
     coat_frame: Option<CoatFrame>,
     coat_mirror: Vec3,
     coat_glossy: Vec3,
+    /// The coat's transmittance across its thickness (`sqrt(coat_color)`), its
+    /// presence, and what it passes along `wo`.
+    coat_tint: Vec3,
+    coat_presence: f32,
+    coat_passage_o: Vec3,
     /// The fuzz's colour times its presence, and its roughness.
     fuzz: Vec3,
     fuzz_roughness: f32,
@@ -410,6 +415,9 @@ impl OpenPbrBsdf {
             coat_frame,
             coat_mirror: Vec3::ZERO,
             coat_glossy: Vec3::ZERO,
+            coat_tint: Vec3::ONE,
+            coat_presence: 0.0,
+            coat_passage_o: Vec3::ONE,
             fuzz: Vec3::ZERO,
             fuzz_roughness: p.fuzz_roughness,
             film: None,
@@ -489,7 +497,13 @@ impl OpenPbrBsdf {
             if coat.is_delta() {
                 *mirror += Vec3::splat(above * c * er);
             }
-            below *= Vec3::ONE.lerp(p.coat_color * (1.0 - e_c), c)
+            // Light crosses the coat twice, tinted each way by the length of its path
+            // in it: here on the way out toward `wo`, in `eval` on the way in.
+            b.coat_tint = p.coat_color.max(Vec3::ZERO).powf(0.5);
+            b.coat_presence = c;
+            b.coat_passage_o = b.coat_passage(mu_c);
+            below *= b.coat_passage_o
+                * (1.0 - c * e_c)
                 * Vec3::ONE.lerp(darkening(p, mu_o), c * p.coat_darkening);
         }
         // The metal.
@@ -501,11 +515,14 @@ impl OpenPbrBsdf {
             b.metal_w = below * (m * p.specular_weight) * ms;
             let f_o = b.f82.at(mu_o);
             weights[METAL] = mean(b.metal_w * f_o * e);
+            // What the base reflects toward its mirror direction crosses the coat
+            // again at `wo`'s angle.
+            let back = b.coat_passage_o;
             if !spec.is_delta() {
-                b.glossy += b.metal_w * f_o * (e * (1.0 - r_spec) * (1.0 - r_spec));
+                b.glossy += b.metal_w * f_o * back * (e * (1.0 - r_spec) * (1.0 - r_spec));
             }
             if spec.is_delta() {
-                b.mirror += b.metal_w * f_o;
+                b.mirror += b.metal_w * f_o * back;
             }
         }
         // The dielectric: its interface's reflection and transmission, and the diffuse
@@ -554,7 +571,7 @@ impl OpenPbrBsdf {
             weights[SPEC_T] = mean(b.spec_t) * et;
             if !spec.is_delta() && !b.matched {
                 let gloss = (1.0 - r_spec) * (1.0 - r_spec);
-                b.glossy += b.spec_r * (er * gloss);
+                b.glossy += b.spec_r * b.coat_passage_o * (er * gloss);
                 b.glossy_transmit += b.spec_t * (et * gloss * scale);
             }
             if spec.is_delta() || b.matched {
@@ -565,7 +582,7 @@ impl OpenPbrBsdf {
                 } else {
                     (Vec3::splat(er), Vec3::splat(et))
                 };
-                b.mirror += b.spec_r * r;
+                b.mirror += b.spec_r * b.coat_passage_o * r;
                 b.transmit += b.spec_t * t * scale;
             }
             // base_weight scales the albedo EON is given, as the reference does: its
@@ -650,6 +667,23 @@ impl OpenPbrBsdf {
         }
     }
 
+    /// What the coat passes of light crossing it at cosine `mu` to its normal: its
+    /// tint raised to the length of the path refracted into it (the specification's
+    /// view-dependent absorption), where it is present.
+    fn coat_passage(&self, mu: f32) -> Vec3 {
+        if self.coat_tint == Vec3::ONE {
+            return Vec3::ONE;
+        }
+        let eta = self.coat_eta;
+        let mu_t = (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt();
+        let through = if mu_t > 0.0 {
+            self.coat_tint.powf(1.0 / mu_t)
+        } else {
+            Vec3::ZERO
+        };
+        Vec3::ONE.lerp(through, self.coat_presence)
+    }
+
     /// Whether any lobe is smooth: only then does light from a light scatter toward `wo`.
     pub fn has_smooth(&self) -> bool {
         self.p.iter().any(|&p| p > 0.0)
@@ -714,8 +748,17 @@ impl OpenPbrBsdf {
         let mut pdf = 0.0;
         if wi.z > 0.0 {
             let mu_i = wi.z;
+            // Light reaching the base crosses the coat on its way in.
+            let coat_in = if self.coat_presence > 0.0 {
+                self.coat_passage(match self.coat_frame {
+                    None => mu_i,
+                    Some(frame) => frame.to_coat(wi).z,
+                })
+            } else {
+                Vec3::ONE
+            };
             if self.p[DIFFUSE] > 0.0 {
-                f += self.diffuse * eon(self.rho, self.sigma, mu_o, mu_i, wo.dot(wi));
+                f += self.diffuse * coat_in * eon(self.rho, self.sigma, mu_o, mu_i, wo.dot(wi));
                 pdf += self.p[DIFFUSE] * mu_i * FRAC_1_PI;
             }
             let h = (wo + wi).normalize_or_zero();
@@ -735,12 +778,12 @@ impl OpenPbrBsdf {
             if self.p[SPEC_R] > 0.0 {
                 let g = self.spec;
                 let fr = self.fresnel(oh);
-                f += self.spec_r * fr * (g.d(h) * g.g2(wo, wi) * k);
+                f += self.spec_r * coat_in * fr * (g.d(h) * g.g2(wo, wi) * k);
                 pdf += self.p[SPEC_R] * g.visible_pdf(wo, h) / (4.0 * oh);
             }
             if self.p[METAL] > 0.0 {
                 let g = self.metal;
-                f += self.metal_w * self.f82.at(oh) * (g.d(h) * g.g2(wo, wi) * k);
+                f += self.metal_w * coat_in * self.f82.at(oh) * (g.d(h) * g.g2(wo, wi) * k);
                 pdf += self.p[METAL] * g.visible_pdf(wo, h) / (4.0 * oh);
             }
             if let Some(frame) = self.coat_frame {
