@@ -503,7 +503,9 @@ mod visibility;
 
 /// The floor: colour 0.5 under a 10 W/sr point light 2 m above, seen from
 /// above, is `0.5 / pi * 10 / 4` in both physical models, and every lobe, Phong or
-/// OpenPBR, gathers the same direct light in both (they share one BSDF).
+/// OpenPBR, gathers the same direct light in both (they share one BSDF). (A subsurface
+/// is the exception by design: the path model walks light under it to where it
+/// leaves, which is not direct light at the hit.)
 #[test]
 fn whitted_and_path_gather_the_same_direct_light_for_every_lobe() {
     use crate::render::path::Path;
@@ -551,6 +553,14 @@ fn whitted_and_path_gather_the_same_direct_light_for_every_lobe() {
             openpbr(&|m| {
                 m.coat_weight.value = 1.0;
                 m.coat_roughness.value = 0.3;
+            }),
+        ),
+        (
+            "openpbr coloured coat",
+            openpbr(&|m| {
+                m.coat_weight.value = 0.8;
+                m.coat_roughness.value = 0.3;
+                m.coat_color.value = Vec3::new(0.5, 0.8, 0.9);
             }),
         ),
     ];
