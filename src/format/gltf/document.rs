@@ -30,6 +30,8 @@ pub const SUPPORTED: &[&str] = &[
     "KHR_materials_dispersion",
     "KHR_materials_diffuse_transmission",
     "KHR_mesh_quantization",
+    // Each instance is placed as a copy of the mesh.
+    "EXT_mesh_gpu_instancing",
     // Each primitive's default material is the one rendered.
     "KHR_materials_variants",
 ];

@@ -13,6 +13,7 @@
 
 pub mod accessor;
 pub mod document;
+mod instancing;
 pub mod lights;
 pub mod material;
 pub mod mesh;
@@ -95,14 +96,25 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
                 }
                 slot.insert(read);
             }
-            for p in &meshes[&m.index()] {
-                let material = p
-                    .material
-                    .map_or(default_material, |i| i as u32)
-                    .min(default_material);
-                let set = texcoord_set.get(material as usize).copied().unwrap_or(0);
-                place(&mut scene, p, &world, material, set)
-                    .map_err(|e| err(format!("{at}: {e}")))?;
+            let placements = match instancing::transforms(doc, &loaded.buffers, &node)
+                .map_err(|e| err(format!("{at}: {e}")))?
+            {
+                Some(instances) => instances.iter().map(|t| world * *t).collect(),
+                None => vec![world],
+            };
+            for (k, world) in placements.iter().enumerate() {
+                if !world.is_finite() {
+                    return Err(err(format!("{at}: instance {k}'s transform is not finite")));
+                }
+                for p in &meshes[&m.index()] {
+                    let material = p
+                        .material
+                        .map_or(default_material, |i| i as u32)
+                        .min(default_material);
+                    let set = texcoord_set.get(material as usize).copied().unwrap_or(0);
+                    place(&mut scene, p, world, material, set)
+                        .map_err(|e| err(format!("{at}: {e}")))?;
+                }
             }
         }
         if let Some(c) = node.camera() {

@@ -346,6 +346,8 @@ pub struct OpenPbrBsdf {
     coat_tint: Vec3,
     coat_presence: f32,
     coat_passage_o: Vec3,
+    /// What it passes along the base's mirror direction of `wo`.
+    coat_passage_back: Vec3,
     /// The fuzz's colour times its presence, and its roughness.
     fuzz: Vec3,
     fuzz_roughness: f32,
@@ -418,6 +420,7 @@ impl OpenPbrBsdf {
             coat_tint: Vec3::ONE,
             coat_presence: 0.0,
             coat_passage_o: Vec3::ONE,
+            coat_passage_back: Vec3::ONE,
             fuzz: Vec3::ZERO,
             fuzz_roughness: p.fuzz_roughness,
             film: None,
@@ -502,6 +505,11 @@ impl OpenPbrBsdf {
             b.coat_tint = p.coat_color.max(Vec3::ZERO).powf(0.5);
             b.coat_presence = c;
             b.coat_passage_o = b.coat_passage(mu_c);
+            // The base's mirror direction, at its own angle to a coat of its own normal.
+            b.coat_passage_back = match &b.coat_frame {
+                None => b.coat_passage_o,
+                Some(f) => b.coat_passage(f.to_coat(Vec3::new(-wo.x, -wo.y, wo.z)).z),
+            };
             below *= b.coat_passage_o
                 * (1.0 - c * e_c)
                 * Vec3::ONE.lerp(darkening(p, mu_o), c * p.coat_darkening);
@@ -517,7 +525,7 @@ impl OpenPbrBsdf {
             weights[METAL] = mean(b.metal_w * f_o * e);
             // What the base reflects toward its mirror direction crosses the coat
             // again at `wo`'s angle.
-            let back = b.coat_passage_o;
+            let back = b.coat_passage_back;
             if !spec.is_delta() {
                 b.glossy += b.metal_w * f_o * back * (e * (1.0 - r_spec) * (1.0 - r_spec));
             }
@@ -571,7 +579,7 @@ impl OpenPbrBsdf {
             weights[SPEC_T] = mean(b.spec_t) * et;
             if !spec.is_delta() && !b.matched {
                 let gloss = (1.0 - r_spec) * (1.0 - r_spec);
-                b.glossy += b.spec_r * b.coat_passage_o * (er * gloss);
+                b.glossy += b.spec_r * b.coat_passage_back * (er * gloss);
                 b.glossy_transmit += b.spec_t * (et * gloss * scale);
             }
             if spec.is_delta() || b.matched {
@@ -582,13 +590,16 @@ impl OpenPbrBsdf {
                 } else {
                     (Vec3::splat(er), Vec3::splat(et))
                 };
-                b.mirror += b.spec_r * b.coat_passage_o * r;
+                b.mirror += b.spec_r * b.coat_passage_back * r;
                 b.transmit += b.spec_t * t * scale;
             }
             // base_weight scales the albedo EON is given, as the reference does: its
             // multiple-scattering term then darkens a dim base as it does a dark one.
             let opaque = below * (d * (1.0 - t) * (1.0 - r));
-            let medium = if p.subsurface_walk && !p.thin_walled && p.subsurface_weight > 0.0 {
+            // Only from outside: the back of an opaque surface is an open mesh's (shaded
+            // as its front), with no medium behind it to walk through.
+            let walks = p.subsurface_walk && outside && !p.thin_walled;
+            let medium = if walks && p.subsurface_weight > 0.0 {
                 Medium::subsurface(
                     p.subsurface_color,
                     p.subsurface_radius,
@@ -602,7 +613,8 @@ impl OpenPbrBsdf {
                 let w = p.subsurface_weight;
                 b.rho = p.base_color * p.base_weight;
                 b.diffuse = opaque * (1.0 - w);
-                b.enter = opaque * (w * p.base_weight);
+                // The walk's diffuse exit is taken to cross the coat at normal incidence.
+                b.enter = opaque * b.coat_passage(1.0) * (w * p.base_weight);
                 b.medium = medium;
             } else {
                 b.rho = p.base_color.lerp(p.subsurface_color, p.subsurface_weight) * p.base_weight;
@@ -671,7 +683,9 @@ impl OpenPbrBsdf {
     /// tint raised to the length of the path refracted into it (the specification's
     /// view-dependent absorption), where it is present.
     fn coat_passage(&self, mu: f32) -> Vec3 {
-        if self.coat_tint == Vec3::ONE {
+        // Below the coat's plane (a base lobe's direction under a coat of its own
+        // normal) nothing crosses it, as the reference has it.
+        if self.coat_tint == Vec3::ONE || mu <= 0.0 {
             return Vec3::ONE;
         }
         let eta = self.coat_eta;

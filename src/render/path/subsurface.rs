@@ -7,8 +7,8 @@
 //! (so a path that dispersion left with one channel keeps to it) and draws a free
 //! flight by that channel's extinction; the step is weighed by the channels' densities
 //! mixed in the same shares (one-sample MIS over the channels, as Cycles and pbrt-v4
-//! walk a coloured medium), which is unbiased and keeps every channel's weight from
-//! growing along the walk.
+//! walk a coloured medium), which is unbiased and keeps the sum of the channels'
+//! weights from growing along the walk.
 
 use super::{Bsdf, Path, PathState};
 use crate::math::{Ray, Vec3, offset_origin};
@@ -70,8 +70,8 @@ impl Path<'_> {
         for _ in 0..MAX_WALK_STEPS {
             // The channel whose extinction draws the flight, chosen by the share of
             // the path's throughput it carries: the flight's density is then the
-            // throughput-weighed mean of the channels', and no channel's weight can
-            // grow from step to step.
+            // throughput-weighed mean of the channels', and the sum of the channels'
+            // weights cannot grow from step to step.
             let beta = path.beta;
             let total = beta.x + beta.y + beta.z;
             if !(total > 0.0 && total.is_finite()) {

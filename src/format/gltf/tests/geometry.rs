@@ -137,6 +137,72 @@ fn a_node_hierarchys_bounds_are_its_matrices_product_and_instances_count() {
     );
 }
 
+/// `EXT_mesh_gpu_instancing`: each instance's translation, rotation and scale place the
+/// node's mesh before the node's own transform; mismatched attribute counts are an
+/// error naming the node.
+#[test]
+fn gpu_instances_place_the_mesh_by_their_own_transform_then_the_nodes() {
+    let mut b = Builder::default();
+    let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    b.mesh(&tri, None, 4, None);
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    let translation = b.floats(&[0.0, 0.0, 0.0, 5.0, 0.0, 0.0, 0.0, 0.0, -4.0], "VEC3");
+    let rotation = b.floats(
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, h, h, 0.0, 0.0, 0.0, 1.0],
+        "VEC4",
+    );
+    let scale = b.floats(&[1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 1.0, 1.0, 1.0], "VEC3");
+    let short = b.floats(&[1.0, 1.0, 1.0], "VEC3");
+    let node = |scale_accessor: usize| {
+        json!({"translation": [0.0, 10.0, 0.0], "mesh": 0,
+            "extensions": {"EXT_mesh_gpu_instancing": {"attributes": {
+                "TRANSLATION": translation, "ROTATION": rotation, "SCALE": scale_accessor}}}})
+    };
+    let doc = b.finish(json!({
+        "extensionsUsed": ["EXT_mesh_gpu_instancing"],
+        "extensionsRequired": ["EXT_mesh_gpu_instancing"],
+        "nodes": [node(scale), node(short)],
+        "scenes": [{"nodes": [0]}, {"nodes": [1]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let file = crate::format::load(&path).unwrap();
+    assert!(file.warnings.is_empty(), "{:?}", file.warnings);
+    assert_eq!(file.scene.shapes.len(), 3);
+    let node = glam::Mat4::from_translation(glam::Vec3::new(0.0, 10.0, 0.0));
+    let instances = [
+        glam::Mat4::IDENTITY,
+        glam::Mat4::from_scale_rotation_translation(
+            glam::Vec3::splat(2.0),
+            glam::Quat::from_rotation_z(std::f32::consts::FRAC_PI_2),
+            glam::Vec3::new(5.0, 0.0, 0.0),
+        ),
+        glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, -4.0)),
+    ];
+    for (k, instance) in instances.iter().enumerate() {
+        let crate::scene::Shape::Triangle(t) = file.scene.shapes.get(k) else {
+            panic!("shape {k} is not a triangle");
+        };
+        for (corner, v) in t.v.iter().zip(tri.chunks(3)) {
+            let want: Vec3 = (node * *instance)
+                .transform_point3(glam::Vec3::new(v[0], v[1], v[2]))
+                .into();
+            assert!(
+                (*corner - want).abs().max_element() < 1e-5,
+                "instance {k}: {corner} vs {want}"
+            );
+        }
+    }
+    // Scene 1's node gives SCALE one element for three placements.
+    let mut doc = doc;
+    doc["scene"] = json!(1);
+    let (_dir, path) = write(&doc);
+    let e = crate::format::load(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("nodes[1]") && e.contains("different counts"),
+        "{e}"
+    );
+}
+
 #[test]
 fn a_mirroring_node_keeps_faces_outward_and_strips_and_fans_triangulate() {
     let mut b = Builder::default();

@@ -28,6 +28,7 @@ impl Builder {
         let n = match kind {
             "VEC2" => 2,
             "VEC3" => 3,
+            "VEC4" => 4,
             _ => 1,
         };
         let offset = self.bin.len();
