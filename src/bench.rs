@@ -279,7 +279,7 @@ fn bench_light(scene: &Scene, camera: &Camera) -> (Vec3, bool) {
 
 fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> BenchReport {
     let start = Instant::now();
-    let accel = Accel::build(options.accel, &scene.shapes);
+    let accel = Accel::build_scene(options.accel, scene);
     let build_s = start.elapsed().as_secs_f64();
     let accel_bytes = accel.memory_bytes();
     let bytes =
@@ -360,8 +360,8 @@ fn measure_rays(scene: &Scene, camera: &Camera, options: &BenchOptions) -> Bench
     BenchReport {
         primary_packet_mrays: primary_packet_s.mrays(),
         shadow_packet_mrays: shadow_packet_s.mrays(),
-        simd: match &accel {
-            Accel::Bvh(b) => b.simd().name(),
+        simd: match &accel.world {
+            crate::accel::Intersector::Bvh(b) => b.simd().name(),
             _ => "none",
         },
         accel: options.accel,

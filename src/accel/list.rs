@@ -29,7 +29,7 @@ impl<'s> ListAccel<'s> {
             if let Some(t) = s.intersect(ray, Hit::bound(&best, t_max))
                 && Hit::beats(t, shape, &best)
             {
-                best = Some(Hit { t, shape });
+                best = Some(Hit::world(t, shape));
             }
         }
         best

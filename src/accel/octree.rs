@@ -141,7 +141,7 @@ impl<'s> Octree<'s> {
             if let Some(t) = s.intersect(ray, Hit::bound(&best, t_max))
                 && Hit::beats(t, shape, &best)
             {
-                best = Some(Hit { t, shape });
+                best = Some(Hit::world(t, shape));
             }
             (false, best.map_or(t_max, |b| b.t))
         });

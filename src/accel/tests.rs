@@ -5,6 +5,10 @@ use crate::math::Vec3;
 use crate::scene::{Rectangle, Shape, Shapes, Sphere, Triangle};
 use proptest::prelude::*;
 
+fn bvh(b: Bvh<'_>) -> Accel<'_> {
+    Accel::from(Intersector::Bvh(b))
+}
+
 fn v(a: [f32; 3]) -> Vec3 {
     Vec3::from_array(a)
 }
@@ -54,7 +58,7 @@ fn agree_on(shapes: &Shapes, rays: &[Ray]) -> Result<(), TestCaseError> {
         ("octree", Accel::build(AccelKind::Octree, shapes)),
         (
             "bvh sse2",
-            Accel::Bvh(Bvh::build_with(
+            bvh(Bvh::build_with(
                 shapes,
                 SimdLevel::Baseline,
                 Leaves::Indexed,
@@ -62,15 +66,15 @@ fn agree_on(shapes: &Shapes, rays: &[Ray]) -> Result<(), TestCaseError> {
         ),
         (
             "bvh avx2",
-            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Avx2, Leaves::Indexed)),
+            bvh(Bvh::build_with(shapes, SimdLevel::Avx2, Leaves::Indexed)),
         ),
         (
             "bvh copied sse2",
-            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Baseline, Leaves::Copied)),
+            bvh(Bvh::build_with(shapes, SimdLevel::Baseline, Leaves::Copied)),
         ),
         (
             "bvh copied avx2",
-            Accel::Bvh(Bvh::build_with(shapes, SimdLevel::Avx2, Leaves::Copied)),
+            bvh(Bvh::build_with(shapes, SimdLevel::Avx2, Leaves::Copied)),
         ),
     ];
     for (kind, fast) in &fast {
@@ -88,7 +92,7 @@ fn agree_on(shapes: &Shapes, rays: &[Ray]) -> Result<(), TestCaseError> {
                 let limits: Vec<f32> = (0..chunk.len())
                     .map(|i| t_max / (1 + i % 3) as f32)
                     .collect();
-                let even = |s: u32| s.is_multiple_of(2);
+                let even = |s: ShapeId| s.shape.is_multiple_of(2);
                 let blocked = fast.occluded_packet(chunk, &limits, even);
                 for (i, ray) in chunk.iter().enumerate() {
                     prop_assert_eq!(
@@ -114,7 +118,7 @@ fn agree_on(shapes: &Shapes, rays: &[Ray]) -> Result<(), TestCaseError> {
             for t_max in [5.0, 40.0, f32::INFINITY] {
                 let (a, b) = (list.closest(ray, t_max), fast.closest(ray, t_max));
                 prop_assert_eq!(a, b, "{} closest, t_max {}, ray {:?}", kind, t_max, ray);
-                let even = |s: u32| s.is_multiple_of(2);
+                let even = |s: ShapeId| s.shape.is_multiple_of(2);
                 prop_assert_eq!(
                     list.occluded(ray, t_max, even),
                     fast.occluded(ray, t_max, even),
@@ -283,13 +287,13 @@ fn octree_splits_crowded_cells() {
         })
         .collect();
     let shapes = Shapes::from(shapes);
-    let Accel::Octree(tree) = Accel::build(AccelKind::Octree, &shapes) else {
+    let Intersector::Octree(tree) = Intersector::build(AccelKind::Octree, &shapes) else {
         unreachable!()
     };
     assert!(tree.node_count() > 8);
     let ray = Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X);
     let hit = tree.closest(&ray, f32::INFINITY).unwrap();
-    assert_eq!(hit, Hit { t: 4.0, shape: 0 });
+    assert_eq!(hit, Hit::world(4.0, 0));
 }
 
 #[test]
@@ -320,7 +324,7 @@ fn shapes_with_a_nan_coordinate_hide_no_other_shape() {
         for i in 0..900u32 {
             let (x, y) = ((i % 30) as f32 + 0.25, (i / 30) as f32 + 0.25);
             let ray = Ray::new(v([x, y, 3.0]), -Vec3::Z);
-            let expected = (i % 7 != 3).then_some(Hit { t: 3.0, shape: i });
+            let expected = (i % 7 != 3).then_some(Hit::world(3.0, i));
             assert_eq!(
                 accel.closest(&ray, f32::INFINITY),
                 expected,

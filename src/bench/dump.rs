@@ -108,7 +108,7 @@ pub fn write_bench_dump(
     let camera = renderer.camera();
     std::fs::create_dir_all(dir)
         .map_err(|e| Error::file(dir, format!("cannot create the folder: {e}")))?;
-    let accel = Accel::build(options.accel, &scene.shapes);
+    let accel = Accel::build_scene(options.accel, scene);
     let rays = primary_rays(camera);
     let hits = pool.install(|| closest_hits(&accel, &rays));
     write_primary_dump(dir, triangles, &rays, &hits)?;

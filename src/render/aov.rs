@@ -50,8 +50,8 @@ impl<'a> AovTracer<'a> {
         else {
             return Vec3::ZERO;
         };
-        let (t, shape) = (hit.t, hit.shape);
-        let s = &self.surfaces[self.scene.material_of[shape as usize] as usize];
+        let (t, shape) = (hit.t, hit.id());
+        let s = &self.surfaces[self.scene.material_index(shape) as usize];
         match self.aov {
             Aov::Albedo => self.albedo_seen(*ray, hit, sp),
             Aov::Normal => {
@@ -80,8 +80,8 @@ impl AovTracer<'_> {
     fn albedo_seen(&self, mut ray: Ray, mut hit: Hit, mut sp: SurfacePoint) -> Vec3 {
         let mut tint = Vec3::ONE;
         for bounce in 0..=MAX_SPECULAR_BOUNCES {
-            let s = &self.surfaces[self.scene.material_of[hit.shape as usize] as usize];
-            let albedo = self.scene.albedo(s, &sp, hit.shape) * sp.color;
+            let s = &self.surfaces[self.scene.material_index(hit.id()) as usize];
+            let albedo = self.scene.albedo(s, &sp, hit.id()) * sp.color;
             if !looks_through(s, albedo) || bounce == MAX_SPECULAR_BOUNCES {
                 return (tint * albedo).clamp(Vec3::ZERO, Vec3::ONE);
             }

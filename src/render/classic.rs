@@ -249,7 +249,9 @@ impl<'a> Classic<'a> {
             count.rays += 1;
             let blocked = match known {
                 Some(blocked) => blocked,
-                None => self.accel.occluded(&shadow, t_max, |s| self.blocks(s)),
+                None => self
+                    .accel
+                    .occluded(&shadow, t_max, |s| self.blocks(s.shape)),
             };
             if blocked {
                 acc.add(Vec3::ZERO, SHADOW_WEIGHT * i);

@@ -28,15 +28,15 @@ pub fn first_uncut(
             Some(hit) => hit,
             None => accel.closest(&r, f32::INFINITY),
         }?;
-        let s = &surfaces[scene.material_of[hit.shape as usize] as usize];
+        let s = &surfaces[scene.material_index(hit.id()) as usize];
         let uv = s.reads_texture_coords();
         let t = travelled + hit.t;
         if s.alpha_map.is_none() {
             // Made where it is returned: a shading point is two hundred bytes to copy.
-            let sp = scene.surface_point(hit.shape, &r, hit.t, uv);
+            let sp = scene.surface_point(hit.id(), &r, hit.t, uv);
             return Some((Hit { t, ..hit }, sp));
         }
-        let sp = scene.surface_point(hit.shape, &r, hit.t, uv);
+        let sp = scene.surface_point(hit.id(), &r, hit.t, uv);
         if !scene.cut_out(s, &sp) {
             return Some((Hit { t, ..hit }, sp));
         }

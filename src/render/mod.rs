@@ -330,7 +330,7 @@ impl<'a> Renderer<'a> {
     pub fn build_accel(&self) -> Result<Accel<'a>> {
         Ok(self
             .pool()?
-            .install(|| Accel::build(self.plan.accel, &self.scene.shapes)))
+            .install(|| Accel::build_scene(self.plan.accel, self.scene)))
     }
 
     /// [`Renderer::render`] with an intersector built earlier over shapes equal to this
@@ -371,7 +371,7 @@ impl<'a> Renderer<'a> {
         let out = self.pool()?.install(|| match accel {
             Some(accel) => self.render_in_pool(accel, start, observer, pass),
             None => {
-                let accel = Accel::build(self.plan.accel, &self.scene.shapes);
+                let accel = Accel::build_scene(self.plan.accel, self.scene);
                 self.render_in_pool(&accel, start, observer, pass)
             }
         });
@@ -398,6 +398,14 @@ impl<'a> Renderer<'a> {
     ) -> (Image, RenderStats) {
         let plan = &self.plan;
         match plan.integrator {
+            IntegratorKind::Classic if !self.scene.instances.is_empty() => {
+                // The 2014 model, frozen, knows shapes of the scene only: it renders
+                // the scene's flattened twin.
+                let flat = self.scene.flattened();
+                let accel = Accel::build(plan.accel, &flat.shapes);
+                let classic = Classic::new(&flat, &accel, plan.camera.medium_ior);
+                self.render_frame(&classic, &accel, start, observer, pass)
+            }
             IntegratorKind::Classic => {
                 let classic = Classic::new(self.scene, accel, plan.camera.medium_ior);
                 self.render_frame(&classic, accel, start, observer, pass)
@@ -411,7 +419,13 @@ impl<'a> Renderer<'a> {
                     plan.max_depth,
                     plan.min_weight,
                 );
-                let casters = Casters::of(self.scene, &surfaces);
+                // Casters gather the scene's own shapes; with instances every shadow
+                // ray meets the whole scene.
+                let casters = if self.scene.instances.is_empty() {
+                    Casters::of(self.scene, &surfaces)
+                } else {
+                    None
+                };
                 let caster_accel = casters
                     .as_ref()
                     .map(|c| Accel::build(plan.accel, c.shapes()));

@@ -20,7 +20,7 @@ use super::cut_outs::{MAX_CUT_OUTS, first_uncut};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
-use crate::scene::{Light, LightKind, Scene, Surface, SurfacePoint};
+use crate::scene::{Light, LightKind, Scene, ShapeId, Surface, SurfacePoint};
 use environment::Environment;
 
 /// Bounces after which Russian roulette may end a path (Mitsuba's default).
@@ -126,14 +126,18 @@ impl<'a> Path<'a> {
     }
 
     #[inline]
-    fn surface(&self, shape: u32) -> &Surface {
-        &self.surfaces[self.scene.material_of[shape as usize] as usize]
+    fn surface(&self, shape: ShapeId) -> &Surface {
+        &self.surfaces[self.scene.material_index(shape) as usize]
     }
 
-    /// The light whose triangle `shape` is, if any.
+    /// The light whose triangle `shape` is, if any. (Readers leave emissive meshes out
+    /// of instances, so a placed shape is never one.)
     #[inline]
-    fn light_of(&self, shape: u32) -> Option<&Light> {
-        let k = *self.light_of_shape.get(shape as usize)?;
+    fn light_of(&self, shape: ShapeId) -> Option<&Light> {
+        if !shape.is_world() {
+            return None;
+        }
+        let k = *self.light_of_shape.get(shape.shape as usize)?;
         self.scene.lights.get(k as usize)
     }
 
@@ -203,18 +207,18 @@ impl<'a> Path<'a> {
             }
             return false;
         };
-        let s = self.surface(hit.shape);
+        let s = self.surface(hit.id());
         let sp = match cut_point {
             Some(sp) => sp,
             None => self
                 .scene
-                .surface_point(hit.shape, ray, hit.t, s.reads_texture_coords()),
+                .surface_point(hit.id(), ray, hit.t, s.reads_texture_coords()),
         };
         // The normal map bends the base's normal; `sp.n` stays unbent for a coat.
         let mapped = match &s.normal_map {
             Some(slot) => self
                 .scene
-                .normal_mapped(&sp, hit.shape, slot, s.normal_scale),
+                .normal_mapped(&sp, hit.id(), slot, s.normal_scale),
             None => sp.n,
         };
         let sp = &sp;
@@ -228,7 +232,7 @@ impl<'a> Path<'a> {
             *beta *= (-s.absorption * hit.t).exp();
         }
         if entering && s.emission != Vec3::ZERO {
-            let light = self.light_of(hit.shape);
+            let light = self.light_of(hit.id());
             let le = s.emission
                 * self.scene.map(&s.emission_map, sp)
                 * light.map_or(1.0, |light| light.intensity);
@@ -241,7 +245,7 @@ impl<'a> Path<'a> {
             };
             *l += *beta * le * w;
         }
-        let albedo = self.scene.albedo(s, sp, hit.shape) * sp.color;
+        let albedo = self.scene.albedo(s, sp, hit.id()) * sp.color;
         if !s.lit {
             *l += *beta * albedo;
             return false;
@@ -257,7 +261,17 @@ impl<'a> Path<'a> {
         }
         let wo = -ray.dir;
         let bsdf = Bsdf::at(
-            self.scene, s, sp, hit.shape, albedo, wo, n, ng, entering, *channel, true,
+            self.scene,
+            s,
+            sp,
+            hit.id(),
+            albedo,
+            wo,
+            n,
+            ng,
+            entering,
+            *channel,
+            true,
         );
         if bsdf.has_smooth() {
             *l += *beta * self.direct(&bsdf, sp, ng, sampler, count);
@@ -400,11 +414,11 @@ impl<'a> Path<'a> {
             let Some(hit) = self.accel.closest(&ray, left) else {
                 return true;
             };
-            let s = self.surface(hit.shape);
+            let s = self.surface(hit.id());
             if s.alpha_map.is_none() {
                 return false;
             }
-            let sp = self.scene.surface_point(hit.shape, &ray, hit.t, true);
+            let sp = self.scene.surface_point(hit.id(), &ray, hit.t, true);
             if !self.scene.cut_out(s, &sp) {
                 return false;
             }

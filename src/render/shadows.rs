@@ -67,7 +67,9 @@ pub fn trace_ahead(
         if n == 0 {
             continue;
         }
-        let blocked = accel.occluded_packet(&batch[..n], &t_max[..n], blocks);
+        // The classic model's scenes hold no instances (a scene of them is flattened
+        // for it), so every shape is the scene's own.
+        let blocked = accel.occluded_packet(&batch[..n], &t_max[..n], |s| blocks(s.shape));
         for (k, &i) in owner[..n].iter().enumerate() {
             known[i].set(light, blocked >> k & 1 == 1);
         }

@@ -13,7 +13,7 @@ use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, reflect};
 use crate::scene::light::LightSample;
-use crate::scene::{Light, Scene, Surface, SurfacePoint};
+use crate::scene::{Light, Scene, ShapeId, Surface, SurfacePoint};
 
 mod casters;
 mod shadow_batch;
@@ -126,8 +126,8 @@ impl<'a> Whitted<'a> {
     }
 
     #[inline]
-    fn surface(&self, shape: u32) -> &Surface {
-        &self.surfaces[self.scene.material_of[shape as usize] as usize]
+    fn surface(&self, shape: ShapeId) -> &Surface {
+        &self.surfaces[self.scene.material_index(shape) as usize]
     }
 
     /// Radiance arriving along `ray`; `weight` is what the camera will multiply it by
@@ -160,13 +160,13 @@ impl<'a> Whitted<'a> {
         else {
             return self.scene.background(ray.dir);
         };
-        let s = self.surface(hit.shape);
+        let s = self.surface(hit.id());
         let d = ray.dir;
         // The normal map bends the base's normal; `sp.n` stays unbent for a coat.
         let mapped = match &s.normal_map {
             Some(slot) => self
                 .scene
-                .normal_mapped(&sp, hit.shape, slot, s.normal_scale),
+                .normal_mapped(&sp, hit.id(), slot, s.normal_scale),
             None => sp.n,
         };
         // Inside/outside from the geometric normal; shading normals turned to the ray.
@@ -190,7 +190,7 @@ impl<'a> Whitted<'a> {
         } else {
             Vec3::ZERO
         };
-        let albedo = self.scene.albedo(s, &sp, hit.shape) * sp.color;
+        let albedo = self.scene.albedo(s, &sp, hit.id()) * sp.color;
         if !s.lit {
             return absorbed * (l + albedo);
         }
@@ -200,7 +200,17 @@ impl<'a> Whitted<'a> {
         let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
         // Light from lights is gathered through the surface's BSDF, the path model's.
         let bsdf = Bsdf::at(
-            self.scene, s, &sp, hit.shape, albedo, v, n, ng, entering, None, false,
+            self.scene,
+            s,
+            &sp,
+            hit.id(),
+            albedo,
+            v,
+            n,
+            ng,
+            entering,
+            None,
+            false,
         );
         // What a sample lights at the point before its shadow ray, or `None` where it
         // lights nothing (and no shadow ray is traced).
@@ -295,7 +305,7 @@ impl<'a> Whitted<'a> {
     }
 
     #[inline]
-    fn cut_out(&self, shape: u32, sp: &SurfacePoint) -> bool {
+    fn cut_out(&self, shape: ShapeId, sp: &SurfacePoint) -> bool {
         self.scene.cut_out(self.surface(shape), sp)
     }
 }

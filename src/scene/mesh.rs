@@ -67,12 +67,7 @@ impl MeshAttributes {
     /// Interpolated normal of triangle `tri` at barycentrics `(b0, b1, b2)`, if the mesh
     /// has normals.
     pub fn normal(&self, tri: usize, b: [f32; 3]) -> Option<Vec3> {
-        let [i, j, k] = *self.normal_indices.get(tri)?;
-        let n = self.normals[i as usize] * b[0]
-            + self.normals[j as usize] * b[1]
-            + self.normals[k as usize] * b[2];
-        let n = n.normalize_or_zero();
-        (n != Vec3::ZERO).then_some(n)
+        interpolate_normal(self.vertex_normals(tri)?, b)
     }
 
     /// The vertex normals of triangle `tri`, for the shadow-terminator offset.
@@ -84,16 +79,11 @@ impl MeshAttributes {
     /// Interpolated texture coordinates of triangle `tri` at barycentrics `(b0, b1, b2)`,
     /// if the mesh has them.
     pub fn texcoord(&self, tri: usize, b: [f32; 3]) -> Option<[f32; 2]> {
-        let [i, j, k] = *self.texcoord_indices.get(tri)?;
-        let (a, c, d) = (
-            self.texcoords[i as usize],
-            self.texcoords[j as usize],
-            self.texcoords[k as usize],
-        );
-        Some([
-            a[0] * b[0] + c[0] * b[1] + d[0] * b[2],
-            a[1] * b[0] + c[1] * b[1] + d[1] * b[2],
-        ])
+        let t = *self.texcoord_indices.get(tri)?;
+        Some(interpolate_texcoord(
+            t.map(|k| self.texcoords[k as usize]),
+            b,
+        ))
     }
 
     /// Interpolated vertex colour (linear RGB) of triangle `tri` at barycentrics
@@ -131,6 +121,25 @@ impl MeshAttributes {
         )?;
         check("colour", &self.colors, &self.color_indices, self.len)
     }
+}
+
+/// The unit normal at barycentrics `b` of a triangle with vertex normals `n`; `None`
+/// where they cancel.
+#[inline]
+pub fn interpolate_normal(n: [Vec3; 3], b: [f32; 3]) -> Option<Vec3> {
+    let n = (n[0] * b[0] + n[1] * b[1] + n[2] * b[2]).normalize_or_zero();
+    (n != Vec3::ZERO).then_some(n)
+}
+
+/// The texture coordinates at barycentrics `b` of a triangle with corner coordinates
+/// `uv`.
+#[inline]
+pub fn interpolate_texcoord(uv: [[f32; 2]; 3], b: [f32; 3]) -> [f32; 2] {
+    let [a, c, d] = uv;
+    [
+        a[0] * b[0] + c[0] * b[1] + d[0] * b[2],
+        a[1] * b[0] + c[1] * b[1] + d[1] * b[2],
+    ]
 }
 
 /// Gives the triangles `shapes` of `scene` smooth vertex normals where their mesh has

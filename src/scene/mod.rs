@@ -4,6 +4,7 @@ pub mod builder;
 pub mod camera;
 pub mod framing;
 pub mod image;
+pub mod instance;
 pub mod light;
 pub mod material;
 pub mod mesh;
@@ -18,6 +19,7 @@ pub mod texture;
 pub use builder::{MeshMaterials, SceneBuilder};
 pub use camera::{Camera, Frame, Projection};
 pub use image::{ImageTexture, Texels};
+pub use instance::{Instance, NO_INSTANCE, Object, ShapeId};
 pub use light::{ConeEdge, Falloff, Light, LightKind};
 pub use material::{Albedo, Highlight, Material, Surface, TextureSlot};
 pub use mesh::MeshAttributes;
@@ -93,6 +95,11 @@ pub struct Scene {
     pub ambient: Vec3,
     /// What rays that escape the scene see (whitted model only).
     pub background: Background,
+    /// Meshes placed by instances, each held once in its own space.
+    pub objects: Vec<Object>,
+    /// Placements of `objects`: their triangles are shapes of the scene too, named by
+    /// [`ShapeId`]s.
+    pub instances: Vec<Instance>,
 }
 
 impl Scene {
@@ -136,15 +143,27 @@ impl Scene {
         self.groups.iter().find(|g| g.name == name)
     }
 
-    /// World-space box around every shape; [`Aabb::EMPTY`] when there are none.
+    /// World-space box around every shape, placed ones included; [`Aabb::EMPTY`] when
+    /// there are none.
     pub fn bounds(&self) -> Aabb {
-        self.shapes.bounds()
+        self.world_bounds()
     }
 
     /// Surface colour at `p` on shape `shape`: its texel, or the material colour where
     /// there is no texture (or a fit-mode image leaves the surface bare).
     pub fn surface_color(&self, shape: u32, p: Vec3) -> Vec3 {
         self.surface_color_with(shape, || self.shapes.get(shape as usize).surface_coords(p))
+    }
+
+    /// [`Scene::surface_color`] of any shape, placed ones included.
+    pub fn surface_color_at(&self, shape: ShapeId, p: Vec3) -> Vec3 {
+        if shape.is_world() {
+            return self.surface_color(shape.shape, p);
+        }
+        let m = &self.materials[self.material_index(shape) as usize];
+        m.texture
+            .and_then(|t| self.textures[t as usize].lookup(&self.shape_at(shape).surface_coords(p)))
+            .unwrap_or(m.color)
     }
 
     /// [`Scene::surface_color`] where the caller knows the hit's texture coordinates

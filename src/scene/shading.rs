@@ -2,7 +2,7 @@
 //! its maps, its normal map and alpha cut-out, and what escaping rays see.
 
 use super::material::srgb_to_linear;
-use super::{Albedo, Background, Scene, Surface, SurfacePoint, TextureSlot};
+use super::{Albedo, Background, Scene, ShapeId, Surface, SurfacePoint, TextureSlot};
 use crate::math::{Vec3, cross};
 
 impl Scene {
@@ -24,7 +24,7 @@ impl Scene {
     pub fn normal_mapped(
         &self,
         sp: &SurfacePoint,
-        shape: u32,
+        shape: ShapeId,
         slot: &TextureSlot,
         scale: f32,
     ) -> Vec3 {
@@ -57,7 +57,7 @@ impl Scene {
     }
 
     /// The albedo C at a hit.
-    pub fn albedo(&self, s: &Surface, sp: &SurfacePoint, shape: u32) -> Vec3 {
+    pub fn albedo(&self, s: &Surface, sp: &SurfacePoint, shape: ShapeId) -> Vec3 {
         match &s.albedo {
             Albedo::Color(c) => *c,
             Albedo::Image { slot, tint } => {
@@ -80,7 +80,7 @@ impl Scene {
                 };
                 if even { *a } else { *b }
             }
-            Albedo::Classic => srgb_to_linear(self.surface_color(shape, sp.p)),
+            Albedo::Classic => srgb_to_linear(self.surface_color_at(shape, sp.p)),
         }
     }
 

@@ -1,7 +1,7 @@
 //! What the whitted model needs to know about a hit: where, which way the surface
 //! faces geometrically and for shading, and where textures are read.
 
-use super::{Scene, Shape};
+use super::{Scene, Shape, ShapeId};
 use crate::math::{Ray, Vec3};
 
 /// A hit, resolved for shading.
@@ -44,8 +44,8 @@ impl Scene {
     /// [`Scene::surface_point`] finds on shapes of no mesh with vertex normals or
     /// colours, when it is not asked for texture coordinates.
     #[inline]
-    pub fn flat_point(&self, shape: u32, ray: &Ray, t: f32) -> SurfacePoint {
-        flat_point_on(&self.shapes.get(shape as usize), ray, t)
+    pub fn flat_point(&self, shape: ShapeId, ray: &Ray, t: f32) -> SurfacePoint {
+        flat_point_on(&self.shape_at(shape), ray, t)
     }
 
     /// The shading view of a hit at distance `t` on shape `shape`, with texture
@@ -53,17 +53,17 @@ impl Scene {
     /// functions, and most surfaces read none).
     pub fn surface_point(
         &self,
-        shape: u32,
+        shape: ShapeId,
         ray: &Ray,
         t: f32,
         texture_coords: bool,
     ) -> SurfacePoint {
-        let s = &self.shapes.get(shape as usize);
+        let s = &self.shape_at(shape);
         let mut sp = flat_point_on(s, ray, t);
         let (p, ng) = (sp.p, sp.ng);
         match s {
             Shape::Triangle(tri) => {
-                let mesh = self.mesh_of(shape);
+                let mesh = self.mesh_at(shape);
                 if !texture_coords && mesh.is_none() {
                     // A bare triangle read for lighting alone: no barycentrics needed.
                     return sp;
@@ -72,18 +72,18 @@ impl Scene {
                 if texture_coords {
                     sp.uv = [b[1], b[2]];
                 }
-                if let Some((mesh, i)) = mesh {
-                    if let Some(n) = mesh.normal(i, b) {
+                if let Some(mesh) = mesh {
+                    if let Some(n) = mesh.normal(b) {
                         // Vertex normals may be wound against the triangle: follow ng.
                         sp.n = if n.dot(ng) < 0.0 { -n } else { n };
                     }
-                    if let Some(normals) = mesh.vertex_normals(i) {
+                    if let Some(normals) = mesh.vertex_normals() {
                         sp.smooth = Some((tri.v, normals, b));
                     }
-                    if texture_coords && let Some(uv) = mesh.texcoord(i, b) {
+                    if texture_coords && let Some(uv) = mesh.texcoord(b) {
                         sp.uv = uv;
                     }
-                    if let Some(c) = mesh.color(i, b) {
+                    if let Some(c) = mesh.color(b) {
                         sp.color = c;
                     }
                 }
@@ -142,12 +142,12 @@ impl Scene {
     /// the tangent frame of normal maps. Only mesh triangles with texture coordinates
     /// and rectangles have one. Asked only by normal-mapped surfaces, so ordinary hits
     /// do not pay for it.
-    pub fn dpdu(&self, shape: u32) -> Option<Vec3> {
-        match &self.shapes.get(shape as usize) {
+    pub fn dpdu(&self, shape: ShapeId) -> Option<Vec3> {
+        match &self.shape_at(shape) {
             Shape::Triangle(tri) => {
-                let (mesh, i) = self.mesh_of(shape)?;
+                let mesh = self.mesh_at(shape)?;
                 let corners = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-                let uvs = corners.map(|c| mesh.texcoord(i, c));
+                let uvs = corners.map(|c| mesh.texcoord(c));
                 let [Some(a), Some(b), Some(c)] = uvs else {
                     return None;
                 };
@@ -257,8 +257,8 @@ mod tests {
             (3, from_above(0.1, 0.2), 2.0),
         ];
         for (shape, ray, t) in hits {
-            let with = scene.surface_point(shape, &ray, t, true);
-            let without = scene.surface_point(shape, &ray, t, false);
+            let with = scene.surface_point(ShapeId::world(shape), &ray, t, true);
+            let without = scene.surface_point(ShapeId::world(shape), &ray, t, false);
             assert_eq!(without.uv, [0.0, 0.0]);
             assert_ne!(with.uv, [0.0, 0.0], "shape {shape}");
             assert_eq!(
@@ -272,14 +272,19 @@ mod tests {
         }
         // The sphere's latitude-longitude map, the mesh's own coordinates.
         let (ray, t) = (hits[0].1, hits[0].2);
-        let d = scene.surface_point(0, &ray, t, true).ng;
+        let d = scene.surface_point(ShapeId::world(0), &ray, t, true).ng;
         let u = 0.5 + d.x.atan2(d.z) / std::f32::consts::TAU;
         let v = 0.5 + d.y.clamp(-1.0, 1.0).asin() / std::f32::consts::PI;
-        assert_eq!(scene.surface_point(0, &ray, t, true).uv, [u, v]);
+        assert_eq!(
+            scene.surface_point(ShapeId::world(0), &ray, t, true).uv,
+            [u, v]
+        );
         let b = barycentrics(tri, from_above(0.1, 0.2).at(2.0));
         let expected = scene.meshes[0].texcoord(0, b).unwrap();
         assert_eq!(
-            scene.surface_point(3, &from_above(0.1, 0.2), 2.0, true).uv,
+            scene
+                .surface_point(ShapeId::world(3), &from_above(0.1, 0.2), 2.0, true)
+                .uv,
             expected
         );
     }

@@ -406,7 +406,7 @@ impl Bvh<'_> {
                                 let i = mask.trailing_zeros() as usize;
                                 mask &= mask - 1;
                                 if Hit::beats(t[i], shape, &best[i]) {
-                                    best[i] = Some(Hit { t: t[i], shape });
+                                    best[i] = Some(Hit::world(t[i], shape));
                                     bound[i] = Hit::bound(&best[i], t_max);
                                 }
                             }
@@ -417,7 +417,7 @@ impl Bvh<'_> {
                                 let i = mask.trailing_zeros() as usize;
                                 mask &= mask - 1;
                                 if Hit::beats(t[i], shape, &best[i]) {
-                                    best[i] = Some(Hit { t: t[i], shape });
+                                    best[i] = Some(Hit::world(t[i], shape));
                                     bound[i] = Hit::bound(&best[i], t_max);
                                 }
                             }

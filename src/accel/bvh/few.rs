@@ -81,10 +81,7 @@ impl FewFlats {
             }
         }
         for (i, hit) in hits.iter_mut().enumerate() {
-            *hit = (best_shape[i] != u32::MAX).then_some(Hit {
-                t: best_t[i],
-                shape: best_shape[i],
-            });
+            *hit = (best_shape[i] != u32::MAX).then_some(Hit::world(best_t[i], best_shape[i]));
         }
     }
 }

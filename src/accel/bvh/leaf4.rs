@@ -15,7 +15,7 @@ use glam::{BVec4A, Vec4};
 use crate::math::{Aabb, Ray, Vec3};
 use crate::scene::shape::EDGE_SLACK;
 use crate::scene::shapes::OTHER;
-use crate::scene::{Shape, Shapes, Sphere, Stored};
+use crate::scene::{Instance, Shape, Shapes, Sphere, Stored};
 
 /// Shape indices must fit in a lane's `u32` with one value left for an empty lane.
 pub const MAX_SHAPES: usize = 1 << 30;
@@ -126,6 +126,34 @@ impl Leaf4 {
         }
         // Lanes built in registers: writing them one float at a time into the leaf
         // and reading them back as vectors stalled every load.
+        Leaf4::of_corners(&v, shape)
+    }
+
+    /// [`Leaf4::new`] for the triangles of an object placed by `instance`: their
+    /// corners placed in world space as the flattened twin holds them.
+    #[inline(always)]
+    pub fn placed(shapes: &Shapes, indices: &[u32], instance: &Instance) -> Leaf4 {
+        debug_assert!(indices.len() <= 4);
+        let corners = shapes.corner_slice();
+        let positions = shapes.positions();
+        let mut shape = [EMPTY_LANE; 4];
+        let mut v = [[Vec3::ZERO; 3]; 4];
+        for (lane, &index) in indices.iter().enumerate() {
+            // SAFETY: as in `new`; objects hold triangles only.
+            let c = unsafe { *corners.get_unchecked(index as usize) };
+            debug_assert!(c[0] != OTHER);
+            shape[lane] = index;
+            // SAFETY: a triangle's corners index `positions` (an invariant of `Shapes`).
+            v[lane] =
+                instance.place_corners(c.map(|k| unsafe { *positions.get_unchecked(k as usize) }));
+        }
+        Leaf4::of_corners(&v, shape)
+    }
+
+    /// Lanes of the triangles with corners `v`, edges subtracted as the scalar test
+    /// subtracts them.
+    #[inline(always)]
+    fn of_corners(v: &[[Vec3; 3]; 4], shape: [u32; 4]) -> Leaf4 {
         let column = |corner: usize, axis: usize| {
             Vec4::new(
                 v[0][corner][axis],

@@ -6,15 +6,17 @@
 //! Closest-hit rays visit children nearest first and skip any whose entry lies beyond
 //! the best hit so far; shadow rays stop at the first blocker.
 
-mod build;
+pub(super) mod build;
 mod coherent;
 mod collapse;
 mod few;
 mod leaf4;
+mod placed;
 
 pub use coherent::PACKET_RAYS;
 
 pub use leaf4::MAX_SHAPES;
+pub use placed::PlacedRay;
 
 /// How a BVH's leaves hold their triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -190,7 +192,23 @@ impl Stack {
 /// enters before `t_max` (bit `i` for lane `i`), and the entry distances.
 trait BoxTest {
     fn new(ray: &Ray) -> Self;
+    /// The test of boxes grown by `pad` on every side.
+    fn padded(ray: &Ray, pad: f32) -> Self;
     fn hit(&self, node: &Node8, t_max: f32) -> (u32, [f32; WIDTH]);
+}
+
+/// Where the slab test measures each axis's near and far planes from: the origin, or
+/// for boxes grown by `pad`, the origin moved by `pad` toward the far side (near plane)
+/// and the near side (far plane) — the same as moving the planes out, at no cost.
+#[inline(always)]
+fn slab_origins(ray: &Ray, pad: f32) -> ([f32; 3], [f32; 3]) {
+    let o = ray.origin.to_array();
+    let d = ray.dir.to_array();
+    let toward = |i: usize| if d[i].is_sign_negative() { -pad } else { pad };
+    (
+        [0, 1, 2].map(|i| o[i] + toward(i)),
+        [0, 1, 2].map(|i| o[i] - toward(i)),
+    )
 }
 
 /// The reciprocal of a direction component. A zero gives a huge finite value rather
@@ -209,7 +227,8 @@ fn inverse(x: f32) -> f32 {
 /// its near plane from `min` or `max` by the sign of the direction, so an empty
 /// (inverted) box is missed.
 struct Boxes4 {
-    origin: [Vec4; 3],
+    near_origin: [Vec4; 3],
+    far_origin: [Vec4; 3],
     inv_dir: [Vec4; 3],
     negative: [bool; 3],
 }
@@ -220,9 +239,20 @@ impl BoxTest for Boxes4 {
         let o = ray.origin.to_array();
         let d = ray.dir.to_array();
         Boxes4 {
-            origin: o.map(Vec4::splat),
+            near_origin: o.map(Vec4::splat),
+            far_origin: o.map(Vec4::splat),
             inv_dir: d.map(|x| Vec4::splat(inverse(x))),
             negative: d.map(|x| x.is_sign_negative()),
+        }
+    }
+
+    #[inline(always)]
+    fn padded(ray: &Ray, pad: f32) -> Boxes4 {
+        let (near, far) = slab_origins(ray, pad);
+        Boxes4 {
+            near_origin: near.map(Vec4::splat),
+            far_origin: far.map(Vec4::splat),
+            ..Boxes4::new(ray)
         }
     }
 
@@ -239,8 +269,8 @@ impl BoxTest for Boxes4 {
                 } else {
                     (node.min[axis][half], node.max[axis][half])
                 };
-                t_near = t_near.max((near - self.origin[axis]) * self.inv_dir[axis]);
-                t_far = t_far.min((far - self.origin[axis]) * self.inv_dir[axis]);
+                t_near = t_near.max((near - self.near_origin[axis]) * self.inv_dir[axis]);
+                t_far = t_far.min((far - self.far_origin[axis]) * self.inv_dir[axis]);
             }
             mask |= t_near.cmple(t_far * BOX_SLACK).bitmask() << (4 * half);
             t[4 * half..4 * half + 4].copy_from_slice(&t_near.to_array());
@@ -253,26 +283,31 @@ impl BoxTest for Boxes4 {
 /// (see [`Bvh::closest`]).
 #[cfg(target_arch = "x86_64")]
 struct Boxes8 {
-    origin: [std::arch::x86_64::__m256; 3],
+    near_origin: [std::arch::x86_64::__m256; 3],
+    far_origin: [std::arch::x86_64::__m256; 3],
     inv_dir: [std::arch::x86_64::__m256; 3],
     negative: [bool; 3],
 }
 
 #[cfg(target_arch = "x86_64")]
-impl BoxTest for Boxes8 {
+impl Boxes8 {
     #[inline(always)]
-    fn new(ray: &Ray) -> Boxes8 {
+    fn with_origins(ray: &Ray, near: [f32; 3], far: [f32; 3]) -> Boxes8 {
         use std::arch::x86_64::_mm256_set1_ps;
-        let o = ray.origin;
         let d = ray.dir;
         // SAFETY: reached only from AVX2 functions, on processors that run them. No
         // closures here: they would not inherit the caller's instruction set.
         unsafe {
             Boxes8 {
-                origin: [
-                    _mm256_set1_ps(o.x),
-                    _mm256_set1_ps(o.y),
-                    _mm256_set1_ps(o.z),
+                near_origin: [
+                    _mm256_set1_ps(near[0]),
+                    _mm256_set1_ps(near[1]),
+                    _mm256_set1_ps(near[2]),
+                ],
+                far_origin: [
+                    _mm256_set1_ps(far[0]),
+                    _mm256_set1_ps(far[1]),
+                    _mm256_set1_ps(far[2]),
                 ],
                 inv_dir: [
                     _mm256_set1_ps(inverse(d.x)),
@@ -286,6 +321,21 @@ impl BoxTest for Boxes8 {
                 ],
             }
         }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl BoxTest for Boxes8 {
+    #[inline(always)]
+    fn new(ray: &Ray) -> Boxes8 {
+        let o = ray.origin.to_array();
+        Boxes8::with_origins(ray, o, o)
+    }
+
+    #[inline(always)]
+    fn padded(ray: &Ray, pad: f32) -> Boxes8 {
+        let (near, far) = slab_origins(ray, pad);
+        Boxes8::with_origins(ray, near, far)
     }
 
     #[inline(always)]
@@ -303,8 +353,14 @@ impl BoxTest for Boxes8 {
                 };
                 let near = _mm256_load_ps(near.as_ptr().cast::<f32>());
                 let far = _mm256_load_ps(far.as_ptr().cast::<f32>());
-                let n = _mm256_mul_ps(_mm256_sub_ps(near, self.origin[axis]), self.inv_dir[axis]);
-                let f = _mm256_mul_ps(_mm256_sub_ps(far, self.origin[axis]), self.inv_dir[axis]);
+                let n = _mm256_mul_ps(
+                    _mm256_sub_ps(near, self.near_origin[axis]),
+                    self.inv_dir[axis],
+                );
+                let f = _mm256_mul_ps(
+                    _mm256_sub_ps(far, self.far_origin[axis]),
+                    self.inv_dir[axis],
+                );
                 t_near = _mm256_max_ps(t_near, n);
                 t_far = _mm256_min_ps(t_far, f);
             }
@@ -595,7 +651,7 @@ fn leaf4_closest(leaf: &Leaf4, lanes: &RayLanes, ray: &Ray, t_max: f32, best: &m
         mask &= mask - 1;
         let shape = leaf.shape(lane);
         if Hit::beats(t[lane], shape, best) {
-            *best = Some(Hit { t: t[lane], shape });
+            *best = Some(Hit::world(t[lane], shape));
         }
     }
     let spheres = leaf.sphere_lanes();
@@ -608,7 +664,7 @@ fn leaf4_closest(leaf: &Leaf4, lanes: &RayLanes, ray: &Ray, t_max: f32, best: &m
         if let Some(t) = leaf.sphere(lane).intersect(ray, Hit::bound(best, t_max))
             && Hit::beats(t, shape, best)
         {
-            *best = Some(Hit { t, shape });
+            *best = Some(Hit::world(t, shape));
         }
         return;
     }
@@ -621,7 +677,7 @@ fn leaf4_closest(leaf: &Leaf4, lanes: &RayLanes, ray: &Ray, t_max: f32, best: &m
         mask &= mask - 1;
         let shape = leaf.shape(lane);
         if Hit::beats(t[lane], shape, best) {
-            *best = Some(Hit { t: t[lane], shape });
+            *best = Some(Hit::world(t[lane], shape));
         }
     }
 }

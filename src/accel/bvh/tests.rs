@@ -100,5 +100,5 @@ fn coincident_shapes_beyond_a_leaf_still_build_and_tie_to_the_lowest_index() {
     let shapes = Shapes::from(vec![tri; 100]);
     let bvh = Bvh::build(&shapes, Leaves::Indexed);
     let hit = bvh.closest(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY);
-    assert_eq!(hit, Some(Hit { t: 5.0, shape: 0 }));
+    assert_eq!(hit, Some(Hit::world(5.0, 0)));
 }

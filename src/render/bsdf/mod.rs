@@ -19,7 +19,7 @@ pub use openpbr::{OpenPbrBsdf, Params};
 pub use phong::{Highlight, PhongBsdf, Terms, cosine_hemisphere, schlick, uniform_sphere};
 
 use crate::math::Vec3;
-use crate::scene::{Scene, Surface, SurfacePoint};
+use crate::scene::{Scene, ShapeId, Surface, SurfacePoint};
 
 /// A direction drawn from a BSDF.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -112,7 +112,7 @@ impl Bsdf {
         scene: &Scene,
         s: &Surface,
         sp: &SurfacePoint,
-        shape: u32,
+        shape: ShapeId,
         albedo: Vec3,
         wo: Vec3,
         n: Vec3,

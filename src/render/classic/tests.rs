@@ -364,7 +364,7 @@ fn camera_packets_shade_as_each_ray_traced_alone() {
                 let p = ray.at(hit.t);
                 if hit.shape == 0 {
                     let (shadow, t_max) = from_light(s.lights[0].position, p).unwrap();
-                    shadowed += usize::from(accel.occluded(&shadow, t_max, |k| k == 1));
+                    shadowed += usize::from(accel.occluded(&shadow, t_max, |k| k.shape == 1));
                 }
                 in_glass += usize::from(hit.shape == 2);
             }

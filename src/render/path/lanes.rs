@@ -465,13 +465,13 @@ impl Path<'_> {
                     alive &= !(1 << i);
                     continue;
                 };
-                let s = self.surface(hit.shape);
+                let s = self.surface(hit.id());
                 let texture_coords = !prepared.untextured && s.reads_texture_coords();
                 let sp = if prepared.flat && !texture_coords {
-                    self.scene.flat_point(hit.shape, &ray, hit.t)
+                    self.scene.flat_point(hit.id(), &ray, hit.t)
                 } else {
                     self.scene
-                        .surface_point(hit.shape, &ray, hit.t, texture_coords)
+                        .surface_point(hit.id(), &ray, hit.t, texture_coords)
                 };
                 let entering = ray.dir.dot(sp.ng) < 0.0;
                 let (g, sn) = if entering {
@@ -480,7 +480,7 @@ impl Path<'_> {
                     (-sp.ng, -sp.n)
                 };
                 if entering && s.emission != Vec3::ZERO {
-                    let light = self.light_of(hit.shape);
+                    let light = self.light_of(hit.id());
                     let le = s.emission
                         * self.scene.map(&s.emission_map, &sp)
                         * light.map_or(1.0, |light| light.intensity);
@@ -493,7 +493,7 @@ impl Path<'_> {
                     };
                     l.set(i, l.get(i) + beta.get(i) * le * w);
                 }
-                let albedo = self.scene.albedo(s, &sp, hit.shape) * sp.color;
+                let albedo = self.scene.albedo(s, &sp, hit.id()) * sp.color;
                 diffuse.set(i, albedo * s.diffuse);
                 p.set(i, sp.p);
                 ng.set(i, g);

@@ -15,6 +15,7 @@ use crate::math::{Ray, Vec3, offset_origin};
 use crate::render::bsdf::subsurface::Medium;
 use crate::render::bsdf::{PhongBsdf, Terms};
 use crate::render::{PixelSampler, RayCount};
+use crate::scene::ShapeId;
 
 /// Steps after which a walk is taken as absorbed: bounds the work of a walk in a
 /// nearly white medium, or in an open mesh's medium that has no far side.
@@ -65,7 +66,7 @@ impl Path<'_> {
         mut ray: Ray,
         sampler: &mut PixelSampler,
         count: &mut RayCount,
-    ) -> Option<(Ray, f32, u32)> {
+    ) -> Option<(Ray, f32, ShapeId)> {
         let sigma_t = medium.sigma_t;
         for _ in 0..MAX_WALK_STEPS {
             // The channel whose extinction draws the flight, chosen by the share of
@@ -104,7 +105,7 @@ impl Path<'_> {
                 return None;
             }
             if let Some(hit) = hit {
-                return Some((ray, hit.t, hit.shape));
+                return Some((ray, hit.t, hit.id()));
             }
             ray = Ray::new(ray.at(flight), medium.scatter(ray.dir, sampler.next_2d()));
         }

@@ -74,7 +74,7 @@ impl ShadowBatch {
     pub(super) fn resolve(
         &mut self,
         accel: &Accel,
-        meets: impl Fn(u32) -> bool,
+        meets: impl Fn(crate::scene::ShapeId) -> bool,
         mut settle: impl FnMut(&LightSample) -> Vec3,
         mut add: impl FnMut(Vec3),
     ) {

@@ -12,7 +12,7 @@ use crate::accel::Hit;
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
 use crate::render::{PixelSampler, RayCount};
 use crate::scene::light::stratified::lanes::{LANES, SampleLanes};
-use crate::scene::{Light, Shape, Surface};
+use crate::scene::{Light, Shape, ShapeId, Surface};
 use std::cell::Cell;
 use std::mem::MaybeUninit;
 
@@ -74,23 +74,23 @@ impl ShadowRole {
 impl Whitted<'_> {
     /// What shape `s` of the scene does to a shadow ray.
     #[inline]
-    pub(super) fn shadow_role(&self, s: u32) -> ShadowRole {
-        self.shadow_roles[self.scene.material_of[s as usize] as usize]
+    pub(super) fn shadow_role(&self, s: ShapeId) -> ShadowRole {
+        self.shadow_roles[self.scene.material_index(s) as usize]
     }
 
     /// Whether shape `s` of the shadow rays' intersector affects a shadow ray: stops it,
     /// or where surfaces tint shadow rays, may stop or tint it.
     #[inline]
-    pub(super) fn shadow_blocks(&self, s: u32) -> bool {
+    pub(super) fn shadow_blocks(&self, s: ShapeId) -> bool {
         !self.shadows_meet_clear || self.shadow_role(self.scene_shape(s)) != ShadowRole::Clear
     }
 
     /// The scene's index of shape `s` of the shadow rays' intersector.
     #[inline]
-    pub(super) fn scene_shape(&self, s: u32) -> u32 {
+    pub(super) fn scene_shape(&self, s: ShapeId) -> ShapeId {
         match self.caster_index {
-            Some(index) => index[s as usize],
-            None => s,
+            Some(index) if s.is_world() => ShapeId::world(index[s.shape as usize]),
+            _ => s,
         }
     }
 
@@ -207,7 +207,7 @@ impl Whitted<'_> {
         let len = Cell::new(0usize);
         // Left uninitialised: clearing it would cost every shadow ray of a scene with
         // glass, and few meet a flat one.
-        let mut flats = [const { MaybeUninit::<(f32, u32)>::uninit() }; FLAT_CROSSINGS];
+        let mut flats = [const { MaybeUninit::<(f32, ShapeId)>::uninit() }; FLAT_CROSSINGS];
         let crossed = Cell::from_mut(&mut flats[..]).as_slice_of_cells();
         let flat_len = Cell::new(0usize);
         let whole_scene = Cell::new(false);
@@ -221,7 +221,7 @@ impl Whitted<'_> {
                 ShadowRole::Crosses if whole_scene.get() => return false,
                 ShadowRole::Crosses => {}
             }
-            let geometry = &self.scene.shapes.get(shape as usize);
+            let geometry = &self.scene.shape_at(shape);
             if !matches!(geometry, Shape::Sphere(_)) {
                 // A flat shape is crossed once: its distance is all the answer needs.
                 if let Some(t) = geometry.intersect(&ray, t_max) {
@@ -236,6 +236,8 @@ impl Whitted<'_> {
                 return false;
             }
             let n = len.get();
+            // Spheres are the scene's own: an object holds triangles only.
+            let shape = shape.shape;
             if noted[..n].iter().any(|c| c.get() == shape) {
                 return false;
             }
@@ -254,7 +256,10 @@ impl Whitted<'_> {
         // SAFETY: the first `flat_len` entries were written above, and a
         // `MaybeUninit<T>` has the layout of `T`.
         let flats = unsafe {
-            std::slice::from_raw_parts_mut(flats.as_mut_ptr().cast::<(f32, u32)>(), flat_len.get())
+            std::slice::from_raw_parts_mut(
+                flats.as_mut_ptr().cast::<(f32, ShapeId)>(),
+                flat_len.get(),
+            )
         };
         if whole_scene.get() || !(spheres.is_empty() || flats.is_empty()) {
             return self.walk_through(ray, t_max, |r, left| self.accel.closest(r, left));
@@ -279,7 +284,7 @@ impl Whitted<'_> {
                     .intersect(r, Hit::bound(&best, left))
                     && Hit::beats(t, shape, &best)
                 {
-                    best = Some(Hit { t, shape });
+                    best = Some(Hit::world(t, shape));
                 }
             }
             best
@@ -297,8 +302,8 @@ impl Whitted<'_> {
     /// along each surface's normal instead. It can count a crossing through a box's
     /// edge twice, and pass a surface closer than an epsilon along that normal (panes a
     /// hair apart, crossed at a slant), so such rays can differ between the two.
-    fn cross_flats(&self, ray: &Ray, crossings: &mut [(f32, u32)]) -> Vec3 {
-        crossings.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    fn cross_flats(&self, ray: &Ray, crossings: &mut [(f32, ShapeId)]) -> Vec3 {
+        crossings.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.order().cmp(&b.1.order())));
         let mut vis = Vec3::ONE;
         let mut last = f32::NEG_INFINITY;
         for &(t, shape) in crossings.iter() {
@@ -344,8 +349,8 @@ impl Whitted<'_> {
             let Some(hit) = closest(&r, left) else {
                 return vis;
             };
-            let s = self.surface(hit.shape);
-            if self.shadow_role(hit.shape) == ShadowRole::Clear {
+            let s = self.surface(hit.id());
+            if self.shadow_role(hit.id()) == ShadowRole::Clear {
                 if clear == MAX_CLEAR_CROSSINGS {
                     return vis;
                 }
@@ -354,8 +359,8 @@ impl Whitted<'_> {
                 tinting += 1;
             }
             let (p, ng) = if s.alpha_map.is_some() {
-                let sp = self.scene.surface_point(hit.shape, &r, hit.t, true);
-                if !self.cut_out(hit.shape, &sp) {
+                let sp = self.scene.surface_point(hit.id(), &r, hit.t, true);
+                if !self.cut_out(hit.id(), &sp) {
                     vis *= s.transmission;
                     if vis.max_element() <= 0.0 {
                         return Vec3::ZERO;
@@ -370,7 +375,7 @@ impl Whitted<'_> {
                 // What `surface_point` would give, without the texture coordinates
                 // and mesh attributes nothing here reads.
                 let p = r.at(hit.t);
-                (p, self.scene.shapes.get(hit.shape as usize).normal(p))
+                (p, self.scene.shape_at(hit.id()).normal(p))
             };
             let next = offset_origin(p, ng, r.dir);
             left -= (next - r.origin).length();

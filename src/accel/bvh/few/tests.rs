@@ -100,9 +100,9 @@ fn limits_are_kept_and_a_nan_limit_meets_nothing() {
     let bvh = Bvh::build(&shapes, Leaves::Indexed);
     for (t_max, expected) in [
         (2.0, None),
-        (2.0f32.next_up(), Some(Hit { t: 2.0, shape: 0 })),
+        (2.0f32.next_up(), Some(Hit::world(2.0, 0))),
         (f32::NAN, None),
-        (f32::INFINITY, Some(Hit { t: 2.0, shape: 0 })),
+        (f32::INFINITY, Some(Hit::world(2.0, 0))),
     ] {
         let mut hits = [None];
         bvh.closest_many(&[ray], t_max, &mut hits);

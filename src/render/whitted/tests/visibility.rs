@@ -166,7 +166,7 @@ pub(super) fn visibility_by_traversals(
         origin,
         dir: ls.dir,
     };
-    let opaque = |shape: u32| {
+    let opaque = |shape: crate::scene::ShapeId| {
         let s = w.surface(shape);
         !s.is_transmissive() && s.alpha_map.is_none()
     };
@@ -180,9 +180,9 @@ pub(super) fn visibility_by_traversals(
         let Some(hit) = w.accel.closest(&r, left) else {
             return vis;
         };
-        let sp = w.scene.surface_point(hit.shape, &r, hit.t, true);
-        if !w.cut_out(hit.shape, &sp) {
-            vis *= w.surface(hit.shape).transmission;
+        let sp = w.scene.surface_point(hit.id(), &r, hit.t, true);
+        if !w.cut_out(hit.id(), &sp) {
+            vis *= w.surface(hit.id()).transmission;
             if vis.max_element() <= 0.0 {
                 return Vec3::ZERO;
             }
