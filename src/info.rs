@@ -20,8 +20,15 @@ pub struct SceneInfo {
     pub normals: usize,
     /// The file's texture-coordinate records (`vt` lines and the like), else the meshes'.
     pub texcoords: usize,
-    /// Triangles rendered, each rectangle counted as two.
+    /// Triangles rendered, each rectangle counted as two, and each instance's placed
+    /// triangles counted once an instance.
     pub triangles: usize,
+    /// Triangles held in memory: `triangles` counting each instanced object's once.
+    pub unique_triangles: usize,
+    /// Instances: placements of an object held once.
+    pub instances: usize,
+    /// Objects the instances place.
+    pub instanced_objects: usize,
     /// Spheres rendered.
     pub spheres: usize,
     /// 2014 rectangles (already counted twice in `triangles`).
@@ -105,7 +112,12 @@ impl SceneInfo {
             vertices,
             normals,
             texcoords,
-            triangles: triangles + 2 * rectangles,
+            triangles: triangles + 2 * rectangles + scene.placed_triangles() as usize,
+            unique_triangles: triangles
+                + 2 * rectangles
+                + scene.objects.iter().map(|o| o.shapes.len()).sum::<usize>(),
+            instances: scene.instances.len(),
+            instanced_objects: scene.objects.len(),
             spheres,
             rectangles,
             objects: object_names.len(),
@@ -146,6 +158,13 @@ impl SceneInfo {
             "shapes     {} triangles, {} spheres ({} rectangles counted as 2 triangles each)",
             self.triangles, self.spheres, self.rectangles
         );
+        if self.instances > 0 {
+            let _ = writeln!(
+                out,
+                "instances  {} placing {} meshes: {} unique triangles in memory",
+                self.instances, self.instanced_objects, self.unique_triangles
+            );
+        }
         let _ = write!(out, "objects    {}", self.objects);
         if !self.object_names.is_empty() {
             let shown: Vec<&str> = self

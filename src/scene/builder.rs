@@ -4,8 +4,8 @@
 //! materials into area lights the same way for every format.
 
 use super::{
-    Background, Group, ImageTexture, Light, Material, MeshAttributes, Scene, Shape, Surface,
-    Texture,
+    Background, Group, ImageTexture, Instance, Light, Material, MeshAttributes, Object, Scene,
+    Shape, Surface, Texture,
 };
 use crate::math::Vec3;
 use std::ops::Range;
@@ -172,6 +172,30 @@ impl SceneBuilder {
     /// Attributes of shapes already added (`first_shape` and `len` say which).
     pub fn add_attributes(&mut self, attributes: MeshAttributes) {
         self.scene.meshes.push(attributes);
+    }
+
+    /// A mesh to be placed by instances; returns its index. Its shapes must all be
+    /// triangles wearing materials already added.
+    pub fn add_object(&mut self, object: Object) -> u32 {
+        assert!((0..object.shapes.len()).all(|i| object.shapes.is_triangle(i)));
+        assert_eq!(object.material_of.len(), object.shapes.len());
+        self.scene.objects.push(object);
+        self.scene.objects.len() as u32 - 1
+    }
+
+    /// Places object `object` by `to_world`; returns the instance's index, or `None`
+    /// for a transform that flattens it (nothing of it can be seen) or is not finite.
+    pub fn add_instance(&mut self, object: u32, to_world: glam::Affine3A) -> Option<u32> {
+        assert!((object as usize) < self.scene.objects.len());
+        let instance = Instance::new(object, to_world);
+        let invertible = instance.to_world.is_finite()
+            && instance.from_world.is_finite()
+            && instance.to_world.matrix3.determinant() != 0.0;
+        if !invertible {
+            return None;
+        }
+        self.scene.instances.push(instance);
+        Some(self.scene.instances.len() as u32 - 1)
     }
 
     /// A light; returns its index.

@@ -10,6 +10,10 @@
 use super::{MeshAttributes, Scene, Shape, Shapes, Stored, Triangle};
 use crate::math::{Aabb, Vec3};
 use glam::Affine3A;
+use rayon::prelude::*;
+
+/// Up to this many placed vertices, [`Scene::world_bounds`] places them all.
+pub const EXACT_BOUNDS_VERTICES: u64 = 1 << 24;
 
 /// The instance of a shape that is not in one: the scene's own shapes.
 pub const NO_INSTANCE: u32 = u32::MAX;
@@ -300,10 +304,32 @@ impl Scene {
         flat
     }
 
-    /// World box around every shape, placed ones included.
+    /// World box around every shape, placed ones included: the flattened twin's
+    /// exactly, or where the instances place more than [`EXACT_BOUNDS_VERTICES`]
+    /// vertices, a box around each instance's placed object box.
     pub fn world_bounds(&self) -> Aabb {
+        let own = self.shapes.bounds();
+        let placed: u64 = self
+            .instances
+            .iter()
+            .map(|i| self.objects[i.object as usize].shapes.positions().len() as u64)
+            .sum();
+        if placed <= EXACT_BOUNDS_VERTICES {
+            return self
+                .instances
+                .par_iter()
+                .map(|i| {
+                    let object = &self.objects[i.object as usize];
+                    object
+                        .shapes
+                        .positions()
+                        .iter()
+                        .fold(Aabb::EMPTY, |b, &p| b.grow(i.place(p)))
+                })
+                .reduce(|| own, Aabb::union);
+        }
         let objects: Vec<Aabb> = self.objects.iter().map(Object::bounds).collect();
-        self.instances.iter().fold(self.shapes.bounds(), |b, i| {
+        self.instances.iter().fold(own, |b, i| {
             b.union(i.world_bounds(&objects[i.object as usize]))
         })
     }

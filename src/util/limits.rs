@@ -19,6 +19,8 @@ pub const MAX_THREADS_PER_CORE: usize = 4;
 /// The most shapes (triangles, mostly) a scene may hold: 2^28, about 40 GB of mesh and
 /// BVH. Readers refuse a mesh that would pass it where they read its size.
 pub const MAX_SHAPES: usize = 1 << 28;
+/// The most instances a scene may place: 2^24, about 2.5 GB of transforms and tree.
+pub const MAX_INSTANCES: usize = 1 << 24;
 /// Largest 2014 scene, material or camera file: 1 GiB of text is tens of millions of
 /// shapes, beyond what anyone writes by hand or converts.
 pub const MAX_TEXT_BYTES: u64 = 1 << 30;

@@ -9,6 +9,21 @@ use gltf::Document;
 /// The extension's name.
 pub const EXTENSION: &str = "EXT_mesh_gpu_instancing";
 
+/// How many times `node` places its mesh: its instances' count (that of its first
+/// attribute; [`transforms`] checks the rest), else once.
+pub fn count(document: &Document, node: &gltf::Node) -> usize {
+    node.extension_value(EXTENSION)
+        .and_then(|ext| {
+            ext.get("attributes")?
+                .as_object()?
+                .values()
+                .next()?
+                .as_u64()
+        })
+        .and_then(|i| document.accessors().nth(usize::try_from(i).ok()?))
+        .map_or(1, |a| a.count())
+}
+
 /// The object-to-node transforms of `node`'s instances, or `None` where the node does
 /// not use the extension (it then places its mesh once).
 pub fn transforms(

@@ -24,9 +24,10 @@ use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::options::RenderOptions;
 use crate::scene::{
-    Group, MAX_SHAPES, Material, MeshAttributes, MeshMaterials, SceneBuilder, Surface,
+    Group, MAX_SHAPES, Material, MeshAttributes, MeshMaterials, Object, SceneBuilder, Surface,
 };
-use glam::{DMat3, DMat4, DQuat, DVec3};
+use crate::util::limits::MAX_INSTANCES;
+use glam::{Affine3A, DMat3, DMat4, DQuat, DVec3};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -69,6 +70,9 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
     let texcoord_set = materials.texcoord_set;
 
     let roots = scene_roots(doc).map_err(err)?;
+    let uses = mesh_uses(doc, &roots);
+    // Meshes placed more than once become objects, placed by instances.
+    let mut objects: HashMap<usize, u32> = HashMap::new();
     let mut meshes: HashMap<usize, Vec<mesh::Primitive>> = HashMap::new();
     let mut skipped = mesh::Skipped::default();
     let mut cameras = Vec::new();
@@ -102,18 +106,50 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
                 Some(instances) => instances.iter().map(|t| world * *t).collect(),
                 None => vec![world],
             };
-            for (k, world) in placements.iter().enumerate() {
-                if !world.is_finite() {
-                    return Err(err(format!("{at}: instance {k}'s transform is not finite")));
+            let wears = |p: &mesh::Primitive| {
+                let material = p
+                    .material
+                    .map_or(default_material, |i| i as u32)
+                    .min(default_material);
+                let set = texcoord_set.get(material as usize).copied().unwrap_or(0);
+                (material, set)
+            };
+            let primitives = &meshes[&m.index()];
+            // An emissive mesh stays copied: its triangles are lights of the scene.
+            let emits = primitives.iter().any(|p| {
+                let (material, _) = wears(p);
+                scene
+                    .scene()
+                    .surfaces
+                    .get(material as usize)
+                    .is_some_and(|s| s.emission != Vec3::ZERO)
+            });
+            if uses.get(&m.index()).is_some_and(|&n| n > 1) && !emits {
+                let object = *objects
+                    .entry(m.index())
+                    .or_insert_with(|| scene.add_object(object_of(primitives, m.name(), &wears)));
+                for (k, world) in placements.iter().enumerate() {
+                    if !world.is_finite() {
+                        return Err(err(format!("{at}: instance {k}'s transform is not finite")));
+                    }
+                    if scene.scene().instances.len() >= MAX_INSTANCES {
+                        return Err(err(format!(
+                            "{at}: the file places more than {MAX_INSTANCES} instances"
+                        )));
+                    }
+                    // A transform that flattens the mesh leaves nothing to see.
+                    let _ = scene.add_instance(object, Affine3A::from_mat4(world.as_mat4()));
                 }
-                for p in &meshes[&m.index()] {
-                    let material = p
-                        .material
-                        .map_or(default_material, |i| i as u32)
-                        .min(default_material);
-                    let set = texcoord_set.get(material as usize).copied().unwrap_or(0);
-                    place(&mut scene, p, world, material, set)
-                        .map_err(|e| err(format!("{at}: {e}")))?;
+            } else {
+                for (k, world) in placements.iter().enumerate() {
+                    if !world.is_finite() {
+                        return Err(err(format!("{at}: instance {k}'s transform is not finite")));
+                    }
+                    for p in primitives {
+                        let (material, set) = wears(p);
+                        place(&mut scene, p, world, material, set)
+                            .map_err(|e| err(format!("{at}: {e}")))?;
+                    }
                 }
             }
         }
@@ -235,6 +271,55 @@ fn scene_roots(doc: &gltf::Document) -> std::result::Result<Vec<gltf::Node<'_>>,
     // A cycle has no root, so it is never reached from one; a cycle with a root path
     // into it would give one of its nodes two parents.
     Ok(roots)
+}
+
+/// How many times the default scene places each mesh (by index): once a node, or once
+/// an instance of a node using EXT_mesh_gpu_instancing.
+fn mesh_uses(doc: &gltf::Document, roots: &[gltf::Node<'_>]) -> HashMap<usize, usize> {
+    let mut uses = HashMap::new();
+    let mut stack: Vec<gltf::Node> = roots.to_vec();
+    while let Some(node) = stack.pop() {
+        if let Some(m) = node.mesh() {
+            *uses.entry(m.index()).or_insert(0) += instancing::count(doc, &node);
+        }
+        stack.extend(node.children());
+    }
+    uses
+}
+
+/// A mesh's primitives as one object in the mesh's own space, each wearing the
+/// material and texture-coordinate set `wears` gives it.
+fn object_of(
+    primitives: &[mesh::Primitive],
+    name: Option<&str>,
+    wears: &dyn Fn(&mesh::Primitive) -> (u32, usize),
+) -> Object {
+    let mut object = Object {
+        name: name.unwrap_or_default().to_owned(),
+        ..Object::default()
+    };
+    for p in primitives.iter().filter(|p| !p.triangles.is_empty()) {
+        let (material, set) = wears(p);
+        let first = object.shapes.len() as u32;
+        object.shapes.push_mesh(&p.positions, &p.triangles);
+        object
+            .material_of
+            .extend(std::iter::repeat_n(material, p.triangles.len()));
+        let mut attributes = MeshAttributes::per_vertex(
+            &p.triangles,
+            p.normals.clone(),
+            p.texcoords[set].clone(),
+            p.colors.clone(),
+        );
+        if !(attributes.normal_indices.is_empty()
+            && attributes.texcoord_indices.is_empty()
+            && attributes.color_indices.is_empty())
+        {
+            attributes.first_shape = first;
+            object.meshes.push(attributes);
+        }
+    }
+    object
 }
 
 /// A node's local transform: its `matrix`, or translation x rotation x scale.

@@ -108,7 +108,11 @@ fn a_node_hierarchys_bounds_are_its_matrices_product_and_instances_count() {
     let (_dir, path) = write(&doc);
     let file = crate::format::load(&path).unwrap();
     assert_eq!(file.dialect, SceneDialect::Gltf);
-    assert_eq!(file.scene.shapes.len(), 2);
+    // The mesh placed twice is one object placed by two instances.
+    assert_eq!(file.scene.shapes.len(), 0);
+    assert_eq!(file.scene.objects.len(), 1);
+    assert_eq!(file.scene.instances.len(), 2);
+    assert_eq!(file.scene.flattened().shapes.len(), 2);
     let parent = glam::Mat4::from_scale_rotation_translation(
         Vec3::splat(2.0).into(),
         glam::Quat::from_rotation_z(std::f32::consts::FRAC_PI_2),
@@ -167,7 +171,9 @@ fn gpu_instances_place_the_mesh_by_their_own_transform_then_the_nodes() {
     let (_dir, path) = write(&doc);
     let file = crate::format::load(&path).unwrap();
     assert!(file.warnings.is_empty(), "{:?}", file.warnings);
-    assert_eq!(file.scene.shapes.len(), 3);
+    assert_eq!(file.scene.instances.len(), 3);
+    let flat = file.scene.flattened();
+    assert_eq!(flat.shapes.len(), 3);
     let node = glam::Mat4::from_translation(glam::Vec3::new(0.0, 10.0, 0.0));
     let instances = [
         glam::Mat4::IDENTITY,
@@ -179,7 +185,7 @@ fn gpu_instances_place_the_mesh_by_their_own_transform_then_the_nodes() {
         glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, -4.0)),
     ];
     for (k, instance) in instances.iter().enumerate() {
-        let crate::scene::Shape::Triangle(t) = file.scene.shapes.get(k) else {
+        let crate::scene::Shape::Triangle(t) = flat.shapes.get(k) else {
             panic!("shape {k} is not a triangle");
         };
         for (corner, v) in t.v.iter().zip(tri.chunks(3)) {
@@ -329,4 +335,29 @@ fn a_scene_file_places_a_gltf_mesh_with_its_materials_and_lights() {
     };
     assert_eq!(area, 16.0);
     assert!(s.surfaces[0].openpbr.is_some());
+}
+
+/// A mesh placed by several nodes is held once and placed by instances, unless it
+/// emits: an emitter's triangles are lights of the scene, so each placement is copied.
+#[test]
+fn a_mesh_placed_twice_is_instanced_unless_it_emits() {
+    let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    for emits in [false, true] {
+        let mut b = Builder::default();
+        b.mesh(&tri, None, 4, Some(0));
+        let glow = if emits { [1.0, 1.0, 1.0] } else { [0.0; 3] };
+        let doc = b.finish(json!({
+            "materials": [{"emissiveFactor": glow}],
+            "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0.0, 0.0, 2.0]}],
+            "scenes": [{"nodes": [0, 1]}],
+        }));
+        let (_dir, path) = write(&doc);
+        let scene = crate::format::load(&path).unwrap().scene;
+        let instances = if emits { 0 } else { 2 };
+        assert_eq!(scene.instances.len(), instances, "emits {emits}");
+        assert_eq!(scene.shapes.len() + scene.placed_triangles() as usize, 2);
+        // The emitter's two copies are the scene's own shapes, lit as a light.
+        assert_eq!(scene.shapes.len(), if emits { 2 } else { 0 });
+        assert_eq!(scene.lights.is_empty(), !emits);
+    }
 }
