@@ -76,7 +76,9 @@ def scene_from_dict(scene: Dict[str, Any], folder: Optional[Path] = None) -> Sce
     ``material``, ``light``, ``render`` and the rest. An object of ``"type": "mesh"``
     may carry arrays instead of a ``file``: ``vertices`` (N x 3), ``faces`` (M x 3
     vertex indices), and optionally ``normals`` (N x 3) and ``uvs`` (N x 2), so NumPy
-    and trimesh meshes render without files. Relative paths (``file``, ``texture``)
+    and trimesh meshes render without files. An object of ``"type": "instance"``
+    places a named mesh object once more per 4 x 4 matrix of ``transforms`` (an
+    N x 4 x 4 array), holding the mesh once. Relative paths (``file``, ``texture``)
     resolve against ``folder`` (default: the working directory).
 
     Raises :class:`SceneError` naming the entry at fault, as for a file.

@@ -163,3 +163,36 @@ def test_scene_dict_errors_name_the_entry():
     with pytest.raises(prism.SceneError, match="face 0 names vertex 5, past the 3 vertices"):
         prism.scene_from_dict({"object": [{"type": "mesh", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
                                            "faces": [[0, 1, 5]]}]})
+
+
+def test_instances_place_a_mesh_by_an_n_by_4_by_4_array_of_transforms():
+    np = pytest.importorskip("numpy")
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=np.float64)
+    faces = np.array([[0, 1, 2], [0, 2, 3]], dtype=np.int64)
+    moves = [(-2.5, 0.0), (-1.0, -0.5), (0.5, 0.25), (1.5, -1.0)]
+    transforms = np.tile(np.eye(4), (len(moves), 1, 1))
+    for k, (x, y) in enumerate(moves):
+        transforms[k, 0, 3], transforms[k, 1, 3] = x, y
+
+    def scene(objects):
+        return prism.scene_from_dict({
+            "camera": {"from": [0, 0, 6], "at": [0, 0, 0], "fov": 50},
+            "render": {"width": 48, "height": 32, "aa": 1},
+            "material": [{"name": "red", "color": [0.8, 0.1, 0.1]}],
+            "object": objects,
+            "light": [{"type": "point", "position": [2, 2, 4]}],
+        })
+
+    quad = {"name": "quad", "type": "mesh", "vertices": vertices, "faces": faces,
+            "material": "red", "translate": [0, 0, -50]}
+    placed = scene([quad, {"type": "instance", "of": "quad", "transforms": transforms}])
+    info = placed.info()
+    assert (info["instances"], info["instanced_objects"]) == (4, 1)
+    assert (info["triangles"], info["unique_triangles"]) == (2 + 8, 4)
+    copies = scene([quad] + [dict(quad, name=f"q{k}", translate=[x, y, 0])
+                             for k, (x, y) in enumerate(moves)])
+    a, b = prism.render(placed), prism.render(copies)
+    assert a.max() > 0.1
+    # The same picture: instances round their transform to floats, copies place in
+    # doubles, so an edge pixel may differ by a hair.
+    assert np.abs(a - b).mean() < 1e-3

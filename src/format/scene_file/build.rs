@@ -47,6 +47,28 @@ struct Builder {
     warnings: Vec<String>,
     /// Meshes given in memory (Python's arrays), by the `file` name objects use.
     arrays: HashMap<String, Scene>,
+    /// Named mesh objects, which instances place by name.
+    meshes: HashMap<String, MeshObject>,
+}
+
+/// A named mesh object as instances place it: its file and how it was read, and once
+/// an instance has placed it, what it became.
+struct MeshObject {
+    file: Spanned<String>,
+    material: Option<u32>,
+    up_axis: Option<Spanned<String>>,
+    smooth: bool,
+    placed: Option<Placed>,
+}
+
+/// What instances of a mesh place.
+#[derive(Clone)]
+enum Placed {
+    /// An object of the scene, held once.
+    Object(u32),
+    /// A mesh that emits or carries lights: each placement copies it, so its
+    /// triangles are lights of the scene.
+    Copies(Box<Scene>),
 }
 
 pub type Built = (Scene, Option<Camera>, RenderOptions, Vec<String>);
@@ -225,7 +247,56 @@ impl Builder {
         };
         let transform = Transform::new(source, o)?;
         let geometry = objects::geometry(source, o)?;
+        if let Geometry::Instance(what) = &geometry {
+            let of = match what {
+                objects::InstanceOf::Object(of) => {
+                    if let Some(m) = &o.material {
+                        return Err(source.error(
+                            m,
+                            "an instance wears the materials of the mesh it places: give \
+                             `material` to that mesh object",
+                        ));
+                    }
+                    of.clone()
+                }
+                objects::InstanceOf::File(file) => {
+                    let material = match &o.material {
+                        Some(_) => self.object_material(source, o, &label)?,
+                        None => None,
+                    };
+                    // Held under the instance's name, for later instances' `of`.
+                    let key = o
+                        .name
+                        .clone()
+                        .unwrap_or_else(|| Spanned::new(file.span(), format!("\0{label}")));
+                    self.meshes.insert(
+                        key.get_ref().clone(),
+                        MeshObject {
+                            file: file.clone(),
+                            material,
+                            up_axis: o.up_axis.clone(),
+                            smooth: o.smooth.as_ref().is_some_and(|s| *s.get_ref()),
+                            placed: None,
+                        },
+                    );
+                    key
+                }
+            };
+            return self.instance(source, o, &of, &transform);
+        }
         let material = self.object_material(source, o, &label)?;
+        if let (Geometry::Mesh(file), Some(name)) = (&geometry, &o.name) {
+            self.meshes.insert(
+                name.get_ref().clone(),
+                MeshObject {
+                    file: file.clone(),
+                    material,
+                    up_axis: o.up_axis.clone(),
+                    smooth: o.smooth.as_ref().is_some_and(|s| *s.get_ref()),
+                    placed: None,
+                },
+            );
+        }
         let emissive =
             |b: &Builder, m: u32| b.scene.scene().surfaces[m as usize].emission != Vec3::ZERO;
         let glowing = material.is_some_and(|m| emissive(self, m));
@@ -234,6 +305,7 @@ impl Builder {
         // A mesh file's own emissive materials come with their lights; planes are seen
         // glowing but light nothing (they are far too large to sample).
         let make_emitters = match geometry {
+            Geometry::Instance(_) => unreachable!("instances return above"),
             Geometry::Mesh(_) => material.is_some(),
             Geometry::Plane { .. } => false,
             Geometry::Local(_) => true,
@@ -261,6 +333,7 @@ impl Builder {
                     .add_shape(placeholder, material.expect("planes wear a material"));
             }
             Geometry::Mesh(file) => self.merge_mesh(source, o, &file, &transform, material)?,
+            Geometry::Instance(_) => unreachable!("instances return above"),
         }
         let samples = match &o.samples {
             None => lights::DEFAULT_AREA_SAMPLES,
@@ -350,11 +423,129 @@ impl Builder {
         t: &Transform,
         material: Option<u32>,
     ) -> Result<()> {
+        let smooth = o.smooth.as_ref().is_some_and(|s| *s.get_ref());
+        let loaded = self.load_mesh(source, file, &o.up_axis, smooth)?;
+        merge(&mut self.scene, loaded, t, material).map_err(|m| placement_error(source, o, m))
+    }
+
+    /// Instance object `o`: the mesh object named `of` placed by `t`, or once for
+    /// each of its `transforms` (each applied before `t`).
+    fn instance(
+        &mut self,
+        source: &Source,
+        o: &RawObject,
+        of: &Spanned<String>,
+        t: &Transform,
+    ) -> Result<()> {
+        let Some(mesh) = self.meshes.get(of.get_ref()) else {
+            return Err(source.error(
+                of,
+                format!(
+                    "expected the name of a mesh object given before this instance, found \
+                     \"{}\"",
+                    of.get_ref()
+                ),
+            ));
+        };
+        let placements: Vec<glam::DMat4> = match &o.transforms {
+            None => vec![t.matrix()],
+            Some(list) => {
+                if list.get_ref().len() > crate::util::limits::MAX_INSTANCES {
+                    return Err(source.error(
+                        list,
+                        format!(
+                            "expected at most {} transforms, found {}",
+                            crate::util::limits::MAX_INSTANCES,
+                            list.get_ref().len()
+                        ),
+                    ));
+                }
+                let mut out = Vec::with_capacity(list.get_ref().len());
+                for (k, m) in list.get_ref().iter().enumerate() {
+                    let rows = m.map(|row| row.map(|n| n.0));
+                    if rows[3] != [0.0, 0.0, 0.0, 1.0] {
+                        return Err(source.error(
+                            list,
+                            format!(
+                                "expected the last row of transform {k} to be [0, 0, 0, 1] (an \
+                                 affine transform), found {:?}",
+                                rows[3]
+                            ),
+                        ));
+                    }
+                    out.push(t.matrix() * glam::DMat4::from_cols_array_2d(&rows).transpose());
+                }
+                out
+            }
+        };
+        let placed = match &mesh.placed {
+            Some(p) => p.clone(),
+            None => {
+                let (file, up_axis, smooth, material) = (
+                    mesh.file.clone(),
+                    mesh.up_axis.clone(),
+                    mesh.smooth,
+                    mesh.material,
+                );
+                let loaded = self.load_mesh(source, &file, &up_axis, smooth)?;
+                let placed = as_object(&mut self.scene, loaded, material, of.get_ref())
+                    .map_err(|m| placement_error(source, o, m))?;
+                if let Some(mesh) = self.meshes.get_mut(of.get_ref()) {
+                    mesh.placed = Some(placed.clone());
+                }
+                placed
+            }
+        };
+        let material = self.meshes[of.get_ref()].material;
+        for m in placements {
+            match &placed {
+                Placed::Object(object) => {
+                    if self.scene.scene().instances.len() >= crate::util::limits::MAX_INSTANCES {
+                        return Err(source.error(
+                            of,
+                            format!(
+                                "the scene places more than {} instances",
+                                crate::util::limits::MAX_INSTANCES
+                            ),
+                        ));
+                    }
+                    // A transform that flattens the mesh or is not finite places
+                    // nothing that can be seen.
+                    let _ = self
+                        .scene
+                        .add_instance(*object, glam::Affine3A::from_mat4(m.as_mat4()));
+                }
+                Placed::Copies(loaded) => {
+                    let first = self.scene.scene().shapes.len();
+                    merge(
+                        &mut self.scene,
+                        (**loaded).clone(),
+                        &Transform::from_matrix(m),
+                        material,
+                    )
+                    .map_err(|e| placement_error(source, o, e))?;
+                    if material.is_some() {
+                        self.emitters(first, lights::DEFAULT_AREA_SAMPLES);
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The mesh `file` names (Python's arrays, or a file beside the scene), turned
+    /// to y up and smoothed as its object asks.
+    fn load_mesh(
+        &self,
+        source: &Source,
+        file: &Spanned<String>,
+        up_axis: &Option<Spanned<String>>,
+        smooth: bool,
+    ) -> Result<Scene> {
         if let Some(mesh) = self.arrays.get(file.get_ref()) {
             let mut loaded = mesh.clone();
-            prepare_mesh(source, o, &mut loaded)?;
-            return merge(&mut self.scene, loaded, t, material)
-                .map_err(|m| placement_error(source, o, m));
+            prepare_mesh(source, up_axis, smooth, &mut loaded)?;
+            return Ok(loaded);
         }
         let path = source.resolve(file.get_ref());
         let ext = path
@@ -373,8 +564,8 @@ impl Builder {
         }
         regular_file(source, file, &path)?;
         let mut loaded = crate::format::load_scene(&path)?;
-        prepare_mesh(source, o, &mut loaded)?;
-        merge(&mut self.scene, loaded, t, material).map_err(|m| placement_error(source, o, m))
+        prepare_mesh(source, up_axis, smooth, &mut loaded)?;
+        Ok(loaded)
     }
 
     fn light(&mut self, source: &Source, at: &Spanned<super::raw::RawLight>) -> Result<()> {
@@ -464,8 +655,13 @@ impl Builder {
 
 /// A mesh file's scene as its object asks: turned from +z up (`up_axis = "z"`), and
 /// smooth where it has no normals (`smooth = true`).
-fn prepare_mesh(source: &Source, o: &RawObject, loaded: &mut Scene) -> Result<()> {
-    match o.up_axis.as_ref().map(|a| (a, a.get_ref().as_str())) {
+fn prepare_mesh(
+    source: &Source,
+    up_axis: &Option<Spanned<String>>,
+    smooth: bool,
+    loaded: &mut Scene,
+) -> Result<()> {
+    match up_axis.as_ref().map(|a| (a, a.get_ref().as_str())) {
         None | Some((_, "y")) => {}
         Some((_, "z")) => crate::scene::mesh::turn_z_up_to_y_up(loaded),
         Some((a, other)) => {
@@ -475,10 +671,76 @@ fn prepare_mesh(source: &Source, o: &RawObject, loaded: &mut Scene) -> Result<()
             ));
         }
     }
-    if o.smooth.as_ref().is_some_and(|s| *s.get_ref()) {
+    if smooth {
         crate::scene::mesh::smooth_all(loaded);
     }
     Ok(())
+}
+
+/// A loaded mesh as instances place it: an object of `scene` wearing its own materials
+/// (added to the scene's) or `material`; or, where it emits or carries lights, copies.
+fn as_object(
+    scene: &mut SceneBuilder,
+    loaded: Scene,
+    material: Option<u32>,
+    name: &str,
+) -> Result<Placed, String> {
+    if !(0..loaded.shapes.len()).all(|i| loaded.shapes.is_triangle(i)) {
+        return Err(
+            "instances place triangle meshes, and this mesh file holds spheres or rectangles"
+                .into(),
+        );
+    }
+    let surfaces = loaded.resolved_surfaces();
+    let emits = match material {
+        Some(m) => scene.scene().surfaces[m as usize].emission != Vec3::ZERO,
+        None => surfaces.iter().any(|s| s.emission != Vec3::ZERO),
+    };
+    if emits || !loaded.lights.is_empty() {
+        return Ok(Placed::Copies(Box::new(loaded)));
+    }
+    let material_base = add_materials(scene, &loaded, material);
+    let object = crate::scene::Object {
+        name: name.to_owned(),
+        material_of: loaded
+            .material_of
+            .iter()
+            .map(|&m| material.unwrap_or(m + material_base))
+            .collect(),
+        shapes: loaded.shapes,
+        meshes: loaded.meshes,
+    };
+    Ok(Placed::Object(scene.add_object(object)))
+}
+
+/// Adds the materials, textures and images of `loaded` to `scene` unless `material`
+/// overrides them; returns the index its first material gets.
+fn add_materials(scene: &mut SceneBuilder, loaded: &Scene, material: Option<u32>) -> u32 {
+    let image_base = scene.scene().images.len() as u32;
+    let texture_base = scene.scene().textures.len() as u32;
+    let material_base = scene.material_count();
+    if material.is_none() {
+        for (m, mut s) in loaded
+            .materials
+            .iter()
+            .cloned()
+            .zip(loaded.resolved_surfaces())
+        {
+            let mut m = m;
+            m.texture = m.texture.map(|i| i + texture_base);
+            for slot in s.image_slots_mut() {
+                slot.image += image_base;
+            }
+            scene.add_material(m, s);
+        }
+        for texture in &loaded.textures {
+            scene.add_texture(texture.clone());
+        }
+        for image in &loaded.images {
+            scene.add_image(image.clone());
+        }
+    }
+    material_base
 }
 
 /// The emitting triangles `first..end` as one area light, sampled in proportion to area.
@@ -507,27 +769,9 @@ fn merge(
     material: Option<u32>,
 ) -> Result<(), String> {
     let shape_base = scene.scene().shapes.len() as u32;
-    let image_base = scene.scene().images.len() as u32;
-    let texture_base = scene.scene().textures.len() as u32;
-    let material_base = scene.material_count();
     let mirrors = t.mirrors();
     let scale = t.uniform_scale();
-    let surfaces = loaded.resolved_surfaces();
-    if material.is_none() {
-        for (mut m, mut s) in loaded.materials.into_iter().zip(surfaces) {
-            m.texture = m.texture.map(|i| i + texture_base);
-            for slot in s.image_slots_mut() {
-                slot.image += image_base;
-            }
-            scene.add_material(m, s);
-        }
-        for texture in loaded.textures {
-            scene.add_texture(texture);
-        }
-        for image in loaded.images {
-            scene.add_image(image);
-        }
-    }
+    let material_base = add_materials(scene, &loaded, material);
     // Triangles keep their shared corners; a mirror reverses every winding.
     scene.add_placed(
         &loaded.shapes,

@@ -22,12 +22,24 @@ pub enum Geometry {
     },
     /// A mesh file (`file`, relative to the scene file).
     Mesh(Spanned<String>),
+    /// Placements of a mesh held once: the mesh object named `of`, or the mesh file
+    /// `file`.
+    Instance(InstanceOf),
+}
+
+/// What an instance places.
+pub enum InstanceOf {
+    /// The mesh of the mesh (or instance) object of this name.
+    Object(Spanned<String>),
+    /// A mesh file, read once.
+    File(Spanned<String>),
 }
 
 /// The shape keys each object type takes.
 fn keys_of(kind: &str) -> Option<&'static [&'static str]> {
     Some(match kind {
         "mesh" => &["file", "smooth", "up_axis"],
+        "instance" => &["of", "file", "smooth", "up_axis", "transforms"],
         "sphere" => &["center", "radius"],
         "plane" => &["point", "normal"],
         "quad" => &["corner", "edge1", "edge2"],
@@ -46,12 +58,17 @@ pub fn geometry(source: &Source, raw: &RawObject) -> Result<Geometry> {
             &raw.kind,
             format!(
                 "unknown object type \"{kind}\": expected mesh, sphere, plane, quad, triangle, \
-                 box, disk or cylinder"
+                 box, disk, cylinder or instance"
             ),
         )
     })?;
     super::source::refuse_foreign_keys(source, raw.shape_keys(), allowed, kind)?;
-    let missing = |key: &str| source.error(&raw.kind, format!("a {kind} needs `{key}`"));
+    let article = if kind.starts_with(['a', 'e', 'i', 'o', 'u']) {
+        "an"
+    } else {
+        "a"
+    };
+    let missing = |key: &str| source.error(&raw.kind, format!("{article} {kind} needs `{key}`"));
     let need = |v: &Option<Spanned<Vector>>, key: &str| -> Result<DVec3> {
         v.as_ref()
             .map(|v| v.get_ref().0)
@@ -73,6 +90,16 @@ pub fn geometry(source: &Source, raw: &RawObject) -> Result<Geometry> {
     };
     Ok(match kind {
         "mesh" => Geometry::Mesh(raw.file.clone().ok_or_else(|| missing("file"))?),
+        "instance" => Geometry::Instance(match (&raw.of, &raw.file) {
+            (Some(of), None) => InstanceOf::Object(of.clone()),
+            (None, Some(file)) => InstanceOf::File(file.clone()),
+            (Some(of), Some(_)) => {
+                return Err(
+                    source.error(of, "give `of` (a mesh object's name) or `file`, not both")
+                );
+            }
+            (None, None) => return Err(missing("of` or `file")),
+        }),
         "sphere" => Geometry::Local(primitives::sphere(
             or_origin(&raw.center),
             positive(&raw.radius, "radius")?,

@@ -94,6 +94,11 @@ pub struct RawObject {
     pub rotate: S<Rotations>,
     pub scale: S<Triple>,
     pub matrix: S<[[Num; 4]; 4]>,
+    /// Instances: the name of the mesh object they place.
+    pub of: S<String>,
+    /// Instances: one placement each, a row-major affine 4 x 4 matrix applied before
+    /// the object's own transform.
+    pub transforms: S<Vec<[[Num; 4]; 4]>>,
 }
 
 impl RawObject {
@@ -106,6 +111,8 @@ impl RawObject {
             }
         };
         add("file", self.file.as_ref().map(Spanned::span));
+        add("of", self.of.as_ref().map(Spanned::span));
+        add("transforms", self.transforms.as_ref().map(Spanned::span));
         add("center", self.center.as_ref().map(Spanned::span));
         add("radius", self.radius.as_ref().map(Spanned::span));
         add("point", self.point.as_ref().map(Spanned::span));

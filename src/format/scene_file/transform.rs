@@ -89,6 +89,19 @@ impl Transform {
         })
     }
 
+    /// The transform `matrix` (affine, invertible).
+    pub fn from_matrix(matrix: DMat4) -> Transform {
+        Transform {
+            matrix,
+            normal_matrix: DMat3::from_mat4(matrix).inverse().transpose(),
+        }
+    }
+
+    /// The whole transform.
+    pub fn matrix(&self) -> DMat4 {
+        self.matrix
+    }
+
     pub fn point(&self, p: DVec3) -> Vec3 {
         let q = self.matrix * DVec4::new(p.x, p.y, p.z, 1.0);
         Vec3::new(q.x as f32, q.y as f32, q.z as f32)

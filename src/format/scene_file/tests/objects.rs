@@ -204,3 +204,103 @@ fn a_mesh_file_with_z_up_is_turned_to_y_up() {
         "{e}"
     );
 }
+
+/// `type = "instance"` places a named mesh object again, by its own transform or by
+/// each of its `transforms` (applied before it): one object in memory, placed like the
+/// same mesh written as objects of its own, and rendered as the flattened twin.
+#[test]
+fn instances_place_a_named_mesh_by_their_transforms() {
+    let dir = Folder::new();
+    dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let f = dir.load(
+        "[[object]]\nname = \"tri\"\ntype = \"mesh\"\nfile = \"tri.obj\"\n\
+         material = { color = [0, 1, 0] }\n\
+         [[object]]\ntype = \"instance\"\nof = \"tri\"\ntranslate = [0, 0, -2]\n\
+         [[object]]\ntype = \"instance\"\nof = \"tri\"\ntranslate = [10, 0, 0]\n\
+         transforms = [[[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],\n\
+                       [[-1, 0, 0, 5], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]]\n",
+    );
+    let scene = &f.scene;
+    assert_eq!(scene.shapes.len(), 1, "the mesh object itself");
+    assert_eq!(scene.objects.len(), 1);
+    assert_eq!(scene.instances.len(), 3);
+    let green = scene.material_of[0];
+    assert_eq!(scene.objects[0].material_of, [green]);
+    let flat = scene.flattened();
+    let corners = |i: usize| {
+        let Shape::Triangle(t) = flat.shapes.get(i) else {
+            panic!()
+        };
+        t.v
+    };
+    assert_eq!(
+        corners(1),
+        [v(0.0, 0.0, -2.0), v(1.0, 0.0, -2.0), v(0.0, 1.0, -2.0)]
+    );
+    assert_eq!(
+        corners(2),
+        [v(10.0, 0.0, 0.0), v(12.0, 0.0, 0.0), v(10.0, 1.0, 0.0)]
+    );
+    // The mirror keeps the face turned the way it was: its winding is reversed.
+    assert_eq!(
+        corners(3),
+        [v(15.0, 0.0, 0.0), v(15.0, 1.0, 0.0), v(14.0, 0.0, 0.0)]
+    );
+    let e = dir.error("[[object]]\ntype = \"instance\"\nof = \"tree\"\n");
+    assert_eq!(
+        e,
+        "DIR/scene.toml:3:6: expected the name of a mesh object given before this instance, \
+         found \"tree\""
+    );
+    let e = dir.error(
+        "[[object]]\nname = \"tri\"\ntype = \"mesh\"\nfile = \"tri.obj\"\n\
+         [[object]]\ntype = \"instance\"\nof = \"tri\"\n\
+         transforms = [[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 1, 1]]]\n",
+    );
+    assert!(
+        e.contains("DIR/scene.toml:8:14: expected the last row of transform 0"),
+        "{e}"
+    );
+    let e = dir.error("[[object]]\ntype = \"instance\"\n");
+    assert!(e.contains("an instance needs `of` or `file`"), "{e}");
+}
+
+/// An instance of a `file` holds the mesh without placing it anywhere else; a later
+/// instance may place it again by the first one's name.
+#[test]
+fn an_instance_of_a_file_holds_the_mesh_once_for_every_placement() {
+    let dir = Folder::new();
+    dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let f = dir.load(
+        "[[object]]\nname = \"trees\"\ntype = \"instance\"\nfile = \"tri.obj\"\n\
+         material = { color = [0, 1, 0] }\n\
+         transforms = [[[1, 0, 0, 1], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],\n\
+                       [[1, 0, 0, 2], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]]\n\
+         [[object]]\ntype = \"instance\"\nof = \"trees\"\ntranslate = [0, 5, 0]\n",
+    );
+    let scene = &f.scene;
+    assert_eq!(scene.shapes.len(), 0);
+    assert_eq!((scene.objects.len(), scene.instances.len()), (1, 3));
+    let m = scene.objects[0].material_of[0] as usize;
+    assert_eq!(scene.surfaces[m].albedo, Albedo::Color(Vec3::Y));
+    let bounds = scene.bounds();
+    assert_eq!(
+        (bounds.min, bounds.max),
+        (v(0.0, 0.0, 0.0), v(3.0, 6.0, 0.0))
+    );
+}
+
+/// A glowing mesh is copied at every placement: its triangles are lights.
+#[test]
+fn instances_of_a_glowing_mesh_are_copies_that_light() {
+    let dir = Folder::new();
+    dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let f = dir.load(
+        "[[object]]\nname = \"lamp\"\ntype = \"mesh\"\nfile = \"tri.obj\"\n\
+         material = { emission = [4, 4, 4] }\n\
+         [[object]]\ntype = \"instance\"\nof = \"lamp\"\ntranslate = [0, 0, -2]\n",
+    );
+    assert!(f.scene.instances.is_empty());
+    assert_eq!(f.scene.shapes.len(), 2);
+    assert_eq!(f.scene.lights.len(), 2);
+}
