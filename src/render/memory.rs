@@ -27,6 +27,20 @@ pub const FILM_BYTES_PER_PIXEL: u64 = 48;
 /// The budget when the machine's memory cannot be read.
 pub const FALLBACK_BUDGET: u64 = 8 << 30;
 
+/// Bytes an instance holds: its transforms, and its box, rounding bound and place in
+/// the top tree.
+const INSTANCE_BYTES: u64 = size_of::<crate::scene::Instance>() as u64 + 96;
+
+/// Bytes of a mesh's vertex attributes and their index triples.
+fn attribute_bytes(m: &crate::scene::MeshAttributes) -> u64 {
+    (m.normals.len() * 12
+        + m.texcoords.len() * 8
+        + m.colors.len() * 12
+        + m.normal_indices.len() * 12
+        + m.texcoord_indices.len() * 12
+        + m.color_indices.len() * 12) as u64
+}
+
 /// The big allocations of one render, in bytes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MemoryEstimate {
@@ -54,18 +68,7 @@ impl MemoryEstimate {
     /// What rendering `scene` into a `width` x `height` frame with `accel` needs.
     pub fn of(scene: &Scene, accel: AccelKind, width: u32, height: u32, aa: u32) -> Self {
         let n = scene.shapes.len() as u64;
-        let attributes: u64 = scene
-            .meshes
-            .iter()
-            .map(|m| {
-                (m.normals.len() * 12
-                    + m.texcoords.len() * 8
-                    + m.colors.len() * 12
-                    + m.normal_indices.len() * 12
-                    + m.texcoord_indices.len() * 12
-                    + m.color_indices.len() * 12) as u64
-            })
-            .sum();
+        let attributes: u64 = scene.meshes.iter().map(attribute_bytes).sum();
         let images = scene
             .images
             .iter()
@@ -79,7 +82,23 @@ impl MemoryEstimate {
                 .iter()
                 .map(|t| t.texels.len() as u64 * 3)
                 .sum::<u64>();
-        let accel = n.saturating_mul(accel_bytes_per_shape(accel));
+        // Instances: each object's shapes, attributes and BVH once, and a transform,
+        // box and top-tree node an instance.
+        let object_shapes: u64 = scene.objects.iter().map(|o| o.shapes.len() as u64).sum();
+        let object_bytes: u64 = scene
+            .objects
+            .iter()
+            .map(|o| {
+                o.shapes.memory_bytes() as u64
+                    + o.shapes.len() as u64 * size_of::<u32>() as u64
+                    + o.meshes.iter().map(attribute_bytes).sum::<u64>()
+            })
+            .sum();
+        let instances = scene.instances.len() as u64 * INSTANCE_BYTES;
+        let accel = n
+            .saturating_mul(accel_bytes_per_shape(accel))
+            .saturating_add(object_shapes.saturating_mul(accel_bytes_per_shape(AccelKind::Bvh)))
+            .saturating_add(instances);
         let pixels = u64::from(width) * u64::from(height);
         // Supersampled rows are traced a band at a time; the output pixels stay.
         let band = u64::from(width) * u64::from(aa) * u64::from(aa) * 32 * 12;
@@ -87,7 +106,8 @@ impl MemoryEstimate {
         MemoryEstimate {
             shapes: (scene.shapes.memory_bytes() as u64)
                 .saturating_add(n.saturating_mul(size_of::<u32>() as u64))
-                .saturating_add(attributes),
+                .saturating_add(attributes)
+                .saturating_add(object_bytes),
             accel,
             images,
             film: pixels
@@ -273,6 +293,35 @@ mod tests {
             );
         }
         scene
+    }
+
+    /// An object is counted once, however many instances place it; each instance
+    /// adds its own few bytes.
+    #[test]
+    fn the_estimate_counts_an_object_once_and_bytes_an_instance() {
+        let mut object = crate::scene::Object::default();
+        for i in 0..100 {
+            let x = i as f32;
+            object.shapes.push(Shape::Triangle(crate::scene::Triangle {
+                v: [Vec3::new(x, 0.0, 0.0), Vec3::X, Vec3::Y],
+            }));
+            object.material_of.push(0);
+        }
+        let estimate = |instances: usize| {
+            let scene = Scene {
+                objects: vec![object.clone()],
+                instances: vec![
+                    crate::scene::Instance::new(0, glam::Affine3A::IDENTITY);
+                    instances
+                ],
+                ..Scene::default()
+            };
+            MemoryEstimate::of(&scene, AccelKind::Bvh, 10, 10, 1)
+        };
+        let (one, many) = (estimate(1), estimate(1001));
+        assert!(one.shapes >= 100 * 40, "{one:?}");
+        assert_eq!(many.shapes, one.shapes);
+        assert_eq!(many.accel - one.accel, 1000 * INSTANCE_BYTES);
     }
 
     #[test]
