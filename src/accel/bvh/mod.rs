@@ -226,16 +226,16 @@ fn inverse(x: f32) -> f32 {
 /// Four lanes at a time (SSE2, or whatever the target's baseline is). Each axis reads
 /// its near plane from `min` or `max` by the sign of the direction, so an empty
 /// (inverted) box is missed.
-struct Boxes4 {
+struct Boxes4<const PADDED: bool = false> {
     near_origin: [Vec4; 3],
     far_origin: [Vec4; 3],
     inv_dir: [Vec4; 3],
     negative: [bool; 3],
 }
 
-impl BoxTest for Boxes4 {
+impl<const PADDED: bool> BoxTest for Boxes4<PADDED> {
     #[inline(always)]
-    fn new(ray: &Ray) -> Boxes4 {
+    fn new(ray: &Ray) -> Boxes4<PADDED> {
         let o = ray.origin.to_array();
         let d = ray.dir.to_array();
         Boxes4 {
@@ -247,7 +247,7 @@ impl BoxTest for Boxes4 {
     }
 
     #[inline(always)]
-    fn padded(ray: &Ray, pad: f32) -> Boxes4 {
+    fn padded(ray: &Ray, pad: f32) -> Boxes4<PADDED> {
         let (near, far) = slab_origins(ray, pad);
         Boxes4 {
             near_origin: near.map(Vec4::splat),
@@ -270,7 +270,13 @@ impl BoxTest for Boxes4 {
                     (node.min[axis][half], node.max[axis][half])
                 };
                 t_near = t_near.max((near - self.near_origin[axis]) * self.inv_dir[axis]);
-                t_far = t_far.min((far - self.far_origin[axis]) * self.inv_dir[axis]);
+                // Unpadded boxes measure both planes from the one origin.
+                let far_origin = if PADDED {
+                    self.far_origin[axis]
+                } else {
+                    self.near_origin[axis]
+                };
+                t_far = t_far.min((far - far_origin) * self.inv_dir[axis]);
             }
             mask |= t_near.cmple(t_far * BOX_SLACK).bitmask() << (4 * half);
             t[4 * half..4 * half + 4].copy_from_slice(&t_near.to_array());
@@ -282,7 +288,7 @@ impl BoxTest for Boxes4 {
 /// All eight lanes in one AVX2 register. Only built inside functions compiled for AVX2
 /// (see [`Bvh::closest`]).
 #[cfg(target_arch = "x86_64")]
-struct Boxes8 {
+struct Boxes8<const PADDED: bool = false> {
     near_origin: [std::arch::x86_64::__m256; 3],
     far_origin: [std::arch::x86_64::__m256; 3],
     inv_dir: [std::arch::x86_64::__m256; 3],
@@ -290,9 +296,9 @@ struct Boxes8 {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl Boxes8 {
+impl<const PADDED: bool> Boxes8<PADDED> {
     #[inline(always)]
-    fn with_origins(ray: &Ray, near: [f32; 3], far: [f32; 3]) -> Boxes8 {
+    fn with_origins(ray: &Ray, near: [f32; 3], far: [f32; 3]) -> Boxes8<PADDED> {
         use std::arch::x86_64::_mm256_set1_ps;
         let d = ray.dir;
         // SAFETY: reached only from AVX2 functions, on processors that run them. No
@@ -325,15 +331,15 @@ impl Boxes8 {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl BoxTest for Boxes8 {
+impl<const PADDED: bool> BoxTest for Boxes8<PADDED> {
     #[inline(always)]
-    fn new(ray: &Ray) -> Boxes8 {
+    fn new(ray: &Ray) -> Boxes8<PADDED> {
         let o = ray.origin.to_array();
         Boxes8::with_origins(ray, o, o)
     }
 
     #[inline(always)]
-    fn padded(ray: &Ray, pad: f32) -> Boxes8 {
+    fn padded(ray: &Ray, pad: f32) -> Boxes8<PADDED> {
         let (near, far) = slab_origins(ray, pad);
         Boxes8::with_origins(ray, near, far)
     }

@@ -42,13 +42,13 @@ impl Bvh<'_> {
             // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
             return unsafe { self.closest_placed_avx2(ray, t_max, best) };
         }
-        self.closest_placed_in::<Boxes4>(ray, t_max, best)
+        self.closest_placed_in::<Boxes4<true>>(ray, t_max, best)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn closest_placed_avx2(&self, ray: &PlacedRay, t_max: f32, best: &mut Option<Hit>) {
-        self.closest_placed_in::<Boxes8>(ray, t_max, best)
+        self.closest_placed_in::<Boxes8<true>>(ray, t_max, best)
     }
 
     #[inline(always)]
@@ -93,7 +93,7 @@ impl Bvh<'_> {
             // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
             return unsafe { self.occluded_placed_avx2(ray, t_max, blocks) };
         }
-        self.occluded_placed_in::<Boxes4>(ray, t_max, blocks)
+        self.occluded_placed_in::<Boxes4<true>>(ray, t_max, blocks)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -104,7 +104,7 @@ impl Bvh<'_> {
         t_max: f32,
         blocks: &impl Fn(ShapeId) -> bool,
     ) -> bool {
-        self.occluded_placed_in::<Boxes8>(ray, t_max, blocks)
+        self.occluded_placed_in::<Boxes8<true>>(ray, t_max, blocks)
     }
 
     #[inline(always)]
