@@ -76,7 +76,7 @@ fn frustum_holds_for(rays: &[Ray], boxes: &[Aabb], bound: f32) -> Result<(), Tes
     };
     let (mask, t) = frustum.enter(&node, bound);
     for ray in rays {
-        let (ray_mask, ray_t) = Boxes4::new(ray).hit(&node, bound);
+        let (ray_mask, ray_t) = Boxes4::<false>::new(ray).hit(&node, bound);
         prop_assert_eq!(ray_mask & !mask, 0, "a box the ray enters is culled");
         for lane in 0..WIDTH {
             if ray_mask >> lane & 1 == 1 {
