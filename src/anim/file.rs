@@ -456,7 +456,7 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
             "expected camera, shape:N, material:NAME, group:NAME, object:NAME or light:NAME".into(),
         )
     })?;
-    let (shapes, lights) = match kind {
+    let (shapes, lights, instances) = match kind {
         "shape" => {
             let i: u32 = what.parse().map_err(|_| {
                 unknown(format!(
@@ -470,7 +470,7 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
                     scene.shapes.len()
                 )));
             }
-            (vec![i], vec![])
+            (vec![i], vec![], vec![])
         }
         "material" => {
             let shapes: Vec<u32> = (0..scene.shapes.len() as u32)
@@ -482,20 +482,20 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
                     crate::util::text::shown(what)
                 )));
             }
-            (shapes, vec![])
+            (shapes, vec![], vec![])
         }
         // A scene file's named objects and lights are groups of that name.
         "group" | "object" | "light" => {
             let g = scene
                 .group(what)
                 .ok_or_else(|| unknown(format!("the scene has no `g {what}` or `o {what}`")))?;
-            if g.shapes.is_empty() && g.lights.is_empty() {
+            if g.shapes.is_empty() && g.lights.is_empty() && g.instances.is_empty() {
                 return Err(unknown(format!(
                     "group {} is empty",
                     crate::util::text::shown(what)
                 )));
             }
-            (g.shapes.clone(), g.lights.clone())
+            (g.shapes.clone(), g.lights.clone(), g.instances.clone())
         }
         _ => {
             return Err(unknown(
@@ -504,7 +504,11 @@ fn selection(lines: &Lines, at: &Spanned<String>, scene: &Scene) -> Result<Selec
             ));
         }
     };
-    Ok(Selection { shapes, lights })
+    Ok(Selection {
+        shapes,
+        lights,
+        instances,
+    })
 }
 
 /// Largest coordinate, offset or angle accepted: beyond it, f32 scene coordinates

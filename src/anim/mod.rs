@@ -199,7 +199,9 @@ impl Animation {
     pub fn still_geometry(&self) -> Result<Option<Accel<'_>>> {
         let moves_shapes = self.tracks.iter().any(|t| match &t.target {
             Target::Camera => false,
-            Target::Objects(selection) => !selection.shapes.is_empty(),
+            Target::Objects(selection) => {
+                !(selection.shapes.is_empty() && selection.instances.is_empty())
+            }
         });
         if moves_shapes {
             return Ok(None);

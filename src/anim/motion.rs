@@ -11,6 +11,8 @@ pub struct Selection {
     pub shapes: Vec<u32>,
     /// Indices into the scene's lights, ascending.
     pub lights: Vec<u32>,
+    /// Indices into the scene's instances, ascending.
+    pub instances: Vec<u32>,
 }
 
 /// What a track moves.

@@ -13,7 +13,7 @@
 
 use super::motion::{Aim, Motion, Selection, Target, Track, rotation_about};
 use crate::math::Vec3;
-use crate::scene::{Camera, Rectangle, Scene, Shape, Sphere, Triangle};
+use crate::scene::{Camera, Instance, Rectangle, Scene, Shape, Sphere, Triangle};
 use glam::{DAffine3, DVec3};
 use std::collections::HashMap;
 
@@ -82,6 +82,7 @@ struct State<'s> {
     /// as moved shapes, whatever the scene's size.
     shapes: HashMap<u32, DAffine3>,
     lights: HashMap<u32, DAffine3>,
+    instances: HashMap<u32, DAffine3>,
     eye: DVec3,
     /// Unit view direction; `None` while no track has turned it.
     forward: Option<DVec3>,
@@ -110,6 +111,7 @@ impl<'s> State<'s> {
             base_camera,
             shapes: HashMap::new(),
             lights: HashMap::new(),
+            instances: HashMap::new(),
             eye: dvec(base_camera.eye),
             forward: None,
             focal_length: None,
@@ -219,6 +221,10 @@ impl<'s> State<'s> {
             let x = self.lights.entry(i).or_insert(DAffine3::IDENTITY);
             *x = by * *x;
         }
+        for &i in &s.instances {
+            let x = self.instances.entry(i).or_insert(DAffine3::IDENTITY);
+            *x = by * *x;
+        }
     }
 
     fn shape_transform(&self, i: u32) -> DAffine3 {
@@ -254,6 +260,20 @@ impl<'s> State<'s> {
                 0.0,
             );
         }
+        for &i in &s.instances {
+            let x = self
+                .instances
+                .get(&i)
+                .copied()
+                .unwrap_or(DAffine3::IDENTITY);
+            let base = &self.base.instances[i as usize];
+            let b = base.world_bounds(&self.base.objects[base.object as usize].bounds());
+            if !b.is_empty() {
+                for corner in [b.min, b.max] {
+                    grow(x.transform_point3(dvec(corner)), 0.0);
+                }
+            }
+        }
         (min + max) / 2.0
     }
 
@@ -285,6 +305,12 @@ impl<'s> State<'s> {
         for (&i, x) in &self.lights {
             let i = i as usize;
             posed.lights[i].position = moved(x, self.base.lights[i].position);
+        }
+        for (&i, x) in &self.instances {
+            let base = &self.base.instances[i as usize];
+            let to_world = glam::DMat4::from(*x) * glam::DMat4::from(base.to_world.as_daffine3());
+            posed.instances[i as usize] =
+                Instance::new(base.object, glam::Affine3A::from_mat4(to_world.as_mat4()));
         }
     }
 

@@ -640,3 +640,40 @@ fn denoise_is_a_render_key_and_denoised_frames_are_another_folder() {
         }
     }
 }
+
+/// A named instance object is a group of its instances: a track moves each of them.
+#[test]
+fn a_track_moves_the_instances_of_a_named_instance_object() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("s.toml"),
+        "[camera]\nfrom = [0, 0, 8]\nat = [0, 0, 0]\n[render]\nwidth = 24\nheight = 16\n\
+         [[light]]\ntype = \"point\"\nposition = [0, 0, 5]\n\
+         [[object]]\nname = \"pair\"\ntype = \"instance\"\nfile = \"tri.obj\"\n\
+         transforms = [[[1, 0, 0, -2], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],\n\
+                       [[1, 0, 0, 1], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]]\n\
+         [[object]]\nname = \"still\"\ntype = \"instance\"\nfile = \"tri.obj\"\n",
+    )
+    .unwrap();
+    let path = dir.path().join("a.toml");
+    std::fs::write(
+        &path,
+        "scene = \"s.toml\"\nduration = 1\nfps = 4\n\
+         [[track]]\ntarget = \"object:pair\"\nmotion = \"translate\"\n\
+         keys = [[0, [0, 0, 0]], [1, [0, 2, 0]]]\n",
+    )
+    .unwrap();
+    let a = Animation::load(&path).unwrap();
+    assert!(a.still_geometry().unwrap().is_none(), "the instances move");
+    let (scene, _) = a.pose(2).unwrap();
+    assert_eq!(scene.instances.len(), 3);
+    let moved = |i: usize| scene.instances[i].to_world.translation;
+    assert_eq!(moved(0), glam::Vec3A::new(-2.0, 1.0, 0.0));
+    assert_eq!(moved(1), glam::Vec3A::new(1.0, 1.0, 0.0));
+    assert_eq!(moved(2), glam::Vec3A::ZERO, "not in the group");
+}

@@ -41,6 +41,8 @@ pub struct Group {
     pub shapes: Vec<u32>,
     /// Indices into [`Scene::lights`], ascending.
     pub lights: Vec<u32>,
+    /// Indices into [`Scene::instances`], ascending.
+    pub instances: Vec<u32>,
 }
 
 /// What a ray that hits nothing sees (the whitted model; classic rays see black).

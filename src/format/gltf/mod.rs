@@ -90,6 +90,7 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
         }
         let first_shape = scene.scene().shapes.len() as u32;
         let first_light = scene.scene().lights.len() as u32;
+        let first_instance = scene.scene().instances.len() as u32;
         if let Some(m) = node.mesh() {
             if let std::collections::hash_map::Entry::Vacant(slot) = meshes.entry(m.index()) {
                 let read = mesh::read(doc, &loaded.buffers, &m, &mut skipped).map_err(err)?;
@@ -173,11 +174,14 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
         if let Some(name) = node.name() {
             let shapes: Vec<u32> = (first_shape..scene.scene().shapes.len() as u32).collect();
             let lights: Vec<u32> = (first_light..scene.scene().lights.len() as u32).collect();
-            if !shapes.is_empty() || !lights.is_empty() {
+            let instances: Vec<u32> =
+                (first_instance..scene.scene().instances.len() as u32).collect();
+            if !shapes.is_empty() || !lights.is_empty() || !instances.is_empty() {
                 scene.add_group(Group {
                     name: name.to_owned(),
                     shapes,
                     lights,
+                    instances,
                 });
             }
         }

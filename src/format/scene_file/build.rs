@@ -282,7 +282,22 @@ impl Builder {
                     key
                 }
             };
-            return self.instance(source, o, &of, &transform);
+            let first_instance = self.scene.scene().instances.len() as u32;
+            let first = self.scene.scene().shapes.len() as u32;
+            let first_light = self.scene.scene().lights.len() as u32;
+            self.instance(source, o, &of, &transform)?;
+            // A named instance object is a group an animation moves as one: its
+            // instances, or the copies of a glowing mesh.
+            if let Some(name) = &o.name {
+                let scene = self.scene.scene();
+                self.scene.add_group(Group {
+                    name: name.get_ref().clone(),
+                    shapes: (first..scene.shapes.len() as u32).collect(),
+                    lights: (first_light..scene.lights.len() as u32).collect(),
+                    instances: (first_instance..scene.instances.len() as u32).collect(),
+                });
+            }
+            return Ok(());
         }
         let material = self.object_material(source, o, &label)?;
         if let (Geometry::Mesh(file), Some(name)) = (&geometry, &o.name) {
@@ -367,6 +382,7 @@ impl Builder {
                 name: name.get_ref().clone(),
                 shapes: (first as u32..shapes).collect(),
                 lights: (first_light as u32..lights).collect(),
+                instances: Vec::new(),
             });
         }
         Ok(())
@@ -578,8 +594,8 @@ impl Builder {
         if let Some(name) = &raw.name {
             self.scene.add_group(Group {
                 name: name.get_ref().clone(),
-                shapes: Vec::new(),
                 lights: vec![index],
+                ..Group::default()
             });
         }
         Ok(())
