@@ -328,8 +328,15 @@ impl Scene {
                 })
                 .reduce(|| own, Aabb::union);
         }
+        own.union(self.instance_boxes())
+    }
+
+    /// A box around every instance: the union of each one's placed object box (a
+    /// little larger than its placed triangles' under a rotation), cheap however many
+    /// triangles the instances place.
+    pub fn instance_boxes(&self) -> Aabb {
         let objects: Vec<Aabb> = self.objects.iter().map(Object::bounds).collect();
-        self.instances.iter().fold(own, |b, i| {
+        self.instances.iter().fold(Aabb::EMPTY, |b, i| {
             b.union(i.world_bounds(&objects[i.object as usize]))
         })
     }

@@ -612,7 +612,8 @@ impl Builder {
             .iter()
             .enumerate()
             .filter(|(i, _)| !is_plane.contains(i))
-            .fold(Aabb::EMPTY, |b, (_, s)| b.union(s.bounds()));
+            .fold(Aabb::EMPTY, |b, (_, s)| b.union(s.bounds()))
+            .union(self.scene.scene().instance_boxes());
         if let Some(eye) = eye {
             bounds = bounds.grow(eye);
         }

@@ -290,6 +290,22 @@ fn an_instance_of_a_file_holds_the_mesh_once_for_every_placement() {
     );
 }
 
+/// A plane is sized by the instances too: a wide forest still stands on it.
+#[test]
+fn a_plane_is_sized_by_the_instances_too() {
+    let dir = Folder::new();
+    dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let f = dir.load(
+        "[[object]]\ntype = \"plane\"\n\
+         [[object]]\ntype = \"instance\"\nfile = \"tri.obj\"\n\
+         transforms = [[[1, 0, 0, -1000], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],\n\
+                       [[1, 0, 0, 1000], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]]\n",
+    );
+    // A hundred times the scene's diagonal (2001) on a side.
+    let plane = f.scene.shapes.get(0).bounds();
+    assert!(plane.max.x > 2001.0 * 50.0, "{plane:?}");
+}
+
 /// A glowing mesh is copied at every placement: its triangles are lights.
 #[test]
 fn instances_of_a_glowing_mesh_are_copies_that_light() {
