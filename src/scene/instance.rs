@@ -12,7 +12,7 @@ use crate::math::{Aabb, Vec3};
 use glam::Affine3A;
 use rayon::prelude::*;
 
-/// Up to this many placed vertices, [`Scene::world_bounds`] places them all.
+/// Up to this many placed vertices, [`Scene::bounds`] places them all.
 pub const EXACT_BOUNDS_VERTICES: u64 = 1 << 24;
 
 /// The instance of a shape that is not in one: the scene's own shapes.
@@ -71,10 +71,7 @@ impl Object {
     /// The mesh owning shape `shape`, with the triangle's number in it.
     #[inline]
     pub fn mesh_of(&self, shape: u32) -> Option<(&MeshAttributes, usize)> {
-        let i = self.meshes.partition_point(|m| m.first_shape <= shape);
-        let mesh = self.meshes.get(i.checked_sub(1)?)?;
-        mesh.owns(shape)
-            .then(|| (mesh, (shape - mesh.first_shape) as usize))
+        super::mesh::owning(&self.meshes, shape)
     }
 
     /// The box around its triangles, in its own space.
@@ -304,10 +301,11 @@ impl Scene {
         flat
     }
 
-    /// World box around every shape, placed ones included: the flattened twin's
+    /// World box around every shape, placed ones included ([`Aabb::EMPTY`] when there
+    /// are none): the flattened twin's
     /// exactly, or where the instances place more than [`EXACT_BOUNDS_VERTICES`]
     /// vertices, a box around each instance's placed object box.
-    pub fn world_bounds(&self) -> Aabb {
+    pub fn bounds(&self) -> Aabb {
         let own = self.shapes.bounds();
         let placed: u64 = self
             .instances

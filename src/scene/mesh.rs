@@ -123,6 +123,16 @@ impl MeshAttributes {
     }
 }
 
+/// The mesh of `meshes` (in ascending order of `first_shape`) that owns shape
+/// `shape`, with the shape's triangle number in it.
+#[inline]
+pub fn owning(meshes: &[MeshAttributes], shape: u32) -> Option<(&MeshAttributes, usize)> {
+    let i = meshes.partition_point(|m| m.first_shape <= shape);
+    let mesh = meshes.get(i.checked_sub(1)?)?;
+    mesh.owns(shape)
+        .then(|| (mesh, (shape - mesh.first_shape) as usize))
+}
+
 /// The unit normal at barycentrics `b` of a triangle with vertex normals `n`; `None`
 /// where they cancel.
 #[inline]

@@ -29,7 +29,7 @@ pub use shapes::{Shapes, Stored};
 pub use surface_point::SurfacePoint;
 pub use texture::{FillMode, Texture};
 
-use crate::math::{Aabb, Vec3};
+use crate::math::Vec3;
 
 /// A named set of shapes and lights (`g NAME` / `o NAME` in a scene file): what an
 /// animation track can move as one.
@@ -119,10 +119,7 @@ impl Scene {
     /// The mesh that owns shape `shape`, with the shape's triangle number in it.
     #[inline]
     pub fn mesh_of(&self, shape: u32) -> Option<(&MeshAttributes, usize)> {
-        let i = self.meshes.partition_point(|m| m.first_shape <= shape);
-        let mesh = self.meshes.get(i.checked_sub(1)?)?;
-        mesh.owns(shape)
-            .then(|| (mesh, (shape - mesh.first_shape) as usize))
+        mesh::owning(&self.meshes, shape)
     }
 
     /// The whitted terms of every material, derived from the classic terms where the
@@ -143,12 +140,6 @@ impl Scene {
     /// The group called `name`, if the scene file named one.
     pub fn group(&self, name: &str) -> Option<&Group> {
         self.groups.iter().find(|g| g.name == name)
-    }
-
-    /// World-space box around every shape, placed ones included; [`Aabb::EMPTY`] when
-    /// there are none.
-    pub fn bounds(&self) -> Aabb {
-        self.world_bounds()
     }
 
     /// Surface colour at `p` on shape `shape`: its texel, or the material colour where

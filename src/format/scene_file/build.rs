@@ -61,6 +61,19 @@ struct MeshObject {
     placed: Option<Placed>,
 }
 
+impl MeshObject {
+    /// The mesh file `file` read as object `o` asks, wearing `material`.
+    fn of(o: &RawObject, file: &Spanned<String>, material: Option<u32>) -> MeshObject {
+        MeshObject {
+            file: file.clone(),
+            material,
+            up_axis: o.up_axis.clone(),
+            smooth: o.smooth.as_ref().is_some_and(|s| *s.get_ref()),
+            placed: None,
+        }
+    }
+}
+
 /// What instances of a mesh place.
 #[derive(Clone)]
 enum Placed {
@@ -269,16 +282,8 @@ impl Builder {
                         .name
                         .clone()
                         .unwrap_or_else(|| Spanned::new(file.span(), format!("\0{label}")));
-                    self.meshes.insert(
-                        key.get_ref().clone(),
-                        MeshObject {
-                            file: file.clone(),
-                            material,
-                            up_axis: o.up_axis.clone(),
-                            smooth: o.smooth.as_ref().is_some_and(|s| *s.get_ref()),
-                            placed: None,
-                        },
-                    );
+                    self.meshes
+                        .insert(key.get_ref().clone(), MeshObject::of(o, file, material));
                     key
                 }
             };
@@ -301,16 +306,8 @@ impl Builder {
         }
         let material = self.object_material(source, o, &label)?;
         if let (Geometry::Mesh(file), Some(name)) = (&geometry, &o.name) {
-            self.meshes.insert(
-                name.get_ref().clone(),
-                MeshObject {
-                    file: file.clone(),
-                    material,
-                    up_axis: o.up_axis.clone(),
-                    smooth: o.smooth.as_ref().is_some_and(|s| *s.get_ref()),
-                    placed: None,
-                },
-            );
+            self.meshes
+                .insert(name.get_ref().clone(), MeshObject::of(o, file, material));
         }
         let emissive =
             |b: &Builder, m: u32| b.scene.scene().surfaces[m as usize].emission != Vec3::ZERO;
