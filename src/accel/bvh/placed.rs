@@ -11,6 +11,7 @@ use super::Boxes8;
 use super::leaf4::{Leaf4, RayLanes};
 use super::{BoxTest, Boxes4, Bvh, Entry, STORED, Stack};
 use crate::accel::Hit;
+#[cfg(target_arch = "x86_64")]
 use crate::accel::simd::SimdLevel;
 use crate::math::Ray;
 use crate::scene::{Instance, ShapeId};
