@@ -18,7 +18,7 @@ pyoidn``).
 """
 
 from os import PathLike
-from typing import Any, Callable, Dict, Iterator, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -31,6 +31,7 @@ __all__ = [
     "Animation",
     "Camera",
     "FileError",
+    "Passes",
     "PrismError",
     "Scene",
     "SceneError",
@@ -252,7 +253,7 @@ def render_progressive(
     srgb: bool = False,
     show: bool = False,
     **options: Any,
-) -> Iterator[Tuple[int, np.ndarray]]:
+) -> "Passes":
     """The image :func:`render` makes with the same options, in sample passes: yields
     ``(samples, image)`` after 1, 2, 4, 8 … samples a pixel and last after the job's
     ``spp``, each ``image`` (H x W x 3 ``float32``, linear) the mean of all samples so
@@ -264,7 +265,7 @@ def render_progressive(
     the cell, one image refined in place.
 
     The next pass renders while the caller looks at the last; stop early by leaving
-    the loop (or ``close()`` on the iterator). Bad options raise here, not at the first
+    the loop (or ``close()`` on the iterator, from any thread). Bad options raise here, not at the first
     pass. Waiting releases the GIL; Ctrl-C raises ``KeyboardInterrupt`` promptly::
 
         for spp, image in prism.render_progressive(scene, integrator="path", spp=256):
@@ -272,20 +273,54 @@ def render_progressive(
     """
     preview = _cell_preview() if show else None
     passes = _prism.render_progressive(scene, camera, options, srgb or show)
+    return Passes(passes, srgb, preview)
 
-    def images() -> Iterator[Tuple[int, np.ndarray]]:
+
+class Passes:
+    """The passes :func:`render_progressive` yields, as an iterator of ``(samples,
+    image)``. ``close()`` stops the render, the pass in flight too (within a fraction
+    of a second), and may be called from any thread: a host application's user
+    interface can cancel a render another thread is waiting on."""
+
+    def __init__(self, passes: Any, srgb: bool, preview: Optional[Callable]) -> None:
+        self._passes = passes
+        self._srgb = srgb
+        self._preview = preview
+
+    def __iter__(self) -> "Passes":
+        return self
+
+    def __next__(self) -> Tuple[int, np.ndarray]:
         try:
-            for samples, data, rgb8, w, h in passes:
-                if preview is not None:
-                    preview(rgb8, w, h)
-                if srgb:
-                    yield samples, np.frombuffer(rgb8, dtype=np.uint8).reshape(h, w, 3)
-                else:
-                    yield samples, np.frombuffer(data, dtype=np.float32).reshape(h, w, 3)
-        finally:
-            passes.close()
+            samples, data, rgb8, w, h = next(self._passes)
+        except BaseException:
+            self._passes.close()
+            raise
+        if self._preview is not None:
+            self._preview(rgb8, w, h)
+        if self._srgb:
+            return samples, np.frombuffer(rgb8, dtype=np.uint8).reshape(h, w, 3)
+        return samples, np.frombuffer(data, dtype=np.float32).reshape(h, w, 3)
 
-    return images()
+    @property
+    def totals(self) -> list:
+        """Samples a pixel after each pass, in order."""
+        return list(self._passes.totals)
+
+    def close(self) -> None:
+        """Stops the render; the iterator then ends."""
+        self._passes.close()
+
+    def __enter__(self) -> "Passes":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def __del__(self) -> None:
+        passes = getattr(self, "_passes", None)
+        if passes is not None:
+            passes.close()
 
 
 def render_passes(

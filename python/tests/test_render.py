@@ -344,6 +344,24 @@ def test_progressive_bad_options_raise_at_the_call_and_leaving_early_stops():
             next(passes)
 
 
+def test_close_from_another_thread_stops_the_pass_in_flight():
+    # A host application (Blender's Esc) cancels from its own thread while another
+    # waits on the pass being rendered: the waiting thread's loop ends promptly.
+    import threading
+
+    scene, options = big_render()
+    passes = prism.render_progressive(scene, integrator="path", spp=4096, **options)
+    got = []
+    waiter = threading.Thread(target=lambda: got.extend(spp for spp, _ in passes))
+    waiter.start()
+    time.sleep(0.3)
+    started = time.monotonic()
+    passes.close()
+    waiter.join(5.0)
+    assert not waiter.is_alive() and time.monotonic() - started < 2.0
+    assert all(spp < 4096 for spp in got)
+
+
 def test_ctrl_c_stops_a_progressive_render_promptly(ctrl_c):
     scene, options = big_render()
     passes = prism.render_progressive(scene, integrator="path", spp=64, **options)

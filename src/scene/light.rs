@@ -126,6 +126,19 @@ pub enum ConeEdge {
     Smooth,
     /// `t^2` (glTF's KHR_lights_punctual).
     Squared,
+    /// `smoothstep` times the cosine from the axis, inside the inner cone too: Blender's
+    /// spot lights as Cycles renders them.
+    SmoothCosine,
+}
+
+/// 0 below `lo`, 1 above `hi`, `3 t^2 - 2 t^3` between; a step at `hi` when the two meet.
+#[inline]
+fn smoothstep(lo: f32, hi: f32, x: f32) -> f32 {
+    if hi <= lo {
+        return if x >= hi { 1.0 } else { 0.0 };
+    }
+    let t = ((x - lo) / (hi - lo)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
 }
 
 impl ConeEdge {
@@ -134,13 +147,8 @@ impl ConeEdge {
     #[inline]
     pub fn at(self, lo: f32, hi: f32, cos: f32) -> f32 {
         match self {
-            ConeEdge::Smooth => {
-                if hi <= lo {
-                    return if cos >= hi { 1.0 } else { 0.0 };
-                }
-                let t = ((cos - lo) / (hi - lo)).clamp(0.0, 1.0);
-                t * t * (3.0 - 2.0 * t)
-            }
+            ConeEdge::Smooth => smoothstep(lo, hi, cos),
+            ConeEdge::SmoothCosine => smoothstep(lo, hi, cos) * cos.max(0.0),
             // KHR_lights_punctual's `saturate(cd * scale + offset)^2`, its scale bounded
             // where the cones meet.
             ConeEdge::Squared => {

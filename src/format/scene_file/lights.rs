@@ -28,6 +28,7 @@ fn keys_of(kind: &str) -> Option<&'static [&'static str]> {
             "angle",
             "inner_angle",
             "falloff_angle",
+            "edge",
             "falloff",
         ],
         "quad" => &["corner", "center", "edge1", "edge2", "samples"],
@@ -127,13 +128,23 @@ pub fn build(source: &Source, raw: &RawLight) -> Result<Light> {
                     return Err(source.error(w, "give `inner_angle` or `falloff_angle`, not both"));
                 }
             };
+            let edge = match raw.edge.as_ref().map(|e| (e, e.get_ref().as_str())) {
+                None | Some((_, "smooth")) => crate::scene::ConeEdge::Smooth,
+                Some((_, "smooth_cosine")) => crate::scene::ConeEdge::SmoothCosine,
+                Some((e, other)) => {
+                    return Err(source.error(
+                        e,
+                        format!("expected edge \"smooth\" or \"smooth_cosine\", found \"{other}\""),
+                    ));
+                }
+            };
             (
                 position,
                 LightKind::Spot {
                     direction: f(direction),
                     cos_inner: inner.to_radians().cos() as f32,
                     cos_outer: angle.to_radians().cos() as f32,
-                    edge: crate::scene::ConeEdge::Smooth,
+                    edge,
                 },
             )
         }

@@ -344,6 +344,7 @@ pub struct RawLight {
     pub angle: S<Num>,
     pub inner_angle: S<Num>,
     pub falloff_angle: S<Num>,
+    pub edge: S<String>,
     pub corner: S<Vector>,
     pub center: S<Vector>,
     pub edge1: S<Vector>,
@@ -372,6 +373,7 @@ impl RawLight {
             "falloff_angle",
             self.falloff_angle.as_ref().map(Spanned::span),
         );
+        add("edge", self.edge.as_ref().map(Spanned::span));
         add("corner", self.corner.as_ref().map(Spanned::span));
         add("center", self.center.as_ref().map(Spanned::span));
         add("edge1", self.edge1.as_ref().map(Spanned::span));

@@ -100,3 +100,35 @@ fn glowing_objects_are_area_lights_in_their_group() {
     );
     assert_eq!(f.scene.group("ball").unwrap().lights, [1]);
 }
+
+#[test]
+fn a_spot_edge_of_smooth_cosine_fades_as_cycles_spots_do() {
+    let f = scene(
+        "[[light]]\ntype = \"spot\"\nposition = [0, 5, 0]\nat = [0, 0, 0]\nangle = 60\n\
+         inner_angle = 30\nedge = \"smooth_cosine\"\nfalloff = \"inverse_square\"\n",
+    );
+    let LightKind::Spot {
+        cos_inner,
+        cos_outer,
+        edge,
+        ..
+    } = f.scene.lights[0].kind
+    else {
+        panic!("a spot light")
+    };
+    assert_eq!(edge, crate::scene::ConeEdge::SmoothCosine);
+    // Inside the inner cone only the cosine remains; midway the smoothstep is 1/2.
+    let at = |deg: f32| edge.at(cos_outer, cos_inner, deg.to_radians().cos());
+    assert_eq!(at(0.0), 1.0);
+    assert!((at(20.0) - 20f32.to_radians().cos()).abs() < 1e-6);
+    let mid = (cos_outer + cos_inner) / 2.0;
+    assert!((edge.at(cos_outer, cos_inner, mid) - 0.5 * mid).abs() < 1e-6);
+    assert_eq!(at(61.0), 0.0);
+    let bad = Folder::new().error(
+        "[[light]]\ntype = \"spot\"\nposition = [0, 5, 0]\nat = [0, 0, 0]\nedge = \"hard\"\n",
+    );
+    assert!(
+        bad.contains("expected edge \"smooth\" or \"smooth_cosine\""),
+        "{bad}"
+    );
+}

@@ -1,0 +1,310 @@
+"""Prism as a Blender render engine: F12 and the viewport, both through `export`."""
+
+import queue
+import threading
+
+import bpy
+import numpy as np
+
+from . import export as exporter
+from . import properties, runtime
+from .camera import view_dict
+
+#: How often F12 looks at Esc while a pass renders (seconds).
+POLL = 0.05
+#: The passes Prism adds for the compositor: name, channels, channel letters.
+EXTRA_PASSES = (("Depth", 1, "Z"), ("Normal", 3, "XYZ"), ("Denoising Albedo", 3, "RGB"))
+
+
+def rgba_rows(image, alpha=None):
+    """An H x W x 3 image (top row first) as the W*H x 4 rows a render result takes
+    (bottom row first), with alpha 1 where none is given."""
+    h, w, _ = image.shape
+    out = np.empty((h, w, 4), dtype=np.float32)
+    out[..., :3] = image[::-1]
+    out[..., 3] = 1.0 if alpha is None else alpha[::-1]
+    return out.reshape(h * w, 4)
+
+
+def resolution(scene):
+    r = scene.render
+    scale = r.resolution_percentage / 100.0
+    return max(1, int(r.resolution_x * scale)), max(1, int(r.resolution_y * scale))
+
+
+class _Pump:
+    """Takes a render's passes on a thread of its own, so the caller can watch for a
+    cancel while a pass renders; `stop()` cancels the pass in flight."""
+
+    def __init__(self, passes):
+        self.passes = passes
+        self.queue = queue.Queue()
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+
+    def _run(self):
+        try:
+            for item in self.passes:
+                self.queue.put(("pass", item))
+        except BaseException as err:  # handed to the waiting thread
+            self.queue.put(("error", err))
+        self.queue.put(("end", None))
+
+    def get(self, timeout):
+        try:
+            return self.queue.get(timeout=timeout)
+        except queue.Empty:
+            return None
+
+    def stop(self):
+        self.passes.close()
+        self.thread.join()
+
+
+class PrismRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "PRISM"
+    bl_label = "Prism"
+    bl_use_preview = False
+    bl_use_eevee_viewport = False
+    bl_use_shading_nodes_custom = False
+
+    def __init__(self):
+        self._view = None
+
+    def __del__(self):
+        view = getattr(self, "_view", None)
+        if view is not None:
+            view.stop()
+
+    # ---- F12 ----------------------------------------------------------------
+
+    def render(self, depsgraph):
+        prism = runtime.load()
+        if prism is None:
+            self.report({"ERROR"}, f"Prism: {runtime.error()}")
+            return
+        scene = depsgraph.scene
+        width, height = resolution(scene)
+        camera = scene.camera.evaluated_get(depsgraph) if scene.camera else None
+        if camera is None:
+            self.report({"ERROR"}, "Prism: the scene has no camera")
+            return
+        self.update_stats("", "Prism: exporting the scene")
+        made = exporter.export(depsgraph, width, height, camera_object=camera,
+                               settings=properties.job_settings(scene))
+        for warning in made.warnings:
+            self.report({"WARNING"}, f"Prism: {warning}")
+        try:
+            prism_scene = prism.scene_from_dict(made.scene)
+            options = {"threads": properties.threads(scene)}
+            if scene.prism.denoise:
+                options["denoise"] = True
+            passes = prism.render_progressive(prism_scene, **options)
+        except Exception as err:
+            self.report({"ERROR"}, f"Prism: {err}")
+            return
+        self.render_passes_of(prism, prism_scene, passes, scene, width, height, options)
+
+    def render_passes_of(self, prism, prism_scene, passes, scene, width, height, options):
+        total = scene.prism.samples
+        result = self.begin_result(0, 0, width, height)
+        combined = result.layers[0].passes["Combined"]
+        pump = _Pump(passes)
+        last = None
+        cancelled = False
+        while True:
+            if self.test_break():
+                cancelled = True
+                pump.stop()
+                break
+            got = pump.get(POLL)
+            if got is None:
+                continue
+            kind, item = got
+            if kind == "end":
+                break
+            if kind == "error":
+                self.report({"ERROR"}, f"Prism: {item}")
+                break
+            samples, image = item
+            last = image
+            combined.rect = rgba_rows(image)
+            self.update_result(result)
+            self.update_progress(min(1.0, samples / max(total, 1)))
+            self.update_stats("", f"Prism: {samples} of {total} samples a pixel")
+        if last is not None and not cancelled:
+            self._write_extra_passes(prism, prism_scene, result, scene, options)
+        self.end_result(result, cancel=cancelled and last is None)
+
+    def _write_extra_passes(self, prism, prism_scene, result, scene, options):
+        layer = bpy.context.view_layer if bpy.context.view_layer else scene.view_layers[0]
+        wanted = {"Depth": layer.use_pass_z, "Normal": layer.use_pass_normal,
+                  "Denoising Albedo": getattr(layer.cycles, "denoising_store_passes", False)
+                  if hasattr(layer, "cycles") else False}
+        names = [n for n, on in wanted.items() if on]
+        if not names:
+            return
+        keys = {"Depth": "depth", "Normal": "normal", "Denoising Albedo": "albedo"}
+        try:
+            passes = prism.render_passes(prism_scene, tuple(keys[n] for n in names),
+                                         **{k: v for k, v in options.items() if k != "denoise"})
+        except Exception as err:
+            self.report({"WARNING"}, f"Prism: the compositor passes failed: {err}")
+            return
+        for name in names:
+            target = result.layers[0].passes.find_by_name(name, "")
+            if target is None:
+                continue
+            image = passes[keys[name]]
+            if name == "Depth":
+                depth = np.where(image > 0, image, 1e10).astype(np.float32)
+                target.rect = depth[::-1].reshape(-1, 1)
+            else:
+                target.rect = np.ascontiguousarray(image[::-1]).reshape(-1, 3)
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        if renderlayer.use_pass_z:
+            self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
+        if renderlayer.use_pass_normal:
+            self.register_pass(scene, renderlayer, "Normal", 3, "XYZ", "VECTOR")
+        cycles = getattr(renderlayer, "cycles", None)
+        if cycles is not None and getattr(cycles, "denoising_store_passes", False):
+            self.register_pass(scene, renderlayer, "Denoising Albedo", 3, "RGB", "COLOR")
+
+    # ---- viewport ---------------------------------------------------------------
+
+    def view_update(self, context, depsgraph):
+        if self._view is None:
+            self._view = ViewportSession(self)
+        self._view.update(context, depsgraph)
+
+    def view_draw(self, context, depsgraph):
+        if self._view is None:
+            self._view = ViewportSession(self)
+            self._view.update(context, depsgraph)
+        self._view.draw(context, depsgraph)
+
+
+class ViewportSession:
+    """The viewport's render: the scene exported once and kept (meshes are read again
+    only when an update changes them), a progressive render on a thread of its own
+    that restarts (coarse first) when the scene or the view changes, and the latest
+    pass drawn as a texture."""
+
+    def __init__(self, engine):
+        self.engine = engine
+        self.cache = exporter.MeshCache()
+        self.scene_dict = None
+        self.camera = None
+        self.size = None
+        self.image = None
+        self.lock = threading.Lock()
+        self.passes = None
+        self.thread = None
+        self.generation = 0
+        self.error = None
+        self.done = False
+
+    def update(self, context, depsgraph):
+        """Re-export what changed: meshes whose geometry did are read again."""
+        changed = set()
+        for update in depsgraph.updates:
+            if update.is_updated_geometry and isinstance(update.id, (bpy.types.Object,
+                                                                     bpy.types.Mesh)):
+                changed.add(update.id.original.name)
+        if changed:
+            self.cache.discard(changed)
+        self.scene_dict = None  # exported again at the next draw, with the view's size
+        self.stop()
+
+    def _view_camera(self, context):
+        region = context.region_data
+        return view_dict(region.view_matrix, region.window_matrix, region.is_perspective)
+
+    def draw(self, context, depsgraph):
+        prism = runtime.load()
+        if prism is None:
+            self.engine.report({"ERROR"}, f"Prism: {runtime.error()}")
+            return
+        region = context.region
+        size = (region.width, region.height)
+        camera = self._view_camera(context)
+        if self.scene_dict is None or size != self.size or camera != self.camera:
+            self.size, self.camera = size, camera
+            self.restart(prism, depsgraph)
+        with self.lock:
+            image = self.image
+        if image is not None:
+            self._draw_image(depsgraph.scene, image, size)
+        if not self.done:
+            self.engine.tag_redraw()
+
+    def restart(self, prism, depsgraph):
+        self.stop()
+        width, height = self.size
+        made = exporter.export(depsgraph, width, height, view=self.camera,
+                               settings=properties.job_settings(depsgraph.scene, viewport=True),
+                               cache=self.cache)
+        self.scene_dict = made.scene
+        self.generation += 1
+        self.done = False
+        generation = self.generation
+        try:
+            scene = prism.scene_from_dict(made.scene)
+        except Exception as err:
+            self.error = str(err)
+            self.done = True
+            return
+        threads = properties.threads(depsgraph.scene)
+        self.thread = threading.Thread(target=self._run, args=(prism, scene, generation,
+                                                               threads), daemon=True)
+        self.thread.start()
+
+    def _run(self, prism, scene, generation, threads):
+        width, height = self.size
+        try:
+            # Coarse first: a quarter of the pixels, one sample, shown at once.
+            coarse = prism.render(scene, width=max(1, width // 4), height=max(1, height // 4),
+                                  spp=1, threads=threads)
+            self._show(coarse, generation)
+            passes = prism.render_progressive(scene, threads=threads)
+            self.passes = passes
+            try:
+                for _, image in passes:
+                    if not self._show(image, generation):
+                        break
+            finally:
+                passes.close()
+        except Exception as err:
+            self.error = str(err)
+        if generation == self.generation:
+            self.done = True
+
+    def _show(self, image, generation):
+        with self.lock:
+            if generation != self.generation:
+                return False
+            self.image = image
+        return True
+
+    def stop(self):
+        self.generation += 1
+        passes, self.passes = self.passes, None
+        if passes is not None:
+            passes.close()
+        if self.thread is not None:
+            self.thread.join()
+            self.thread = None
+
+    def _draw_image(self, scene, image, size):
+        import gpu
+        from gpu_extras.presets import draw_texture_2d
+
+        h, w, _ = image.shape
+        rgba = rgba_rows(image)
+        buffer = gpu.types.Buffer("FLOAT", w * h * 4, rgba.ravel())
+        texture = gpu.types.GPUTexture((w, h), format="RGBA16F", data=buffer)
+        self.engine.bind_display_space_shader(scene)
+        draw_texture_2d(texture, (0, 0), size[0], size[1])
+        self.engine.unbind_display_space_shader()

@@ -1,0 +1,76 @@
+"""Prism's panels, and the generic panels of Blender that apply to Prism."""
+
+import bpy
+
+from . import runtime
+
+#: Blender's own panels that show Prism's settings as well as Cycles' or Eevee's.
+_GENERIC = (
+    "RENDER_PT_format", "RENDER_PT_frame_range", "RENDER_PT_output", "RENDER_PT_color_management",
+    "DATA_PT_lens", "DATA_PT_camera", "DATA_PT_camera_dof", "DATA_PT_camera_dof_focus",
+    "DATA_PT_camera_dof_aperture", "DATA_PT_context_light", "DATA_PT_light",
+    "DATA_PT_EEVEE_light", "DATA_PT_area", "DATA_PT_spot", "MATERIAL_PT_context_material",
+    "MATERIAL_PT_preview", "EEVEE_MATERIAL_PT_surface", "WORLD_PT_context_world",
+    "EEVEE_WORLD_PT_surface", "VIEWLAYER_PT_layer_passes", "VIEWLAYER_PT_layer_passes_data",
+)
+
+
+class PRISM_PT_render(bpy.types.Panel):
+    bl_label = "Prism"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {"PRISM"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        error = runtime.error()
+        if error:
+            box = layout.box()
+            box.label(text="Prism cannot render:", icon="ERROR")
+            for line in _wrap(error, 60):
+                box.label(text=line)
+        settings = context.scene.prism
+        layout.prop(settings, "integrator")
+        col = layout.column(align=True)
+        col.prop(settings, "samples", text="Render Samples")
+        col.prop(settings, "preview_samples", text="Viewport Samples")
+        layout.prop(settings, "max_bounces")
+        layout.prop(settings, "seed")
+        layout.prop(settings, "denoise")
+        layout.prop(context.scene.render, "film_transparent")
+
+
+def _wrap(text, width):
+    words, line, out = text.split(), "", []
+    for word in words:
+        if line and len(line) + 1 + len(word) > width:
+            out.append(line)
+            line = word
+        else:
+            line = f"{line} {word}".strip()
+    return out + ([line] if line else [])
+
+
+def _generic_panels():
+    for name in _GENERIC:
+        panel = getattr(bpy.types, name, None)
+        if panel is not None and hasattr(panel, "COMPAT_ENGINES"):
+            yield panel
+
+
+def register():
+    bpy.utils.register_class(PRISM_PT_render)
+    for panel in _generic_panels():
+        panel.COMPAT_ENGINES.add("PRISM")
+
+
+def unregister():
+    for panel in _generic_panels():
+        panel.COMPAT_ENGINES.discard("PRISM")
+    bpy.utils.unregister_class(PRISM_PT_render)

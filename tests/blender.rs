@@ -1,0 +1,51 @@
+//! Runs the Blender add-on's tests (tests/blender) in Blender's own Python, from
+//! `cargo test`, where Blender is installed (`blender` on the PATH, or the program
+//! `PRISM_BLENDER` names; Debian's package in CI). Cycles, in the same Blender, is the
+//! oracle of the units tests. The `prism` package they import is built into
+//! `python/prism` first, as the Python suite builds it. Without Blender or Python the
+//! test says why on standard error and passes.
+
+mod common;
+
+use common::python_env::{build_extension, prepared, runs, skipped};
+use std::path::PathBuf;
+use std::process::Command;
+
+fn blender() -> Option<PathBuf> {
+    let program = std::env::var_os("PRISM_BLENDER")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("blender"));
+    runs(&program, &["--version"]).then_some(program)
+}
+
+#[test]
+fn blender_suite() {
+    let Some(blender) = blender() else {
+        return skipped(
+            "blender_suite",
+            "Blender is not installed (apt-get install blender; or set PRISM_BLENDER)",
+        );
+    };
+    let venv = match prepared() {
+        Ok(venv) => venv,
+        Err(why) => return skipped("blender_suite", &why),
+    };
+    build_extension(&venv);
+    let repo = common::repo();
+    let status = Command::new(blender)
+        .args([
+            "-b",
+            "--factory-startup",
+            "--python-exit-code",
+            "1",
+            "--python",
+        ])
+        .arg(repo.join("tests/blender/run.py"))
+        .env("PRISM_PYTHON_PATH", repo.join("python"))
+        .status()
+        .expect("blender runs");
+    assert!(
+        status.success(),
+        "the Blender add-on's tests failed (see above)"
+    );
+}
