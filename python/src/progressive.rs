@@ -110,7 +110,10 @@ fn render_passes(job: &prism::job::Job, cancel: &AtomicBool, tx: &SyncSender<Pas
         }
         Ok(())
     };
-    if let Err(e) = run() {
+    // A render stopped by `close` ends the passes; its interruption is not an error.
+    if let Err(e) = run()
+        && !cancel.load(Ordering::Relaxed)
+    {
         let _ = tx.send(Err(e));
     }
 }
