@@ -61,6 +61,27 @@ class _Pump:
         self.thread.join()
 
 
+def show_passes(passes, show, should_stop):
+    """Hands each pass of `passes` (`prism.render_progressive`) to `show(samples,
+    image)` as it comes, looking at `should_stop()` every POLL seconds meanwhile; a
+    stop cancels the pass in flight. Returns whether it stopped early; raises what
+    the render raised."""
+    pump = _Pump(passes)
+    while True:
+        if should_stop():
+            pump.stop()
+            return True
+        got = pump.get(POLL)
+        if got is None:
+            continue
+        kind, item = got
+        if kind == "end":
+            return False
+        if kind == "error":
+            raise item
+        show(*item)
+
+
 class PrismRenderEngine(bpy.types.RenderEngine):
     bl_idname = "PRISM"
     bl_label = "Prism"
@@ -109,32 +130,23 @@ class PrismRenderEngine(bpy.types.RenderEngine):
         total = scene.prism.samples
         result = self.begin_result(0, 0, width, height)
         combined = result.layers[0].passes["Combined"]
-        pump = _Pump(passes)
-        last = None
-        cancelled = False
-        while True:
-            if self.test_break():
-                cancelled = True
-                pump.stop()
-                break
-            got = pump.get(POLL)
-            if got is None:
-                continue
-            kind, item = got
-            if kind == "end":
-                break
-            if kind == "error":
-                self.report({"ERROR"}, f"Prism: {item}")
-                break
-            samples, image = item
-            last = image
+        shown = []
+
+        def show(samples, image):
+            shown.append(samples)
             combined.rect = rgba_rows(image)
             self.update_result(result)
             self.update_progress(min(1.0, samples / max(total, 1)))
             self.update_stats("", f"Prism: {samples} of {total} samples a pixel")
-        if last is not None and not cancelled:
+
+        try:
+            cancelled = show_passes(passes, show, self.test_break)
+        except Exception as err:
+            self.report({"ERROR"}, f"Prism: {err}")
+            cancelled = True
+        if shown and not cancelled:
             self._write_extra_passes(prism, prism_scene, result, scene, options)
-        self.end_result(result, cancel=cancelled and last is None)
+        self.end_result(result, cancel=not shown)
 
     def _write_extra_passes(self, prism, prism_scene, result, scene, options):
         layer = bpy.context.view_layer if bpy.context.view_layer else scene.view_layers[0]

@@ -172,6 +172,31 @@ def _ior_of_f0(f0):
     return float((1 + r) / (1 - r))
 
 
+def _mean_fresnel(ior):
+    """The hemispherical mean of a dielectric's Fresnel reflectance, 2 int F(mu) mu dmu:
+    the share of diffuse light a specular layer of this IOR keeps from the base."""
+    mu = (np.arange(256) + 0.5) / 256
+    sin_t2 = (1 - mu * mu) / (ior * ior)
+    cos_t = np.sqrt(np.clip(1 - sin_t2, 0, 1))
+    rs = (mu - ior * cos_t) / (mu + ior * cos_t)
+    rp = (ior * mu - cos_t) / (ior * mu + cos_t)
+    f = np.where(sin_t2 >= 1, 1.0, 0.5 * (rs * rs + rp * rp))
+    return float(2 * np.mean(f * mu))
+
+
+def _lift(color, k):
+    if isinstance(color, dict):
+        factor = color.get("factor", [1.0, 1.0, 1.0])
+        return dict(color, factor=[c * k for c in factor])
+    return [c * k for c in color]
+
+
+def _squared(color):
+    if isinstance(color, dict):
+        return color  # a texture's square is not a texture Prism reads; the tint stands
+    return [c * c for c in color]
+
+
 def _tint(base):
     """Principled v1's tint: the base colour over its luminance."""
     if isinstance(base, dict):
@@ -196,7 +221,15 @@ def _principled(reader, node):
             if specular <= 0:
                 out["specular_weight"] = 0.0
             else:
-                out["specular_ior"] = _ior_of_f0(0.08 * specular)
+                ior = _ior_of_f0(0.08 * specular)
+                out["specular_ior"] = ior
+                # v1 lays its specular over an undimmed diffuse (its energy gain), while
+                # OpenPBR's base keeps what the specular leaves: lift the base by what
+                # the specular takes on average, so the look stays v1's.
+                metal = out["base_metalness"]
+                if not isinstance(metal, dict) and metal < 1:
+                    lift = 1 / (1 - _mean_fresnel(ior))
+                    out["base_color"] = _lift(out["base_color"], 1 + (lift - 1) * (1 - metal))
         tint = reader.constant(inputs["Specular Tint"])
         if tint > 0:
             t = _tint(out["base_color"])
@@ -233,6 +266,11 @@ def _principled(reader, node):
             if film > 0:
                 out.update(thin_film_weight=1.0, thin_film_thickness=film / 1000.0,
                            thin_film_ior=reader.constant(inputs["Thin Film IOR"]))
+    if out.get("transmission_weight", 0) > 0:
+        # The Principled BSDF tints what it transmits by its base colour at every
+        # crossing of the surface, Prism once, on the way in: squared, the tint of a
+        # path that enters and leaves a solid is Cycles'.
+        out["transmission_color"] = _squared(out["base_color"])
     if subsurface > 0:
         radius = np.asarray(reader.constant(inputs["Subsurface Radius"]), dtype=float)
         biggest = float(radius.max())
@@ -280,7 +318,7 @@ def _shader(reader, node):
         return out
     if kind == "ShaderNodeBsdfGlass":
         return {"transmission_weight": 1.0,
-                "transmission_color": reader.value(node.inputs["Color"], color=True),
+                "transmission_color": _squared(reader.value(node.inputs["Color"], color=True)),
                 "specular_roughness": reader.value(node.inputs["Roughness"]),
                 "specular_ior": reader.constant(node.inputs["IOR"])}
     if kind == "ShaderNodeEmission":

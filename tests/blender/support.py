@@ -53,6 +53,10 @@ def render_linear(scene, engine, samples=64):
         scene.cycles.use_denoising = False
         scene.cycles.device = "CPU"
         scene.cycles.seed = 1
+        # Every kind of bounce limited as Prism limits a path: by its length alone.
+        bounces = scene.prism.max_bounces
+        for kind in ("max", "diffuse", "glossy", "transmission", "volume", "transparent_max"):
+            setattr(scene.cycles, f"{kind}_bounces", bounces)
     else:
         scene.prism.samples = samples
     settings = scene.render.image_settings
@@ -116,3 +120,26 @@ def light(scene, kind, location=(0, 0, 3), rotation=(0, 0, 0), **settings):
 
 def depsgraph():
     return bpy.context.evaluated_depsgraph_get()
+
+
+def export_scene(scene, width, height, **settings):
+    """The add-on's export of `scene` as F12 makes it, with `settings` over its
+    `[render]` keys."""
+    from prism_blender import export, properties
+
+    graph = depsgraph()
+    camera = scene.camera.evaluated_get(graph)
+    job = dict(properties.job_settings(scene), **settings)
+    return export.export(graph, width, height, camera_object=camera, settings=job)
+
+
+def read_image(path):
+    """An image file as Blender reads it: H x W x 4 float32, top row first."""
+    image = bpy.data.images.load(path)
+    try:
+        w, h = image.size
+        pixels = np.empty(w * h * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+    finally:
+        bpy.data.images.remove(image)
+    return pixels.reshape(h, w, 4)[::-1]
