@@ -108,7 +108,8 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
                     parts = _read_mesh(obj, depsgraph, warn)
                     cache.put(key, parts)
                 meshes[key] = (parts, slots)
-            placements.setdefault(key, []).append(_rows(inst.matrix_world))
+            if meshes[key][0]:  # an empty mesh (a geometry-nodes holder) places nothing
+                placements.setdefault(key, []).append(_rows(inst.matrix_world))
         elif obj.type == "LIGHT":
             light = light_export.light_dict(obj.data, _rows(inst.matrix_world), warn)
             if light is not None:
@@ -121,6 +122,7 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
     materials = {}
     objects = []
     triangles = 0
+    meshes = {key: mesh for key, mesh in meshes.items() if key in placements}
     for key, (parts, slots) in meshes.items():
         matrices = placements[key]
         for part in parts:
