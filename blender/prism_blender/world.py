@@ -3,13 +3,13 @@ equirectangular Environment Texture with its Mapping node's rotation about Z.
 
 Blender's scenes are Z-up, and Prism takes them as they are: the environment's top
 looks along +Z, and the centre column of Blender's equirectangular image looks along
--X (its mapping takes a direction d to u = atan2(d.y, -d.x) / 2 pi + 1/2).
++X (Cycles takes a direction d to u = 1/2 - atan2(d.y, d.x) / 2 pi).
 """
 
 import math
 
 UP = [0.0, 0.0, 1.0]
-FORWARD = [-1.0, 0.0, 0.0]
+FORWARD = [1.0, 0.0, 0.0]
 
 
 def _rotated_forward(angle):
