@@ -2,8 +2,10 @@
 //! `cargo test`, where Blender is installed (`blender` on the PATH, or the program
 //! `PRISM_BLENDER` names; Debian's package in CI). Cycles, in the same Blender, is the
 //! oracle of the units tests. The `prism` package they import is built into
-//! `python/prism` first, as the Python suite builds it. Without Blender or Python the
-//! test says why on standard error and passes.
+//! `python/prism` first, as the Python suite builds it. The viewport's test runs Blender
+//! with its interface under Xvfb (`xvfb-run`, Mesa's software OpenGL) where it is
+//! installed. Without Blender, Python or Xvfb the test says what it skipped, and why,
+//! on standard error.
 
 mod common;
 

@@ -89,8 +89,9 @@ class PrismRenderEngine(bpy.types.RenderEngine):
     bl_use_eevee_viewport = False
     bl_use_shading_nodes_custom = False
 
-    def __init__(self):
-        self._view = None
+    # Blender makes engines without calling __init__ on every version: the viewport's
+    # session is found with getattr.
+    _view = None
 
     def __del__(self):
         view = getattr(self, "_view", None)
