@@ -34,7 +34,7 @@ fn blender_suite() {
     };
     build_extension(&venv);
     let repo = common::repo();
-    let status = Command::new(blender)
+    let status = Command::new(&blender)
         .args([
             "-b",
             "--factory-startup",
@@ -50,4 +50,23 @@ fn blender_suite() {
         status.success(),
         "the Blender add-on's tests failed (see above)"
     );
+
+    if !runs(std::path::Path::new("xvfb-run"), &["--help"]) {
+        return skipped(
+            "blender_suite's viewport test",
+            "xvfb-run is not installed (apt-get install xvfb xauth)",
+        );
+    }
+    let screenshots = tempfile::tempdir().expect("a temporary folder");
+    let status = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(&blender)
+        .args(["--factory-startup", "--python"])
+        .arg(repo.join("tests/blender/viewport.py"))
+        .arg("--")
+        .arg(screenshots.path())
+        .env("PRISM_PYTHON_PATH", repo.join("python"))
+        .status()
+        .expect("xvfb-run runs");
+    assert!(status.success(), "the viewport test failed (see above)");
 }
