@@ -172,11 +172,23 @@ pub enum Aov {
     Normal,
     /// The distance along the ray to the surface (0 where it escapes).
     Depth,
+    /// Coverage: 1 where the ray meets a surface, 0 where it escapes; resampled like
+    /// the image, so edges are fractions (film transparency).
+    Alpha,
+    /// The background where the ray escapes, black where it meets a surface: the
+    /// image less this pass is the image on a transparent film.
+    Background,
 }
 
 impl Aov {
     /// Every pass, in the order messages list them.
-    pub const ALL: [Aov; 3] = [Aov::Albedo, Aov::Normal, Aov::Depth];
+    pub const ALL: [Aov; 5] = [
+        Aov::Albedo,
+        Aov::Normal,
+        Aov::Depth,
+        Aov::Alpha,
+        Aov::Background,
+    ];
 
     /// Its name: what `--aov` takes and the layer is called.
     pub fn name(self) -> &'static str {
@@ -184,6 +196,8 @@ impl Aov {
             Aov::Albedo => "albedo",
             Aov::Normal => "normal",
             Aov::Depth => "depth",
+            Aov::Alpha => "alpha",
+            Aov::Background => "background",
         }
     }
 
@@ -193,6 +207,8 @@ impl Aov {
             Aov::Albedo => &["R", "G", "B"],
             Aov::Normal => &["X", "Y", "Z"],
             Aov::Depth => &["Z"],
+            Aov::Alpha => &["A"],
+            Aov::Background => &["R", "G", "B"],
         }
     }
 }

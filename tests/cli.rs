@@ -455,6 +455,44 @@ fn passes_are_layers_of_the_exr_with_the_floor_s_albedo_normal_and_distance() {
     assert!(!dir.path().join("out.png").exists());
 }
 
+/// `--aov alpha,background` writes coverage and the background seen straight: a ball
+/// on a blue sky, whose image less the background is the ball on a transparent film.
+#[test]
+fn alpha_and_background_passes_take_the_sky_out_of_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("ball.toml");
+    fs::write(
+        &scene,
+        "[camera]\nfrom = [0, 0, 5]\nat = [0, 0, 0]\nfov = 40\n\
+         [render]\nwidth = 16\nheight = 16\n\
+         [background]\ncolor = [0.2, 0.4, 0.8]\n\
+         [[light]]\ntype = \"directional\"\ndirection = [0, -1, -1]\n\
+         [[object]]\ntype = \"sphere\"\nradius = 1\n",
+    )
+    .unwrap();
+    let out = dir.path().join("ball.exr");
+    let o = run(prism()
+        .arg("render")
+        .arg(&scene)
+        .arg(&out)
+        .args(["--integrator", "path", "--spp", "4", "--quiet"])
+        .args(["--aov", "alpha,background", "--exr-precision", "float"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let layers = exr_layers(&out);
+    let names: Vec<&str> = layers.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["image", "alpha", "background"]);
+    let alpha = exr_channel(&layers[1], "A");
+    let (image_b, sky_b) = (exr_channel(&layers[0], "B"), exr_channel(&layers[2], "B"));
+    let centre = 8 * 16 + 8;
+    assert_eq!((alpha[0], alpha[centre]), (0.0, 1.0));
+    assert!(
+        alpha.iter().any(|&a| a > 0.0 && a < 1.0),
+        "the ball's outline"
+    );
+    assert_eq!((image_b[0], sky_b[0]), (0.8, 0.8));
+    assert_eq!(sky_b[centre], 0.0);
+}
+
 /// The albedo pass looks through perfect mirrors and glass to the first surface with a
 /// colour of its own, tinted by what it passed (a denoiser reads a mirror's reflection
 /// as the mirror's texture): a mirror floor showing a red ceiling, a glass pane over a

@@ -61,6 +61,35 @@ class _Pump:
         self.thread.join()
 
 
+def blender_depth(distance, camera):
+    """Prism's depth (the distance along each pixel's ray; 0 where it escapes) as
+    Blender's: the distance along the camera's view axis, 1e10 where nothing is met."""
+    h, w = distance.shape
+    z = distance.astype(np.float32)
+    if camera.get("projection", "perspective") == "perspective":
+        tan = np.tan(np.radians(camera["fov"]) / 2)
+        if camera.get("fov_axis", "horizontal") == "horizontal":
+            tx, ty = tan, tan * h / w
+        else:
+            tx, ty = tan * w / h, tan
+        x = ((np.arange(w) + 0.5) / w * 2 - 1) * tx
+        y = ((np.arange(h) + 0.5) / h * 2 - 1) * ty
+        z = z / np.sqrt(1 + x[None, :] ** 2 + y[:, None] ** 2).astype(np.float32)
+    return np.where(distance > 0, z, np.float32(1e10))
+
+
+def _wanted_passes(layer, transparent):
+    """Blender's pass name -> Prism's pass, for the passes this render writes."""
+    cycles = getattr(layer, "cycles", None)
+    wanted = {"Depth": ("depth", layer.use_pass_z), "Normal": ("normal", layer.use_pass_normal),
+              "Denoising Albedo": ("albedo", bool(getattr(cycles, "denoising_store_passes",
+                                                          False)))}
+    out = {name: key for name, (key, on) in wanted.items() if on}
+    if transparent:
+        out.update(Alpha="alpha", Background="background")
+    return out
+
+
 def show_passes(passes, show, should_stop):
     """Hands each pass of `passes` (`prism.render_progressive`) to `show(samples,
     image)` as it comes, looking at `should_stop()` every POLL seconds meanwhile; a
@@ -92,6 +121,7 @@ class PrismRenderEngine(bpy.types.RenderEngine):
     # Blender makes engines without calling __init__ on every version: the viewport's
     # session is found with getattr.
     _view = None
+    _camera = None
 
     def __del__(self):
         view = getattr(self, "_view", None)
@@ -116,6 +146,7 @@ class PrismRenderEngine(bpy.types.RenderEngine):
                                settings=properties.job_settings(scene))
         for warning in made.warnings:
             self.report({"WARNING"}, f"Prism: {warning}")
+        self._camera = made.scene["camera"]
         try:
             prism_scene = prism.scene_from_dict(made.scene)
             options = {"threads": properties.threads(scene)}
@@ -129,12 +160,17 @@ class PrismRenderEngine(bpy.types.RenderEngine):
 
     def render_passes_of(self, prism, prism_scene, passes, scene, width, height, options):
         total = scene.prism.samples
+        layer = bpy.context.view_layer or scene.view_layers[0]
+        extras = _wanted_passes(layer, scene.render.film_transparent)
+        for name, channels, letters in EXTRA_PASSES:
+            if name in extras:
+                self.add_pass(name, channels, letters)
         result = self.begin_result(0, 0, width, height)
         combined = result.layers[0].passes["Combined"]
         shown = []
 
         def show(samples, image):
-            shown.append(samples)
+            shown.append(image)
             combined.rect = rgba_rows(image)
             self.update_result(result)
             self.update_progress(min(1.0, samples / max(total, 1)))
@@ -145,35 +181,33 @@ class PrismRenderEngine(bpy.types.RenderEngine):
         except Exception as err:
             self.report({"ERROR"}, f"Prism: {err}")
             cancelled = True
-        if shown and not cancelled:
-            self._write_extra_passes(prism, prism_scene, result, scene, options)
+        if shown and not cancelled and extras:
+            self._write_extra_passes(prism, prism_scene, result, shown[-1], extras, options)
         self.end_result(result, cancel=not shown)
 
-    def _write_extra_passes(self, prism, prism_scene, result, scene, options):
-        layer = bpy.context.view_layer if bpy.context.view_layer else scene.view_layers[0]
-        wanted = {"Depth": layer.use_pass_z, "Normal": layer.use_pass_normal,
-                  "Denoising Albedo": getattr(layer.cycles, "denoising_store_passes", False)
-                  if hasattr(layer, "cycles") else False}
-        names = [n for n, on in wanted.items() if on]
-        if not names:
-            return
-        keys = {"Depth": "depth", "Normal": "normal", "Denoising Albedo": "albedo"}
+    def _write_extra_passes(self, prism, prism_scene, result, image, extras, options):
+        """The compositor's passes and film transparency, from Prism's passes rendered
+        through the image's own samples (so they line up with it pixel for pixel)."""
         try:
-            passes = prism.render_passes(prism_scene, tuple(keys[n] for n in names),
-                                         **{k: v for k, v in options.items() if k != "denoise"})
+            rendered = prism.render_passes(prism_scene, tuple(extras.values()),
+                                           **{k: v for k, v in options.items() if k != "denoise"})
         except Exception as err:
             self.report({"WARNING"}, f"Prism: the compositor passes failed: {err}")
             return
-        for name in names:
-            target = result.layers[0].passes.find_by_name(name, "")
-            if target is None:
+        passes = result.layers[0].passes
+        if "alpha" in rendered:
+            # On a transparent film the background seen straight is taken out of the
+            # image (premultiplied), and the share of samples meeting a surface is alpha.
+            clear = np.maximum(image - rendered["background"], 0.0)
+            passes["Combined"].rect = rgba_rows(clear, rendered["alpha"])
+        for name, key in extras.items():
+            target = passes.find_by_name(name, "")
+            if target is None or key not in ("depth", "normal", "albedo"):
                 continue
-            image = passes[keys[name]]
-            if name == "Depth":
-                depth = np.where(image > 0, image, 1e10).astype(np.float32)
-                target.rect = depth[::-1].reshape(-1, 1)
-            else:
-                target.rect = np.ascontiguousarray(image[::-1]).reshape(-1, 3)
+            value = rendered[key]
+            if key == "depth":
+                value = blender_depth(value, self._camera)[..., None]
+            target.rect = np.ascontiguousarray(value[::-1]).reshape(-1, value.shape[-1])
 
     def update_render_passes(self, scene=None, renderlayer=None):
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")

@@ -332,14 +332,17 @@ def render_passes(
     """Passes for compositing and denoising of the image :func:`render` makes with the
     same options, through its own camera samples and filter, so they line up with it
     pixel for pixel: ``albedo`` (H x W x 3), ``normal`` (H x W x 3, world space, facing
-    the camera) and ``depth`` (H x W, the distance along the ray; 0 where it escapes).
+    the camera), ``depth`` (H x W, the distance along the ray; 0 where it escapes),
+    ``alpha`` (H x W, the share of the pixel's samples that meet a surface) and
+    ``background`` (H x W x 3, the background where rays escape: the image less it is
+    the image on a transparent film, premultiplied by ``alpha``).
     They are the auxiliary images Intel Open Image Denoise takes: see
     :func:`denoise`."""
     rendered = _prism.render_passes(scene, list(passes), camera, options)
     out: Dict[str, np.ndarray] = {}
     for name, (data, w, h) in zip(passes, rendered):
         a = np.frombuffer(data, dtype=np.float32).reshape(h, w, 3)
-        out[name] = a[..., 0].copy() if name == "depth" else a
+        out[name] = a[..., 0].copy() if name in ("depth", "alpha") else a
     return out
 
 

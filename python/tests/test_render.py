@@ -302,8 +302,25 @@ def test_passes_line_up_with_the_image_and_say_what_each_pixel_sees():
     assert seen.any() and (~seen).any()  # the floor, and the sky above it
     assert np.mean(np.abs(lengths[seen] - 1.0) < 0.05) > 0.8
     assert (passes["albedo"][~seen] == 0).all() and (lengths[~seen] == 0).all()
-    with pytest.raises(ValueError, match="albedo, normal or depth"):
+    with pytest.raises(ValueError, match="albedo, normal, depth, alpha or background"):
         prism.render_passes(scene, ("shadows",), **options)
+
+
+def test_alpha_and_background_passes_make_a_transparent_film():
+    scene = prism.load_scene(SHOWCASE)
+    options = dict(width=64, aa=2, integrator="path", spp=2)
+    image = prism.render(scene, **options)
+    passes = prism.render_passes(scene, ("alpha", "background", "depth"), **options)
+    alpha, background = passes["alpha"], passes["background"]
+    assert alpha.shape == image.shape[:2] and background.shape == image.shape
+    assert ((alpha >= 0) & (alpha <= 1)).all()
+    # Where no sample meets a surface the image is the background, exactly what the
+    # pass holds (the same camera samples); where every sample does, the pass is black.
+    sky, solid = alpha == 0, alpha == 1
+    assert sky.any() and solid.any() and ((alpha > 0) & (alpha < 1)).any()  # edges
+    np.testing.assert_allclose(image[sky], background[sky], rtol=1e-6, atol=1e-7)
+    assert (background[solid] == 0).all()
+    assert ((passes["depth"] > 0) == (alpha > 0)).all()
 
 
 def test_progressive_passes_refine_to_the_rendered_image():

@@ -48,7 +48,10 @@ impl<'a> AovTracer<'a> {
     fn value(&self, ray: &Ray, hit: Option<Hit>) -> Vec3 {
         let Some((hit, sp)) = first_uncut(self.scene, self.accel, self.surfaces, ray, Some(hit))
         else {
-            return Vec3::ZERO;
+            return match self.aov {
+                Aov::Background => self.scene.background(ray.dir),
+                _ => Vec3::ZERO,
+            };
         };
         let (t, shape) = (hit.t, hit.id());
         let s = &self.surfaces[self.scene.material_index(shape) as usize];
@@ -66,6 +69,8 @@ impl<'a> AovTracer<'a> {
                 }
             }
             Aov::Depth => Vec3::splat(t),
+            Aov::Alpha => Vec3::ONE,
+            Aov::Background => Vec3::ZERO,
         }
     }
 }

@@ -178,3 +178,42 @@ class MissingPackage(unittest.TestCase):
             sys.modules.update(saved)
             runtime.reset()
             self.assertIsNotNone(runtime.load())
+
+
+def _pass_pixels(scene, output, engine_name):
+    """Pass `output` of the Render Layers node, routed to the Composite node and so
+    written as the frame, after rendering with `engine_name`: H x W x 4, top row first."""
+    scene.use_nodes = True
+    tree = scene.node_tree
+    tree.links.new(tree.nodes["Render Layers"].outputs[output],
+                   tree.nodes["Composite"].inputs["Image"])
+    return support.render_linear(scene, engine_name, 4)
+
+
+class CompositorPasses(unittest.TestCase):
+    def test_film_transparency_gives_alpha_and_takes_the_world_out(self):
+        scene = _default_scene(64, 48)
+        scene.render.film_transparent = True
+        scene.render.image_settings.color_mode = "RGBA"
+        image = support.render_linear(scene, "PRISM", 16)
+        corner, centre = image[0, 0], image[24, 32]
+        self.assertEqual(corner[3], 0.0)  # the world, seen straight: transparent
+        np.testing.assert_allclose(corner[:3], 0.0, atol=1e-6)
+        self.assertEqual(centre[3], 1.0)  # the cube
+        self.assertGreater(centre[:3].mean(), 0.01)
+        edge = (image[..., 3] > 0) & (image[..., 3] < 1)
+        self.assertTrue(edge.any(), "the cube's outline is a fraction of a pixel")
+
+    def test_depth_and_normal_passes_are_cycles_own(self):
+        scene = _default_scene(64, 48)
+        layer = scene.view_layers[0]
+        layer.use_pass_z = layer.use_pass_normal = True
+        # Off the centre too: Blender's depth runs along the view axis, not the ray.
+        pixels = (24, 32), (15, 25), (30, 40)
+        for name, atol in (("Depth", 1e-3), ("Normal", 2e-2)):
+            prism = _pass_pixels(scene, name, "PRISM")[..., :3]
+            cycles = _pass_pixels(scene, name, "CYCLES")[..., :3]
+            for at in pixels:
+                print(f"  {name} at {at}: Prism {prism[at]}, Cycles {cycles[at]}")
+                np.testing.assert_allclose(prism[at], cycles[at],
+                                           atol=atol * max(1.0, abs(cycles[at]).max()))

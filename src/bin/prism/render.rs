@@ -30,8 +30,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "HOST:PORT")]
     pub display: Option<String>,
     /// Passes written beside the image as layers of its OpenEXR file, for compositing
-    /// and denoising: albedo, normal, depth (comma-separated).
-    #[arg(long, value_name = "PASSES", value_delimiter = ',', value_parser = names_parser::<prism::options::Aov, 3>(prism::options::Aov::ALL.map(prism::options::Aov::name)))]
+    /// and denoising: albedo, normal, depth, alpha, background (comma-separated).
+    #[arg(long, value_name = "PASSES", value_delimiter = ',', value_parser = names_parser::<prism::options::Aov, 5>(prism::options::Aov::ALL.map(prism::options::Aov::name)))]
     pub aov: Vec<prism::options::Aov>,
     /// Denoise the image (Intel Open Image Denoise, guided by the albedo and normal
     /// passes) before it is developed and written; needs a Prism built with the `oidn`
