@@ -7,6 +7,7 @@ too. Objects, lights, the camera and the world come from the depsgraph as it
 evaluated them, so modifiers, drivers and animation are what Blender shows.
 """
 
+import bpy
 import numpy as np
 
 from . import camera as cameras
@@ -111,7 +112,8 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
             if meshes[key][0]:  # an empty mesh (a geometry-nodes holder) places nothing
                 placements.setdefault(key, []).append(_rows(inst.matrix_world))
         elif obj.type == "LIGHT":
-            light = light_export.light_dict(obj.data, _rows(inst.matrix_world), warn)
+            light = light_export.light_dict(obj.data, _rows(inst.matrix_world), warn,
+                                            bpy.app.version)
             if light is not None:
                 lights.append(light)
         elif obj.type not in ("CAMERA", "EMPTY", "LIGHT_PROBE", "ARMATURE", "LATTICE",

@@ -5,9 +5,10 @@ A light's power P (watts) becomes:
 - point: radiant intensity I = P / (4 pi) W/sr with inverse-square falloff; with a
   radius r, a sphere light of radiance I / (pi r^2), which shows the same intensity;
 - spot: the point light's intensity, times Cycles' cone: a smoothstep over the blend
-  region, times the cosine from the axis;
+  region, times (before Blender 4.0) the cosine from the axis;
 - area: radiance L = P / (4 A) over its area A (square, rectangle, disk; an ellipse
   as the disk of its area), emitting on its front (local -Z) side as Cycles does;
+  from Blender 4.0, L = P / (pi A) (Cycles' power of an area light was corrected);
 - sun: its strength is the irradiance (W/m^2) on a surface facing it.
 
 The light's colour multiplies, and so does an Emission node's colour and strength
@@ -46,9 +47,16 @@ def _emission(light, warn):
     return color
 
 
-def light_dict(light, matrix, warn):
+#: The Blender version whose Cycles took an area light's power as pi L A (it was 4 L A)
+#: and dropped the spot light's cosine.
+CONVENTIONS_4 = (4, 0, 0)
+
+
+def light_dict(light, matrix, warn, version=(3, 4, 0)):
     """The scene-file `[[light]]` of `light` (bpy.types.Light) placed by `matrix`
-    (its object's world matrix, rows), or None for a light that gives nothing."""
+    (its object's world matrix, rows), in the conventions of Blender `version`, or
+    None for a light that gives nothing."""
+    modern = tuple(version) >= CONVENTIONS_4
     color = _emission(light, warn)
     power = float(light.energy)
     if power <= 0 or not np.any(color > 0):
@@ -76,12 +84,14 @@ def light_dict(light, matrix, warn):
             cos_outer = math.cos(half)
             cos_inner = min(1.0, cos_outer + (1 - cos_outer) * float(light.spot_blend))
             out.update(type="spot", direction=forward, angle=math.degrees(half),
-                       inner_angle=math.degrees(math.acos(cos_inner)), edge="smooth_cosine")
+                       inner_angle=math.degrees(math.acos(cos_inner)),
+                       edge="smooth" if modern else "smooth_cosine")
             if radius > 0:
                 warn(f"spot light {light.name}: its radius (soft shadows) is not exported; "
                      "Prism's spots are points")
         return out
     if kind == "AREA":
+        per_area = power / (math.pi if modern else 4.0)
         sx = float(light.size)
         sy = float(light.size_y) if light.shape in ("RECTANGLE", "ELLIPSE") else sx
         u = _axis(matrix, 0) * sx
@@ -96,7 +106,7 @@ def light_dict(light, matrix, warn):
         if light.shape in ("SQUARE", "RECTANGLE"):
             area = float(np.linalg.norm(normal))
             return {"type": "quad", "center": _position(matrix), "edge1": u.tolist(),
-                    "edge2": v.tolist(), "color": color.tolist(), "intensity": power / (4 * area)}
+                    "edge2": v.tolist(), "color": color.tolist(), "intensity": per_area / area}
         # Disk and ellipse: a disk of the ellipse's area, facing its normal.
         lu, lv = float(np.linalg.norm(u)), float(np.linalg.norm(v))
         if light.shape == "ELLIPSE" or abs(lu - lv) > 1e-6 * max(lu, lv):
@@ -104,6 +114,6 @@ def light_dict(light, matrix, warn):
         radius = 0.5 * math.sqrt(lu * lv)
         area = math.pi * radius * radius
         return {"type": "disk", "center": _position(matrix), "normal": _unit(normal),
-                "radius": radius, "color": color.tolist(), "intensity": power / (4 * area)}
+                "radius": radius, "color": color.tolist(), "intensity": per_area / area}
     warn(f"light {light.name}: type {kind} is not exported")
     return None

@@ -267,10 +267,11 @@ def _principled(reader, node):
                 out.update(thin_film_weight=1.0, thin_film_thickness=film / 1000.0,
                            thin_film_ior=reader.constant(inputs["Thin Film IOR"]))
     if out.get("transmission_weight", 0) > 0:
-        # The Principled BSDF tints what it transmits by its base colour at every
-        # crossing of the surface, Prism once, on the way in: squared, the tint of a
-        # path that enters and leaves a solid is Cycles'.
-        out["transmission_color"] = _squared(out["base_color"])
+        # The Principled BSDF tints what it transmits by its base colour. v1 tints at
+        # every crossing of the surface, Prism once, on the way in: squared, the tint
+        # of a path that enters and leaves a solid is v1's. v2 tints once, as Prism.
+        v1 = "Specular" in inputs
+        out["transmission_color"] = _squared(out["base_color"]) if v1 else out["base_color"]
     if subsurface > 0:
         radius = np.asarray(reader.constant(inputs["Subsurface Radius"]), dtype=float)
         biggest = float(radius.max())

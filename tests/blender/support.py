@@ -119,7 +119,14 @@ def light(scene, kind, location=(0, 0, 3), rotation=(0, 0, 0), **settings):
 
 
 def depsgraph():
+    bpy.context.view_layer.update()
     return bpy.context.evaluated_depsgraph_get()
+
+
+#: Blender's Principled BSDF v2 (4.0) renamed the inputs v1 had.
+V2 = bpy.app.version >= (4, 0, 0)
+SPECULAR = "Specular IOR Level" if V2 else "Specular"
+TRANSMISSION = "Transmission Weight" if V2 else "Transmission"
 
 
 def export_scene(scene, width, height, **settings):

@@ -49,6 +49,7 @@ class Meshes(unittest.TestCase):
         bpy.ops.mesh.primitive_cube_add(size=2)
         cube = bpy.context.active_object
         cube.data.uv_layers.remove(cube.data.uv_layers[0])
+        cube.data.update()  # Blender 5 does not tag the mesh for this removal itself
         (part,) = _evaluated_parts(cube)
         self.assertEqual((part.vertices.shape, part.uvs, part.normals), ((8, 3), None, None))
 
@@ -224,14 +225,18 @@ class Lights(unittest.TestCase):
     def test_an_area_light_has_the_radiance_of_its_power_over_four_areas(self):
         light = self.exported("AREA", energy=64, shape="RECTANGLE", size=2, size_y=0.5)
         self.assertEqual(light["type"], "quad")
-        self.assertAlmostEqual(light["intensity"], 64 / (4 * 1.0), places=5)
+        # Blender 4.0 corrected Cycles' power of an area light from 4 L A to pi L A.
+        per_area = math.pi if bpy.app.version >= (4, 0, 0) else 4.0
+        self.assertAlmostEqual(light["intensity"], 64 / (per_area * 1.0), places=5)
         normal = np.cross(light["edge1"], light["edge2"])
         np.testing.assert_allclose(normal / np.linalg.norm(normal), [0, 0, -1], atol=1e-6)
 
     def test_a_spot_light_keeps_its_cone_and_blend(self):
         light = self.exported("SPOT", energy=10, spot_size=math.radians(60), spot_blend=0.5,
                               shadow_soft_size=0)
-        self.assertEqual((light["type"], light["edge"]), ("spot", "smooth_cosine"))
+        # Before Blender 4.0 Cycles' spots fade with the cosine from the axis too.
+        edge = "smooth" if bpy.app.version >= (4, 0, 0) else "smooth_cosine"
+        self.assertEqual((light["type"], light["edge"]), ("spot", edge))
         self.assertAlmostEqual(light["angle"], 30, places=5)
         cos_outer = math.cos(math.radians(30))
         inner = math.degrees(math.acos(cos_outer + (1 - cos_outer) * 0.5))
@@ -274,12 +279,13 @@ class Materials(unittest.TestCase):
         np.testing.assert_allclose(out["base_color"], [0.9, 0.6, 0.2], atol=1e-6)
 
     def test_principled_specular_is_the_ior_of_its_reflectance(self):
-        out, _ = self.convert(_principled_material(Specular=0.5, Metallic=0.0)[0])
+        out, _ = self.convert(_principled_material(**{support.SPECULAR: 0.5, "IOR": 1.5})[0])
         self.assertAlmostEqual(out["specular_ior"], 1.5, places=5)  # F0 = 0.08 * 0.5 = 0.04
-        lift = 1 / (1 - materials._mean_fresnel(1.5))
-        np.testing.assert_allclose(out["base_color"], np.array([0.8, 0.8, 0.8]) * lift, rtol=1e-5)
         self.assertAlmostEqual(materials._mean_fresnel(1.5), 0.0918, places=3)  # Fresnel's mean
-        out, _ = self.convert(_principled_material(Transmission=1.0, IOR=1.33)[0])
+        # v1 lifts the base by what its specular takes (v1's energy gain); v2 conserves.
+        lift = 1.0 if support.V2 else 1 / (1 - materials._mean_fresnel(1.5))
+        np.testing.assert_allclose(out["base_color"], np.array([0.8, 0.8, 0.8]) * lift, rtol=1e-5)
+        out, _ = self.convert(_principled_material(**{support.TRANSMISSION: 1.0, "IOR": 1.33})[0])
         self.assertAlmostEqual(out["specular_ior"], 1.33, places=5)
         self.assertEqual(out["transmission_weight"], 1.0)
 
