@@ -69,4 +69,35 @@ fn blender_suite() {
         .status()
         .expect("xvfb-run runs");
     assert!(status.success(), "the viewport test failed (see above)");
+
+    bpy_module_suite(&repo);
+}
+
+/// The same suite on Blender as a Python module (PyPI's `bpy`, a newer Blender than
+/// Debian's): from the Python `PRISM_BPY_PYTHON` names, or `target/bpy-venv` (which
+/// CI makes: `python3 -m venv target/bpy-venv && target/bpy-venv/bin/pip install
+/// bpy==5.0.1`). It is a gigabyte, so the test does not install it itself.
+fn bpy_module_suite(repo: &std::path::Path) {
+    let python = std::env::var_os("PRISM_BPY_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo.join("target/bpy-venv/bin/python"));
+    if !runs(&python, &["-c", "import bpy"]) {
+        return skipped(
+            "blender_suite on PyPI's bpy",
+            &format!(
+                "{} cannot import bpy (python3 -m venv target/bpy-venv && \
+                 target/bpy-venv/bin/pip install bpy==5.0.1)",
+                python.display()
+            ),
+        );
+    }
+    let status = Command::new(&python)
+        .arg(repo.join("tests/blender/run.py"))
+        .env("PRISM_PYTHON_PATH", repo.join("python"))
+        .status()
+        .expect("python runs");
+    assert!(
+        status.success(),
+        "the Blender add-on's tests failed on PyPI's bpy (see above)"
+    );
 }
