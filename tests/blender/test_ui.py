@@ -1,0 +1,30 @@
+"""The add-on registers in a new Blender: its engine, its settings and the panels that
+show them."""
+
+import unittest
+
+import bpy
+
+import support
+
+
+class Registration(unittest.TestCase):
+    def test_the_engine_and_its_settings_are_registered(self):
+        support.empty_scene()
+        engines = {getattr(e, "bl_idname", None) for e in bpy.types.RenderEngine.__subclasses__()}
+        self.assertIn("PRISM", engines)
+        scene = bpy.context.scene
+        scene.render.engine = "PRISM"
+        self.assertEqual(scene.render.engine, "PRISM")
+        settings = scene.prism
+        self.assertEqual((settings.integrator, settings.samples, settings.max_bounces),
+                         ("path", 64, 12))
+
+    def test_blender_panels_for_cameras_lights_materials_and_the_world_show_for_prism(self):
+        support.addon()
+        for name in ("DATA_PT_lens", "DATA_PT_camera_dof", "DATA_PT_EEVEE_light",
+                     "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface", "RENDER_PT_format",
+                     "RENDER_PT_color_management"):
+            panel = getattr(bpy.types, name)
+            self.assertIn("PRISM", panel.COMPAT_ENGINES, name)
+        self.assertTrue(hasattr(bpy.types, "PRISM_PT_render"))
