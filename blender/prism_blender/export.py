@@ -113,7 +113,8 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
                 placements.setdefault(key, []).append(_rows(inst.matrix_world))
         elif obj.type == "LIGHT":
             light = light_export.light_dict(obj.data, _rows(inst.matrix_world), warn,
-                                            bpy.app.version)
+                                            bpy.app.version,
+                                            bool(getattr(obj, "visible_camera", False)))
             if light is not None:
                 lights.append(light)
         elif obj.type not in ("CAMERA", "EMPTY", "LIGHT_PROBE", "ARMATURE", "LATTICE",

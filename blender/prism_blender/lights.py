@@ -52,11 +52,19 @@ def _emission(light, warn):
 CONVENTIONS_4 = (4, 0, 0)
 
 
-def light_dict(light, matrix, warn, version=(3, 4, 0)):
+def light_dict(light, matrix, warn, version=(3, 4, 0), camera_visible=False):
     """The scene-file `[[light]]` of `light` (bpy.types.Light) placed by `matrix`
     (its object's world matrix, rows), in the conventions of Blender `version`, or
-    None for a light that gives nothing."""
-    modern = tuple(version) >= CONVENTIONS_4
+    None for a light that gives nothing. `camera_visible` is the object's ray
+    visibility for the camera (off by default in Blender: lights light the scene and
+    show in reflections, but the camera does not see them)."""
+    out = _light_dict(light, matrix, warn, tuple(version) >= CONVENTIONS_4)
+    if out is not None and out["type"] in ("sphere", "quad", "disk") and not camera_visible:
+        out["camera_visible"] = False
+    return out
+
+
+def _light_dict(light, matrix, warn, modern):
     color = _emission(light, warn)
     power = float(light.energy)
     if power <= 0 or not np.any(color > 0):

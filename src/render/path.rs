@@ -173,7 +173,7 @@ impl<'a> Path<'a> {
             beta,
             last,
             channel,
-            ..
+            depth,
         } = path;
         count.rays += 1;
         // Without cut-outs the closest hit is the surface, and its shading point is
@@ -188,7 +188,7 @@ impl<'a> Path<'a> {
             (hit, None)
         };
         let t_scene = hit.map_or(f32::INFINITY, |h| h.t);
-        if let Some((light, t, normal)) = self.shaped_light_hit(ray, t_scene) {
+        if let Some((light, t, normal)) = self.shaped_light_hit(ray, t_scene, *depth == 0) {
             let le = light.color * light.intensity;
             let w = last.map_or(1.0, |(p, pdf)| {
                 self.weighing
@@ -403,7 +403,7 @@ impl<'a> Path<'a> {
         // A light that is not geometry stops shadow rays that meet its emitting side,
         // as it stops every other ray: light from behind it does not reach the point
         // by either strategy.
-        if self.shaped_light_hit(&ray, t_max).is_some() {
+        if self.shaped_light_hit(&ray, t_max, false).is_some() {
             return false;
         }
         if !self.cuts_out {
@@ -428,12 +428,21 @@ impl<'a> Path<'a> {
         false
     }
 
-    /// The nearest light that is not geometry `ray` meets before `t_max`.
-    fn shaped_light_hit(&self, ray: &Ray, t_max: f32) -> Option<(&Light, f32, Vec3)> {
+    /// The nearest light that is not geometry `ray` meets before `t_max`; a camera
+    /// ray does not see the lights hidden from the camera.
+    fn shaped_light_hit(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        from_camera: bool,
+    ) -> Option<(&Light, f32, Vec3)> {
         let mut best = None;
         let mut t_best = t_max;
         for &k in &self.shaped_lights {
             let light = &self.scene.lights[k as usize];
+            if from_camera && !light.camera_visible {
+                continue;
+            }
             if let Some((t, normal)) = light.hit(ray, t_best) {
                 t_best = t;
                 best = Some((light, t, normal));

@@ -28,6 +28,10 @@ pub struct Light {
     pub falloff: Falloff,
     /// Shadow rays per shading point for area lights (stratified, seeded per pixel).
     pub samples: u32,
+    /// Whether a camera ray meeting the light sees it (an area light's glow). Lights
+    /// hidden from the camera still light the scene and show in reflections, as
+    /// Blender's point, spot and area lights do in Cycles 3.
+    pub camera_visible: bool,
 }
 
 /// The geometry of a light and how it is sampled.
@@ -201,6 +205,7 @@ impl Light {
             kind: LightKind::Point,
             falloff: Falloff::None,
             samples: 1,
+            camera_visible: true,
         }
     }
 

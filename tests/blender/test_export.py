@@ -220,6 +220,7 @@ class Lights(unittest.TestCase):
     def test_a_point_light_with_a_radius_is_a_sphere_of_that_intensity(self):
         light = self.exported("POINT", energy=100, shadow_soft_size=0.5)
         self.assertEqual((light["type"], light["radius"]), ("sphere", 0.5))
+        self.assertFalse(light["camera_visible"])  # Blender's lights are hidden from it
         self.assertAlmostEqual(light["intensity"] * math.pi * 0.25, 100 / (4 * math.pi), places=5)
 
     def test_an_area_light_has_the_radiance_of_its_power_over_four_areas(self):

@@ -1,6 +1,7 @@
 """F12 through Blender: the default cube scene and Principled materials against
 Cycles, progressive passes and Esc, animations, and a missing `prism` package."""
 
+import math
 import os
 import subprocess
 import sys
@@ -230,3 +231,20 @@ class CompositorPasses(unittest.TestCase):
                 print(f"  {name} at {at}: Prism {prism[at]}, Cycles {cycles[at]}")
                 np.testing.assert_allclose(prism[at], cycles[at],
                                            atol=atol * max(1.0, abs(cycles[at]).max()))
+
+
+class LightVisibility(unittest.TestCase):
+    def test_lights_are_seen_by_the_camera_only_where_blender_shows_them(self):
+        for visible in (False, True):
+            scene = support.empty_scene(16, 16)
+            support.camera(scene, location=(0, 0, 5), lens=50)
+            lamp = support.light(scene, "AREA", (0, 0, 0), rotation=(math.pi, 0, 0),
+                                 energy=100, shape="SQUARE", size=1.0)
+            lamp.visible_camera = visible
+            centre = {engine: float(support.render_linear(scene, engine, 4)[8, 8, :3].mean())
+                      for engine in ("CYCLES", "PRISM")}
+            print(f"  area light, camera visibility {visible}: {centre}")
+            self.assertEqual(centre["PRISM"] > 0, visible)
+            self.assertEqual(centre["CYCLES"] > 0, visible)
+            if visible:  # L = P / (4A) (3.x) or P / (pi A) (4.0+), seen straight
+                self.assertAlmostEqual(centre["PRISM"] / centre["CYCLES"], 1.0, places=3)

@@ -131,5 +131,6 @@ pub fn light(l: &gltf::khr_lights_punctual::Light, world: &DMat4) -> Result<Ligh
         kind,
         falloff,
         samples: 1,
+        camera_visible: true,
     })
 }

@@ -406,6 +406,7 @@ impl Builder {
                         kind: LightKind::Sphere { radius: s.radius },
                         falloff: Default::default(),
                         samples,
+                        camera_visible: true,
                     });
                     i += 1;
                 }

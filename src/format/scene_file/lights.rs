@@ -31,9 +31,16 @@ fn keys_of(kind: &str) -> Option<&'static [&'static str]> {
             "edge",
             "falloff",
         ],
-        "quad" => &["corner", "center", "edge1", "edge2", "samples"],
-        "disk" => &["center", "normal", "radius", "samples"],
-        "sphere" => &["center", "radius", "samples"],
+        "quad" => &[
+            "corner",
+            "center",
+            "edge1",
+            "edge2",
+            "samples",
+            "camera_visible",
+        ],
+        "disk" => &["center", "normal", "radius", "samples", "camera_visible"],
+        "sphere" => &["center", "radius", "samples", "camera_visible"],
         _ => return None,
     })
 }
@@ -219,6 +226,7 @@ pub fn build(source: &Source, raw: &RawLight) -> Result<Light> {
         kind: light_kind,
         falloff,
         samples: 1,
+        camera_visible: raw.camera_visible.as_ref().is_none_or(|v| *v.get_ref()),
     };
     if light.is_area() {
         light.samples = samples;

@@ -338,6 +338,7 @@ pub struct RawLight {
     pub intensity: S<Num>,
     pub falloff: S<String>,
     pub samples: S<u32>,
+    pub camera_visible: S<bool>,
     pub position: S<Vector>,
     pub direction: S<Vector>,
     pub at: S<Vector>,
@@ -364,6 +365,10 @@ impl RawLight {
         };
         add("falloff", self.falloff.as_ref().map(Spanned::span));
         add("samples", self.samples.as_ref().map(Spanned::span));
+        add(
+            "camera_visible",
+            self.camera_visible.as_ref().map(Spanned::span),
+        );
         add("position", self.position.as_ref().map(Spanned::span));
         add("direction", self.direction.as_ref().map(Spanned::span));
         add("at", self.at.as_ref().map(Spanned::span));

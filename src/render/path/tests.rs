@@ -167,6 +167,7 @@ fn area_light(kind: LightKind, at: Vec3, radiance: f32) -> Light {
         kind,
         falloff: crate::scene::Falloff::None,
         samples: 1,
+        camera_visible: true,
     }
 }
 
@@ -270,6 +271,58 @@ fn a_point_light_over_a_diffuse_floor_gives_the_inverse_square_law_exactly() {
     };
     let l = floor_under(vec![light], vec![]);
     assert_near(l, 0.8 / PI * 5.0 / 4.0, 1e-5, "point");
+}
+
+#[test]
+fn a_light_hidden_from_the_camera_still_lights_and_shows_in_a_mirror() {
+    // A sphere light straight ahead of the camera, over a mirror floor: the camera ray
+    // sees it unless it is hidden; hidden, it still lights the floor and shows in it.
+    let sphere = |visible: bool| Light {
+        camera_visible: visible,
+        ..area_light(
+            LightKind::Sphere { radius: 0.5 },
+            Vec3::new(0.0, 1.0, -3.0),
+            7.0,
+        )
+    };
+    let seen = |visible: bool| {
+        let s = scene(
+            vec![],
+            vec![sphere(visible)],
+            Background::Color(Vec3::splat(0.25)),
+        );
+        mean_radiance(&s, Ray::new(Vec3::new(0.0, 1.0, 0.0), -Vec3::Z), 4)
+    };
+    assert_near(seen(true), 7.0, 1e-6, "the light seen");
+    assert_near(
+        seen(false),
+        0.25,
+        1e-6,
+        "the background behind the hidden light",
+    );
+    let lit = |visible: bool| floor_under(vec![sphere(visible)], vec![]);
+    assert_eq!(lit(true), lit(false));
+    let mirror = Surface {
+        reflection: Vec3::ONE,
+        albedo: Albedo::Color(Vec3::ZERO),
+        ..Surface::default()
+    };
+    let floor = Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-50.0, 0.0, -50.0),
+            Vec3::new(-50.0, 0.0, 50.0),
+            Vec3::new(50.0, 0.0, 50.0),
+            Vec3::new(50.0, 0.0, -50.0),
+        ],
+    });
+    let s = scene(
+        vec![(floor, mirror)],
+        vec![sphere(false)],
+        Background::Black,
+    );
+    let down = normalize(Vec3::new(0.0, -1.0, -1.5));
+    let reflected = mean_radiance(&s, Ray::new(Vec3::new(0.0, 1.0, 0.0), down), 4);
+    assert_near(reflected, 7.0, 1e-4, "the hidden light in the mirror");
 }
 
 /// Smooth lobes of every kind, seen from several directions.
