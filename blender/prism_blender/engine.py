@@ -164,9 +164,15 @@ class PrismRenderEngine(bpy.types.RenderEngine):
         try:
             prism_scene = prism.scene_from_dict(made.scene)
             options = {"threads": properties.threads(scene)}
+            passes = None
             if scene.prism.denoise:
-                options["denoise"] = True
-            passes = prism.render_progressive(prism_scene, **options)
+                try:
+                    passes = prism.render_progressive(prism_scene, denoise=True, **options)
+                    options["denoise"] = True
+                except Exception as err:  # no denoiser in this Python: render without
+                    self.report({"WARNING"}, f"Prism: not denoised: {err}")
+            if passes is None:
+                passes = prism.render_progressive(prism_scene, **options)
         except Exception as err:
             self.report({"ERROR"}, f"Prism: {err}")
             return

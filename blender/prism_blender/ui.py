@@ -46,6 +46,29 @@ class PRISM_PT_render(bpy.types.Panel):
         layout.prop(context.scene.render, "film_transparent")
 
 
+class PRISM_PT_object_visibility(bpy.types.Panel):
+    """What Blender's Cycles-only visibility panel holds that Prism reads."""
+
+    bl_label = "Prism Visibility"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+    bl_options = {"DEFAULT_CLOSED"}
+    COMPAT_ENGINES = {"PRISM"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES and context.object is not None
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        obj = context.object
+        layout.prop(obj, "hide_render", text="Hide in Renders", invert_checkbox=False)
+        if obj.type == "LIGHT" and hasattr(obj, "visible_camera"):
+            layout.prop(obj, "visible_camera", text="Seen by the Camera")
+
+
 def _wrap(text, width):
     words, line, out = text.split(), "", []
     for word in words:
@@ -66,6 +89,7 @@ def _generic_panels():
 
 def register():
     bpy.utils.register_class(PRISM_PT_render)
+    bpy.utils.register_class(PRISM_PT_object_visibility)
     for panel in _generic_panels():
         panel.COMPAT_ENGINES.add("PRISM")
 
@@ -73,4 +97,5 @@ def register():
 def unregister():
     for panel in _generic_panels():
         panel.COMPAT_ENGINES.discard("PRISM")
+    bpy.utils.unregister_class(PRISM_PT_object_visibility)
     bpy.utils.unregister_class(PRISM_PT_render)

@@ -133,6 +133,16 @@ class Frames(unittest.TestCase):
             a, b = (support.read_image(os.path.join(folder, f)) for f in files)
             self.assertGreater(np.abs(a - b).mean(), 1e-3, "the cube moved between frames")
 
+    def test_denoise_renders_denoised_or_warns_and_renders_anyway(self):
+        scene = _default_scene(32, 24)
+        scene.render.engine = "PRISM"
+        scene.prism.samples = 2
+        scene.prism.denoise = True
+        with tempfile.TemporaryDirectory() as folder:
+            scene.render.filepath = os.path.join(folder, "frame.png")
+            bpy.ops.render.render(write_still=True)
+            self.assertTrue(os.path.isfile(scene.render.filepath))
+
     def test_blender_renders_a_saved_file_with_prism_from_the_command_line(self):
         if not bpy.app.binary_path:
             self.skipTest("Blender as a Python module (PyPI's bpy) has no program to run")

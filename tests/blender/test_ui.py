@@ -28,3 +28,4 @@ class Registration(unittest.TestCase):
             panel = getattr(bpy.types, name)
             self.assertIn("PRISM", panel.COMPAT_ENGINES, name)
         self.assertTrue(hasattr(bpy.types, "PRISM_PT_render"))
+        self.assertTrue(hasattr(bpy.types, "PRISM_PT_object_visibility"))

@@ -117,15 +117,16 @@ def tick():
             scene = bpy.context.scene
             scene.render.engine = "PRISM"
             scene.prism.preview_samples = 4
-            # A floor all round: the first-run splash of --factory-startup hides the
-            # middle of the view, not the floor's light.
-            bpy.ops.mesh.primitive_plane_add(size=60, location=(0, 0, -1))
+            # In the factory scene, a floor all round: the first-run splash hides the
+            # middle of the view, not the floor's light (a file given has no splash).
+            if "Cube" in bpy.data.objects:
+                bpy.ops.mesh.primitive_plane_add(size=60, location=(0, 0, -1))
             _, area, _ = _view3d()
             area.spaces[0].shading.type = "RENDERED"
             state["step"] = 1
         elif state["step"] == 1 and _settled():
             state["before"] = _screenshot("viewport-before.png")
-            light = bpy.data.objects["Light"]
+            light = next(o for o in bpy.data.objects if o.type == "LIGHT")
             light.data.energy *= 8
             state["restarts"] = calls["restarts"]
             state["step"] = 2
