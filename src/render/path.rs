@@ -403,7 +403,7 @@ impl<'a> Path<'a> {
         // A light that is not geometry stops shadow rays that meet its emitting side,
         // as it stops every other ray: light from behind it does not reach the point
         // by either strategy.
-        if self.shaped_light_hit(&ray, t_max, false).is_some() {
+        if self.shaped_light_hit(&ray, t_max, true).is_some() {
             return false;
         }
         if !self.cuts_out {
@@ -428,19 +428,21 @@ impl<'a> Path<'a> {
         false
     }
 
-    /// The nearest light that is not geometry `ray` meets before `t_max`; a camera
-    /// ray does not see the lights hidden from the camera.
+    /// The nearest light that is not geometry `ray` meets before `t_max`. With
+    /// `skip_hidden` (camera and shadow rays) the lights hidden from the camera are
+    /// passed by: such a light is only its light, no object the camera sees or that
+    /// casts a shadow, as Blender's lights are.
     fn shaped_light_hit(
         &self,
         ray: &Ray,
         t_max: f32,
-        from_camera: bool,
+        skip_hidden: bool,
     ) -> Option<(&Light, f32, Vec3)> {
         let mut best = None;
         let mut t_best = t_max;
         for &k in &self.shaped_lights {
             let light = &self.scene.lights[k as usize];
-            if from_camera && !light.camera_visible {
+            if skip_hidden && !light.camera_visible {
                 continue;
             }
             if let Some((t, normal)) = light.hit(ray, t_best) {

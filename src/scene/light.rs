@@ -28,9 +28,9 @@ pub struct Light {
     pub falloff: Falloff,
     /// Shadow rays per shading point for area lights (stratified, seeded per pixel).
     pub samples: u32,
-    /// Whether a camera ray meeting the light sees it (an area light's glow). Lights
-    /// hidden from the camera still light the scene and show in reflections, as
-    /// Blender's point, spot and area lights do in Cycles 3.
+    /// Whether the light is an object of the scene: seen by camera rays (an area
+    /// light's glow) and casting shadows. Lights hidden from the camera are only their
+    /// light: they light the scene and show in reflections, as Blender's lights do.
     pub camera_visible: bool,
 }
 

@@ -274,7 +274,7 @@ fn a_point_light_over_a_diffuse_floor_gives_the_inverse_square_law_exactly() {
 }
 
 #[test]
-fn a_light_hidden_from_the_camera_still_lights_and_shows_in_a_mirror() {
+fn a_light_hidden_from_the_camera_is_its_light_alone_no_object_no_shadow() {
     // A sphere light straight ahead of the camera, over a mirror floor: the camera ray
     // sees it unless it is hidden; hidden, it still lights the floor and shows in it.
     let sphere = |visible: bool| Light {
@@ -301,7 +301,35 @@ fn a_light_hidden_from_the_camera_still_lights_and_shows_in_a_mirror() {
         "the background behind the hidden light",
     );
     let lit = |visible: bool| floor_under(vec![sphere(visible)], vec![]);
-    assert_eq!(lit(true), lit(false));
+    assert_near(lit(false), lit(true).x, 1e-3, "the same light");
+    // Hidden, it casts no shadow: a dark sphere light between a point light and the
+    // floor blocks it only while it is an object of the scene.
+    let lamp = Light {
+        falloff: crate::scene::Falloff::InverseSquare,
+        intensity: 5.0,
+        ..Light::point(Vec3::new(0.0, 2.0, 0.0), Vec3::ONE)
+    };
+    let blocker = |visible: bool| Light {
+        intensity: 0.0,
+        ..sphere(visible)
+    };
+    let shaded = |visible: bool| {
+        let mut b = blocker(visible);
+        b.position = Vec3::new(0.0, 1.5, 0.0);
+        floor_under(vec![lamp.clone(), b], vec![])
+    };
+    assert_near(
+        shaded(false),
+        0.8 / PI * 5.0 / 4.0,
+        1e-5,
+        "no shadow of a hidden light",
+    );
+    assert_near(
+        shaded(true),
+        0.0,
+        1e-6,
+        "the shadow of a light that is an object",
+    );
     let mirror = Surface {
         reflection: Vec3::ONE,
         albedo: Albedo::Color(Vec3::ZERO),
