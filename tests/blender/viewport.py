@@ -119,7 +119,7 @@ def tick():
             scene.prism.preview_samples = 4
             # In the factory scene, a floor all round: the first-run splash hides the
             # middle of the view, not the floor's light (a file given has no splash).
-            if "Cube" in bpy.data.objects:
+            if not bpy.data.filepath:
                 bpy.ops.mesh.primitive_plane_add(size=60, location=(0, 0, -1))
             _, area, _ = _view3d()
             area.spaces[0].shading.type = "RENDERED"
