@@ -20,7 +20,7 @@ _CHANNELS = {"Red": "r", "R": "r", "Green": "g", "G": "g", "Blue": "b", "B": "b"
 
 def default_material():
     """Cycles' default surface: a Lambertian 0.8 grey."""
-    return {"type": "openpbr", "base_color": [DEFAULT_GREY] * 3, "specular_weight": 0.0}
+    return {"color": [DEFAULT_GREY] * 3}
 
 
 class Images:
@@ -410,4 +410,20 @@ def material_dict(material, images, warn):
     if params is None:
         return default_material()
     params = {k: v for k, v in params.items() if v is not None}
-    return dict(params, type="openpbr")
+    return _lambertian(params) or dict(params, type="openpbr")
+
+
+def _lambertian(params):
+    """A plain material where OpenPBR parameters say only "a Lambertian of this
+    colour" (a Diffuse BSDF of roughness 0): the same light, without an OpenPBR
+    material's set-up at every hit. None for anything more."""
+    if set(params) - {"base_color", "base_diffuse_roughness", "specular_weight"}:
+        return None
+    if params.get("specular_weight", 1.0) != 0.0 or params.get("base_diffuse_roughness", 0.0) != 0.0:
+        return None
+    color = params.get("base_color", [DEFAULT_GREY] * 3)
+    if isinstance(color, dict):
+        if color.get("factor", [1.0] * 3) != [1.0] * 3:
+            return None
+        return {"texture": color["texture"]}
+    return {"color": color}

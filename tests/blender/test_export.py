@@ -290,6 +290,21 @@ class Materials(unittest.TestCase):
         self.assertAlmostEqual(out["specular_ior"], 1.33, places=5)
         self.assertEqual(out["transmission_weight"], 1.0)
 
+    def test_a_smooth_diffuse_bsdf_is_a_plain_lambertian(self):
+        material = bpy.data.materials.new("Matte")
+        material.use_nodes = True
+        nodes = material.node_tree.nodes
+        nodes.remove(nodes["Principled BSDF"])
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Color"].default_value = (0.25, 0.5, 0.75, 1)
+        material.node_tree.links.new(diffuse.outputs[0],
+                                     nodes["Material Output"].inputs["Surface"])
+        out, _ = self.convert(material)
+        self.assertEqual(out, {"color": [0.25, 0.5, 0.75]})
+        diffuse.inputs["Roughness"].default_value = 0.5  # Oren-Nayar: OpenPBR's EON
+        out, _ = self.convert(material)
+        self.assertEqual((out["type"], out["base_diffuse_roughness"]), ("openpbr", 0.5))
+
     def test_image_textures_and_their_channels(self):
         m, node = _principled_material()
         tree = m.node_tree
