@@ -463,6 +463,7 @@ mod tests {
             aa: 1,
             up: None,
             projection: crate::scene::Projection::Perspective,
+            shift: [0.0, 0.0],
         };
         (scene, camera)
     }

@@ -67,7 +67,11 @@ def camera_dict(camera_object, width, height, warn, unit_scale=1.0):
                 distance = NEAREST_FOCUS
             out.update(aperture=radius, focus_distance=distance)
     if cam.shift_x or cam.shift_y:
-        warn(f"camera {camera_object.name}: lens shift is not exported")
+        # Blender's shift is in units of the fitted side, as Prism's is.
+        if cam.type == "ORTHO":
+            warn(f"camera {camera_object.name}: an orthographic camera's shift is not exported")
+        else:
+            out["shift"] = [float(cam.shift_x), float(cam.shift_y)]
     return out
 
 

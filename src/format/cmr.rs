@@ -152,6 +152,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Camera> {
         aa: count(13)?,
         up: None,
         projection: crate::scene::Projection::Perspective,
+        shift: [0.0, 0.0],
     })
 }
 
@@ -203,6 +204,7 @@ mod tests {
                 aa: 4,
                 up: None,
                 projection: crate::scene::Projection::Perspective,
+                shift: [0.0, 0.0],
             }
         );
     }

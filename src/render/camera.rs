@@ -30,13 +30,21 @@ impl CameraRays {
         let frame = camera.frame();
         let s = camera.retina_scale / aa as f32;
         let step = 2.0 * s;
+        let mut origin_x = -(camera.width as f32) * camera.retina_scale + 0.5 * step;
+        let mut origin_y = -(camera.height as f32) * camera.retina_scale + 0.5 * step;
+        if camera.shift != [0.0, 0.0] {
+            // The window slides across the screen's plane: right, and up (down is +y).
+            let screen_width = 2.0 * camera.width as f32 * camera.retina_scale;
+            origin_x += camera.shift[0] * screen_width;
+            origin_y -= camera.shift[1] * screen_width;
+        }
         CameraRays {
             eye: camera.eye,
             frame,
             screen_center: camera.eye + frame.forward * camera.screen_distance,
             step,
-            origin_x: -(camera.width as f32) * camera.retina_scale + 0.5 * step,
-            origin_y: -(camera.height as f32) * camera.retina_scale + 0.5 * step,
+            origin_x,
+            origin_y,
             focus_ratio: (camera.screen_distance + camera.focal_length) / camera.screen_distance,
             aperture: camera.aperture,
             spp: if camera.projection == Projection::Orthographic {
@@ -157,6 +165,7 @@ mod tests {
             aa: 1,
             up: None,
             projection: crate::scene::Projection::Perspective,
+            shift: [0.0, 0.0],
         }
     }
 
@@ -181,6 +190,24 @@ mod tests {
         // Between the four central pixels lies the view axis.
         let a = rays.pinhole(1, 0).dir + rays.pinhole(2, 1).dir;
         assert!(close(normalize(a), Vec3::X));
+    }
+
+    #[test]
+    fn a_lens_shift_slides_the_window_across_the_screen_plane() {
+        // Shifted a quarter of the screen's width (4) right and half of it up: one
+        // pixel right and two up, the view direction unchanged.
+        let mut c = camera();
+        c.shift = [0.25, 0.5];
+        let rays = CameraRays::new(&c, 1, 1);
+        let tl = rays.pinhole(0, 0);
+        assert!(
+            close(tl.dir, normalize(Vec3::new(1.0, -0.5, 2.5))),
+            "{tl:?}"
+        );
+        assert!(close(
+            rays.pinhole(2, 1).dir,
+            normalize(Vec3::new(1.0, 1.5, 1.5))
+        ));
     }
 
     #[test]

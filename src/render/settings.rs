@@ -218,6 +218,7 @@ mod tests {
             aa: 4,
             up: None,
             projection: crate::scene::Projection::Perspective,
+            shift: [0.0, 0.0],
         }
     }
 

@@ -37,6 +37,10 @@ pub struct Camera {
     pub up: Option<Vec3>,
     /// How the screen maps to rays.
     pub projection: Projection,
+    /// Lens shift: the screen window moved across the view, right and up, in units of
+    /// the screen's width (the image stays square to the view direction, so verticals
+    /// stay vertical; Blender's shift).
+    pub shift: [f32; 2],
 }
 
 /// How a camera's screen maps to rays.
@@ -109,6 +113,7 @@ impl Camera {
             aa: 1,
             up: Some(up),
             projection: Projection::Perspective,
+            shift: [0.0, 0.0],
         }
     }
 
@@ -193,6 +198,7 @@ mod tests {
             aa: 1,
             up: None,
             projection: Projection::Perspective,
+            shift: [0.0, 0.0],
         }
     }
 

@@ -200,6 +200,10 @@ class Cameras(unittest.TestCase):
         self.assertAlmostEqual(c["aperture"], 0.050 / (2 * 2.0), places=7)
         self.assertAlmostEqual(c["focus_distance"], 7.0, places=5)
 
+    def test_the_lens_shift_is_carried_in_units_of_the_fitted_side(self):
+        c = self.camera(160, 90, shift_x=0.25, shift_y=-0.125)
+        self.assertEqual(c["shift"], [0.25, -0.125])
+
 
 class Lights(unittest.TestCase):
     def setUp(self):

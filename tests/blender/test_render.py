@@ -66,6 +66,21 @@ class AgainstCycles(unittest.TestCase):
         self.check("glass", scene)
 
 
+class LensShift(unittest.TestCase):
+    def test_a_shifted_lens_frames_the_scene_as_cycles_does(self):
+        scene = _default_scene(96, 64)
+        scene.camera.data.shift_x, scene.camera.data.shift_y = 0.2, -0.1
+        cycles = support.render_linear(scene, "CYCLES", 16)[..., :3]
+        prism = support.render_linear(scene, "PRISM", 16)[..., :3]
+        error = float(np.abs(prism - cycles).mean() / cycles.mean())
+        scene.camera.data.shift_x = scene.camera.data.shift_y = 0.0
+        unshifted = support.render_linear(scene, "PRISM", 16)[..., :3]
+        apart = float(np.abs(unshifted - cycles).mean() / cycles.mean())
+        print(f"  shifted: mean error {error:.4f} (unshifted against shifted: {apart:.4f})")
+        self.assertLess(error, 0.05)
+        self.assertGreater(apart, 4 * error)
+
+
 class Progressive(unittest.TestCase):
     def test_passes_are_shown_and_the_last_is_the_whole_render(self):
         scene = _default_scene(64, 48)

@@ -33,6 +33,7 @@ fn lens_keys(raw: &RawCamera) -> impl Iterator<Item = std::ops::Range<usize>> {
         raw.focus_distance.as_ref().map(Spanned::span),
         raw.focus_on.as_ref().map(Spanned::span),
         raw.spp.as_ref().map(Spanned::span),
+        raw.shift.as_ref().map(Spanned::span),
     ]
     .into_iter()
     .flatten()
@@ -112,6 +113,24 @@ pub fn build(
         }
     };
     let mut camera = Camera::look_at(eye, target, up, horizontal_fov, width, height);
+    if let Some(shift) = &raw.shift {
+        let [x, y] = *shift.get_ref();
+        if !(x.0.abs() <= 10.0 && y.0.abs() <= 10.0) {
+            return Err(source.error(
+                shift,
+                format!(
+                    "expected a shift within [-10, 10], found [{}, {}]",
+                    x.0, y.0
+                ),
+            ));
+        }
+        // Given in units of the fitted side; kept in units of the screen's width.
+        let side = match raw.fov_axis.as_ref().map(|a| a.get_ref().as_str()) {
+            Some("vertical") => height as f64 / width as f64,
+            _ => 1.0,
+        };
+        camera.shift = [(x.0 * side) as f32, (y.0 * side) as f32];
+    }
     match raw.projection.as_ref().map(|p| (p, p.get_ref().as_str())) {
         None | Some((_, "perspective")) => {
             if let Some(w) = &raw.view_width {

@@ -55,6 +55,8 @@ pub struct RawCamera {
     pub aperture: S<Num>,
     pub focus_distance: S<Num>,
     pub focus_on: S<String>,
+    /// Lens shift, right and up, in units of the side `fov_axis` names.
+    pub shift: S<[Num; 2]>,
     /// Samples per pixel for depth of field; `lens_samples` is its older name.
     #[serde(alias = "lens_samples")]
     pub spp: S<u32>,

@@ -111,3 +111,26 @@ fn an_orthographic_camera_sees_view_width_across() {
         assert!(e.contains(expected), "{e}");
     }
 }
+
+#[test]
+fn a_lens_shift_is_in_units_of_the_fitted_side() {
+    let shift = |axis: &str| {
+        scene(&format!(
+            "[camera]\nfrom = [0, 0, 5]\nat = [0, 0, 0]\nfov_axis = \"{axis}\"\n\
+             shift = [0.25, -0.5]\n[render]\nwidth = 200\nheight = 100\n"
+        ))
+        .camera
+        .unwrap()
+        .shift
+    };
+    assert_eq!(shift("horizontal"), [0.25, -0.5]);
+    // A vertical fit's side is the height, half the width here.
+    assert_eq!(shift("vertical"), [0.125, -0.25]);
+    let e = Folder::new().error("[camera]\nfrom = [0, 0, 5]\nat = [0, 0, 0]\nshift = [20, 0]\n");
+    assert!(e.contains("expected a shift within [-10, 10]"), "{e}");
+    let e = Folder::new().error(
+        "[camera]\nprojection = \"orthographic\"\nview_width = 2\nfrom = [0, 0, 5]\n\
+         at = [0, 0, 0]\nshift = [0.1, 0]\n",
+    );
+    assert!(e.contains("no field of view or lens"), "{e}");
+}
