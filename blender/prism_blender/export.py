@@ -97,6 +97,8 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
     images = images if images is not None else material_export.Images()
     meshes = {}  # key -> (parts, slot materials)
     placements = {}  # key -> [matrix rows]
+    materials = {}  # name -> scene-file material
+    vertex_colors = {}  # material name -> the colour attribute it reads
     lights = []
     for inst in depsgraph.object_instances:
         obj = inst.object
@@ -104,10 +106,24 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
             slots = _slot_materials(obj)
             key = _mesh_key(obj, inst.is_instance) + (_names(slots),)
             if key not in meshes:
-                parts = cache.get(key)
+                for material in slots:
+                    name = material.name if material is not None else DEFAULT_MATERIAL
+                    if name not in materials:
+                        params = material_export.material_dict(material, images, warn)
+                        reads = params.pop(material_export.VERTEX_COLORS, None)
+                        materials[name] = params
+                        if reads is not None:
+                            vertex_colors[name] = reads
+                wanted = [vertex_colors[m.name] for m in slots
+                          if m is not None and m.name in vertex_colors]
+                attribute = wanted[0] if wanted else None
+                if len(set(wanted)) > 1:
+                    warn(f"object {obj.name}: its materials read different colour attributes; "
+                         f"\"{attribute}\" is exported for all")
+                parts = cache.get(key + (attribute,))
                 if parts is None:
-                    parts = _read_mesh(obj, depsgraph, warn)
-                    cache.put(key, parts)
+                    parts = _read_mesh(obj, depsgraph, warn, attribute)
+                    cache.put(key + (attribute,), parts)
                 meshes[key] = (parts, slots)
             if meshes[key][0]:  # an empty mesh (a geometry-nodes holder) places nothing
                 placements.setdefault(key, []).append(_rows(inst.matrix_world))
@@ -122,7 +138,6 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
             warn(f"object {obj.name}: a {obj.type.lower()} object is not exported")
 
     scene = depsgraph.scene
-    materials = {}
     objects = []
     triangles = 0
     meshes = {key: mesh for key, mesh in meshes.items() if key in placements}
@@ -133,7 +148,7 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
             name = material.name if material is not None else DEFAULT_MATERIAL
             if name not in materials:
                 materials[name] = material_export.material_dict(material, images, warn)
-            objects.append(_placed(part, name, matrices))
+            objects.append(_placed(part, name, matrices, name in vertex_colors))
             triangles += part.triangles * len(matrices)
 
     out = {
@@ -155,22 +170,23 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
     return Export(out, warnings, len(meshes), sum(len(m) for m in placements.values()), triangles)
 
 
-def _read_mesh(obj, depsgraph, warn):
+def _read_mesh(obj, depsgraph, warn, color_attribute=None):
     try:
-        mesh = obj.to_mesh(preserve_all_data_layers=False, depsgraph=depsgraph)
+        mesh = obj.to_mesh(preserve_all_data_layers=color_attribute is not None,
+                           depsgraph=depsgraph)
     except RuntimeError as err:
         warn(f"object {obj.name}: its geometry could not be read ({err})")
         return []
     try:
-        return mesh_parts(mesh) if mesh is not None else []
+        return mesh_parts(mesh, color_attribute) if mesh is not None else []
     finally:
         obj.to_mesh_clear()
 
 
-def _placed(part, material, matrices):
+def _placed(part, material, matrices, colors=False):
     """The scene-file object placing `part` by `matrices`: a mesh placed once, or an
     instance object holding it once for all its placements."""
-    obj = dict(part.arrays(), material=material)
+    obj = dict(part.arrays(colors), material=material)
     if len(matrices) == 1:
         det = float(np.linalg.det(matrices[0][:3, :3]))
         if det != 0.0:

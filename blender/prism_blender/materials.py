@@ -13,6 +13,10 @@ import tempfile
 
 import numpy as np
 
+#: The key under which a material says it reads a mesh's vertex colours (the colour
+#: attribute's name; "" for the render one): popped by the exporter, which then hands
+#: the mesh's colours over with it.
+VERTEX_COLORS = "vertex_colors"
 #: Cycles' surface for objects without a material: a grey diffuse.
 DEFAULT_GREY = 0.8
 _CHANNELS = {"Red": "r", "R": "r", "Green": "g", "G": "g", "Blue": "b", "B": "b"}
@@ -115,6 +119,11 @@ class _Reader:
         node, output = link.from_node, link.from_socket.name
         if node.bl_idname == "NodeReroute":
             return self.value(node.inputs[0], color, scale)
+        if node.bl_idname in ("ShaderNodeVertexColor", "ShaderNodeAttribute") and color \
+                and output == "Color" and getattr(node, "attribute_type", "GEOMETRY") == "GEOMETRY":
+            name = node.layer_name if node.bl_idname == "ShaderNodeVertexColor" else \
+                node.attribute_name
+            return {VERTEX_COLORS: name, "factor": [scale] * 3}
         if node.bl_idname == "ShaderNodeTexImage":
             path = self._image(node, color and output == "Color")
             if path is None:
@@ -410,7 +419,21 @@ def material_dict(material, images, warn):
     if params is None:
         return default_material()
     params = {k: v for k, v in params.items() if v is not None}
-    return _lambertian(params) or dict(params, type="openpbr")
+    attribute = None
+    for key, value in list(params.items()):
+        if isinstance(value, dict) and VERTEX_COLORS in value:
+            if key == "base_color" and attribute is None:
+                # The vertex colours multiply the albedo: the base colour is their factor.
+                attribute = value[VERTEX_COLORS]
+                params[key] = value["factor"]
+            else:
+                reader.warn(f"{key} reads vertex colours, which Prism takes as the base "
+                            "colour only; its default stands")
+                del params[key]
+    out = _lambertian(params) or dict(params, type="openpbr")
+    if attribute is not None:
+        out[VERTEX_COLORS] = attribute
+    return out
 
 
 def _lambertian(params):

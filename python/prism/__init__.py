@@ -76,8 +76,9 @@ def scene_from_dict(scene: Dict[str, Any], folder: Optional[Path] = None) -> Sce
     ``tomllib.load`` would give for a ``.toml`` file: ``camera``, ``object``,
     ``material``, ``light``, ``render`` and the rest. An object of ``"type": "mesh"``
     may carry arrays instead of a ``file``: ``vertices`` (N x 3), ``faces`` (M x 3
-    vertex indices), and optionally ``normals`` (N x 3) and ``uvs`` (N x 2), so NumPy
-    and trimesh meshes render without files. An object of ``"type": "instance"``
+    vertex indices), and optionally ``normals`` (N x 3), ``uvs`` (N x 2) and
+    ``colors`` (N x 3 or N x 4 linear RGB(A), alpha dropped: multiplied into the
+    albedo), so NumPy and trimesh meshes render without files. An object of ``"type": "instance"``
     places a named mesh object once more per 4 x 4 matrix of ``transforms`` (an
     N x 4 x 4 array), holding the mesh once. Relative paths (``file``, ``texture``)
     resolve against ``folder`` (default: the working directory).
@@ -104,6 +105,7 @@ def scene_from_dict(scene: Dict[str, Any], folder: Optional[Path] = None) -> Sce
             faces = np.ascontiguousarray(faces, dtype="<u4")
             normals = obj.pop("normals", None)
             uvs = obj.pop("uvs", None)
+            colors = obj.pop("colors", None)
             if vertices.ndim != 2 or vertices.shape[1] != 3:
                 raise ValueError(f"object {i}: vertices must be N x 3, found {vertices.shape}")
             if faces.ndim != 2 or faces.shape[1] != 3:
@@ -118,8 +120,13 @@ def scene_from_dict(scene: Dict[str, Any], folder: Optional[Path] = None) -> Sce
                 if uvs.shape != (vertices.shape[0], 2):
                     raise ValueError(f"object {i}: uvs must be N x 2, found {uvs.shape}")
                 uvs = uvs.tobytes()
+            if colors is not None:
+                colors = np.asarray(colors)
+                if colors.ndim != 2 or colors.shape[0] != vertices.shape[0] or colors.shape[1] not in (3, 4):
+                    raise ValueError(f"object {i}: colors must be N x 3 or N x 4 like vertices, found {colors.shape}")
+                colors = np.ascontiguousarray(colors[:, :3], dtype="<f4").tobytes()
             obj["file"] = name
-            meshes.append((name, vertices.tobytes(), faces.tobytes(), normals, uvs))
+            meshes.append((name, vertices.tobytes(), faces.tobytes(), normals, uvs, colors))
         objects.append(obj)
     if objects:
         scene["object"] = objects

@@ -65,7 +65,7 @@ class Animation:
 def load_scene(path: _Path, dialect: Optional[str] = None) -> Scene: ...
 def scene_from_json(
     json: str,
-    meshes: List[Tuple[str, bytes, bytes, Optional[bytes], Optional[bytes]]],
+    meshes: List[Tuple[str, bytes, bytes, Optional[bytes], Optional[bytes], Optional[bytes]]],
     folder: _Path,
 ) -> Scene: ...
 def render(

@@ -26,16 +26,26 @@ fn dialect_named(name: &str) -> PyResult<SceneDialect> {
     })
 }
 
+/// A mesh's arrays as Python hands them over: its name, then little-endian `f32`
+/// vertices, `u32` faces, and optional normals, texture coordinates and colours.
+type MeshArrays = (
+    String,
+    Vec<u8>,
+    Vec<u8>,
+    Option<Vec<u8>>,
+    Option<Vec<u8>>,
+    Option<Vec<u8>>,
+);
+
 /// A scene given as the scene file's schema in JSON text, its mesh objects' arrays
-/// beside it: `(name, vertices, faces, normals, uvs)` with little-endian f32 and u32
+/// beside it: `(name, vertices, faces, normals, uvs, colors)` with little-endian f32 and u32
 /// bytes (`prism.scene_from_dict` makes both from a dict and NumPy arrays).
 #[pyfunction]
 #[pyo3(signature = (json, meshes, folder))]
-#[allow(clippy::type_complexity)]
 pub fn scene_from_json(
     py: Python<'_>,
     json: &str,
-    meshes: Vec<(String, Vec<u8>, Vec<u8>, Option<Vec<u8>>, Option<Vec<u8>>)>,
+    meshes: Vec<MeshArrays>,
     folder: PathBuf,
 ) -> PyResult<Scene> {
     let value: serde_json::Value =
@@ -47,7 +57,7 @@ pub fn scene_from_json(
     };
     let triples = |v: Vec<f32>| v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let mut arrays = std::collections::HashMap::new();
-    for (name, vertices, faces, normals, uvs) in meshes {
+    for (name, vertices, faces, normals, uvs, colors) in meshes {
         let mesh = format::scene_file::ArrayMesh {
             vertices: triples(floats(&vertices)),
             faces: faces
@@ -59,6 +69,7 @@ pub fn scene_from_json(
                 .collect(),
             normals: normals.map(|n| triples(floats(&n))),
             uvs: uvs.map(|t| floats(&t).chunks_exact(2).map(|c| [c[0], c[1]]).collect()),
+            colors: colors.map(|c| triples(floats(&c))),
         };
         arrays.insert(name, mesh);
     }

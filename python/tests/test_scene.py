@@ -155,6 +155,28 @@ def test_a_scene_from_a_dict_with_arrays_equals_the_same_scene_from_files(tmp_pa
     assert (from_arrays.info()["triangles"], from_arrays.info()["spheres"]) == (2, 1)
 
 
+def test_vertex_colours_multiply_the_albedo_as_a_ply_file_s_do(tmp_path):
+    np = pytest.importorskip("numpy")
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=np.float32)
+    faces = np.array([[0, 1, 2], [0, 2, 3]])
+    colors = np.array([[1, 0, 0, 1], [1, 0, 0, 1], [0, 0, 1, 1], [0, 0, 1, 1]], dtype=np.float32)
+    quad = {"vertices": vertices, "faces": faces, "colors": colors}
+    painted = prism.render(prism.scene_from_dict(quad_dict(quad)))
+    (tmp_path / "quad.ply").write_text(
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0 255 0 0\n1 0 0 255 0 0\n1 1 0 0 0 255\n0 1 0 0 0 255\n3 0 1 2\n3 0 2 3\n")
+    from_file = prism.render(prism.scene_from_dict(quad_dict({"file": "quad.ply"}), folder=tmp_path))
+    assert painted.tobytes() == from_file.tobytes()
+    plain = prism.render(prism.scene_from_dict(quad_dict({"vertices": vertices, "faces": faces})))
+    assert painted[12, 16, 1] < plain[12, 16, 1]  # the green of the red paint is gone
+    with pytest.raises(ValueError, match="colors must be N x 3 or N x 4"):
+        prism.scene_from_dict(quad_dict(dict(quad, colors=colors[:2])))
+    with pytest.raises(prism.SceneError, match="colour 0 is not a finite, non-negative"):
+        prism.scene_from_dict(quad_dict(dict(quad, colors=-colors)))
+
+
 def test_scene_dict_errors_name_the_entry():
     with pytest.raises(prism.SceneError, match=r"object\[0\]: `radius = -1`: expected radius > 0"):
         prism.scene_from_dict({"object": [{"type": "sphere", "radius": -1}]})

@@ -69,3 +69,33 @@ class UnitsAgainstCycles(unittest.TestCase):
             background.inputs["Color"].default_value = (0.4, 0.5, 0.6, 1)
             background.inputs["Strength"].default_value = 1.5
         self.check("world", world)
+
+
+class VertexColours(unittest.TestCase):
+    def test_a_colour_attribute_feeding_the_base_colour_tints_as_in_cycles(self):
+        def painted(scene):
+            support.light(scene, "SUN", rotation=(0.2, 0.1, 0), energy=3.0, angle=0)
+            floor = next(o for o in scene.objects if o.type == "MESH")
+            mesh = floor.data
+            colours = mesh.color_attributes.new("Paint", "FLOAT_COLOR", "POINT")
+            # Red on the right, green on the left: linear across the plane, so any
+            # split of the quad into triangles interpolates it alike.
+            for vertex, v in zip(mesh.vertices, colours.data):
+                v.color = (0.9, 0.1, 0.1, 1) if vertex.co.x > 0 else (0.1, 0.8, 0.2, 1)
+            material = floor.data.materials[0]
+            nodes = material.node_tree.nodes
+            attribute = nodes.new("ShaderNodeVertexColor")
+            attribute.layer_name = "Paint"
+            diffuse = next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse")
+            material.node_tree.links.new(attribute.outputs["Color"], diffuse.inputs["Color"])
+
+        scene = support.empty_scene(48, 48)
+        floor = support.lambert_floor(scene, size=6.0)  # past the view: no edge in it
+        support.camera(scene, location=(0, 0, 5), ortho=4.0)
+        painted(scene)
+        cycles = support.render_linear(scene, "CYCLES", 16)[..., :3].reshape(-1, 3).mean(0)
+        prism = support.render_linear(scene, "PRISM", 16)[..., :3].reshape(-1, 3).mean(0)
+        print(f"  vertex colours: Prism {prism}, Cycles {cycles}")
+        np.testing.assert_allclose(prism, cycles, rtol=0.01)
+        self.assertGreater(prism[0], 1.5 * prism[2])  # tinted, not grey
+        del floor

@@ -22,6 +22,8 @@ pub struct ArrayMesh {
     /// One texture coordinate per vertex, v running up the image (as OBJ's do);
     /// `None` when the mesh has none.
     pub uvs: Option<Vec<[f32; 2]>>,
+    /// One linear RGB colour per vertex, multiplied into the albedo; `None` for none.
+    pub colors: Option<Vec<[f32; 3]>>,
 }
 
 impl ArrayMesh {
@@ -52,12 +54,23 @@ impl ArrayMesh {
         for (what, len) in [
             ("normals", self.normals.as_ref().map(Vec::len)),
             ("uvs", self.uvs.as_ref().map(Vec::len)),
+            ("colors", self.colors.as_ref().map(Vec::len)),
         ] {
             if let Some(len) = len
                 && len != n
             {
                 return Err(format!("{len} {what} for {n} vertices: one per vertex"));
             }
+        }
+        if let Some(i) = self
+            .colors
+            .iter()
+            .flatten()
+            .position(|c| !c.iter().all(|v| v.is_finite() && *v >= 0.0))
+        {
+            return Err(format!(
+                "colour {i} is not a finite, non-negative linear RGB"
+            ));
         }
         let mut b = SceneBuilder::new();
         let white = b.add_material(Material::default_white(), Surface::default());
@@ -69,7 +82,11 @@ impl ArrayMesh {
                 .map(|&v| Vec3::from_array(v))
                 .collect(),
             self.uvs.clone().unwrap_or_default(),
-            Vec::new(),
+            self.colors
+                .iter()
+                .flatten()
+                .map(|&c| Vec3::from_array(c))
+                .collect(),
         );
         let positions: Vec<Vec3> = self.vertices.iter().map(|&v| Vec3::from_array(v)).collect();
         b.add_mesh(
@@ -161,6 +178,7 @@ mod tests {
             faces: vec![[0, 1, 2], [0, 2, 3]],
             normals: Some(vec![[0.0, 0.0, 1.0]; 4]),
             uvs: None,
+            colors: None,
         }
     }
 
@@ -234,5 +252,47 @@ mod tests {
         let bad = HashMap::from([("quad".to_string(), bad)]);
         let e = from_value(&json!({}), dir, &bad).unwrap_err().to_string();
         assert_eq!(e, "mesh `quad`: face 1 names vertex 9, past the 4 vertices");
+        let mut bad = quad();
+        bad.colors = Some(vec![
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, -1.0],
+            [1.0; 3],
+        ]);
+        let bad = HashMap::from([("quad".to_string(), bad)]);
+        let e = from_value(&json!({}), dir, &bad).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "mesh `quad`: colour 2 is not a finite, non-negative linear RGB"
+        );
+    }
+
+    #[test]
+    fn vertex_colours_are_interpolated_between_the_corners() {
+        let mut quad = quad();
+        quad.colors = Some(vec![
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, 1.0],
+        ]);
+        let meshes = HashMap::from([("quad".to_string(), quad)]);
+        let f = from_value(
+            &json!({"object": [{"type": "mesh", "file": "quad"}]}),
+            Path::new("/nonexistent"),
+            &meshes,
+        )
+        .unwrap();
+        let s = &f.scene;
+        let ray = crate::math::Ray::new(Vec3::new(0.75, 0.25, 1.0), -Vec3::Z);
+        let accel = crate::accel::Accel::build(crate::accel::AccelKind::List, &s.shapes);
+        let hit = accel.closest(&ray, f32::INFINITY).expect("the quad");
+        let sp = s.surface_point(hit.id(), &ray, hit.t, true);
+        // At (0.75, 0.25): a quarter of the way from the red bottom to the blue top.
+        let c = sp.color;
+        assert!(
+            (c - Vec3::new(0.75, 0.0, 0.25)).abs().max_element() < 1e-6,
+            "{c}"
+        );
     }
 }
