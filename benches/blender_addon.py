@@ -8,7 +8,6 @@ Prints one line a figure. PRISM_PYTHON_PATH defaults to python/ (maturin develop
 """
 
 import os
-import resource
 import sys
 import time
 
@@ -32,12 +31,6 @@ def best_of(n, fn):
         out = fn()
         times.append(time.perf_counter() - started)
     return min(times), out
-
-
-def rss_mb():
-    """The process's resident memory now (MB)."""
-    with open("/proc/self/statm") as f:
-        return int(f.read().split()[1]) * resource.getpagesize() / 2**20
 
 
 def mesh_export():
@@ -91,23 +84,11 @@ def instances():
     graph = support.depsgraph()
     took, made = best_of(1, lambda: export.export(graph, 64, 64, camera_object=scene.camera))
     prism = support.prism()
-    # One placement of the mesh, then all of them: what the instances add.
-    one = dict(made.scene, object=[dict(made.scene["object"][0], type="mesh",
-                                        matrix=made.scene["object"][0]["transforms"][0])])
-    one.pop("transforms", None)
-    del one["object"][0]["transforms"]
-    base = rss_mb()
-    single = prism.scene_from_dict(one)
-    single_mb = rss_mb() - base
-    del single
-    base = rss_mb()
     built, prism_scene = best_of(1, lambda: prism.scene_from_dict(made.scene))
     info = prism_scene.info()
-    grown = rss_mb() - base
     print(f"10^5 geometry-nodes instances of a {info['unique_triangles']:,}-triangle mesh "
-          f"({info['triangles']:,} placed): export {took:.2f} s, Prism scene {built:.2f} s; "
-          f"resident memory: the mesh once {single_mb:.1f} MB, with its 10^5 placements "
-          f"{grown:.1f} MB ({(grown - single_mb) * 2**20 / 1e5:.0f} bytes a placement)")
+          f"({info['triangles']:,} placed): export {took:.2f} s, Prism scene {built:.2f} s "
+          "(memory: benches/instances_memory.py)")
     started = time.perf_counter()
     prism.render(prism_scene, width=320, height=180, integrator="path", spp=1)
     print(f"  rendered 320x180 at 1 spp in {time.perf_counter() - started:.2f} s")

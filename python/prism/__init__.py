@@ -91,8 +91,17 @@ def scene_from_dict(scene: Dict[str, Any], folder: Optional[Path] = None) -> Sce
 
     scene = copy.copy(scene)
     meshes = []
+    placements = []
     objects = []
     for i, obj in enumerate(scene.get("object", []) or []):
+        if isinstance(obj, dict) and isinstance(obj.get("transforms"), np.ndarray):
+            # N x 4 x 4 placements go over as bytes, not numbers in text.
+            matrices = obj["transforms"]
+            if matrices.ndim != 3 or matrices.shape[1:] != (4, 4):
+                raise ValueError(f"object {i}: transforms must be N x 4 x 4, found {matrices.shape}")
+            name = f"<transforms of object {i}>"
+            placements.append((name, np.ascontiguousarray(matrices, dtype="<f8").tobytes()))
+            obj = dict(obj, transforms=name)
         if isinstance(obj, dict) and "vertices" in obj:
             obj = dict(obj)
             name = f"<arrays of object {i}>"
@@ -139,7 +148,9 @@ def scene_from_dict(scene: Dict[str, Any], folder: Optional[Path] = None) -> Sce
         raise TypeError(f"{type(o).__name__} is not a scene value")
 
     text = json.dumps(scene, default=plain)
-    return _prism.scene_from_json(text, meshes, os.fspath(folder) if folder is not None else os.getcwd())
+    return _prism.scene_from_json(
+        text, meshes, os.fspath(folder) if folder is not None else os.getcwd(), placements
+    )
 
 
 def restrict_paths(folder: Path) -> None:

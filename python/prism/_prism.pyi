@@ -67,6 +67,7 @@ def scene_from_json(
     json: str,
     meshes: List[Tuple[str, bytes, bytes, Optional[bytes], Optional[bytes], Optional[bytes]]],
     folder: _Path,
+    transforms: List[Tuple[str, bytes]] = ...,
 ) -> Scene: ...
 def render(
     scene: Scene,

@@ -41,12 +41,13 @@ type MeshArrays = (
 /// beside it: `(name, vertices, faces, normals, uvs, colors)` with little-endian f32 and u32
 /// bytes (`prism.scene_from_dict` makes both from a dict and NumPy arrays).
 #[pyfunction]
-#[pyo3(signature = (json, meshes, folder))]
+#[pyo3(signature = (json, meshes, folder, transforms = Vec::new()))]
 pub fn scene_from_json(
     py: Python<'_>,
     json: &str,
     meshes: Vec<MeshArrays>,
     folder: PathBuf,
+    transforms: Vec<(String, Vec<u8>)>,
 ) -> PyResult<Scene> {
     let value: serde_json::Value =
         serde_json::from_str(json).map_err(|e| PyValueError::new_err(e.to_string()))?;
@@ -73,9 +74,25 @@ pub fn scene_from_json(
         };
         arrays.insert(name, mesh);
     }
+    // Placements as little-endian f64, sixteen a matrix, row by row.
+    let placements = transforms
+        .into_iter()
+        .map(|(name, bytes)| {
+            let matrices = bytes
+                .chunks_exact(128)
+                .map(|m| {
+                    let at = |k: usize| {
+                        f64::from_le_bytes(m[8 * k..8 * k + 8].try_into().expect("8 bytes"))
+                    };
+                    std::array::from_fn(|r| std::array::from_fn(|c| at(4 * r + c)))
+                })
+                .collect();
+            (name, matrices)
+        })
+        .collect();
     let path = folder.join("<scene dict>");
     let file = py
-        .detach(|| format::scene_file::from_value(&value, &folder, &arrays))
+        .detach(|| format::scene_file::from_value(&value, &folder, &arrays, placements))
         .py_err(py)?;
     Ok(Scene {
         path,

@@ -218,3 +218,17 @@ def test_instances_place_a_mesh_by_an_n_by_4_by_4_array_of_transforms():
     # The same picture: instances round their transform to floats, copies place in
     # doubles, so an edge pixel may differ by a hair.
     assert np.abs(a - b).mean() < 1e-3
+    # The array goes over as bytes: the same scene as the matrices written out.
+    listed = scene([quad, {"type": "instance", "of": "quad", "transforms": transforms.tolist()}])
+    assert prism.render(listed).tobytes() == a.tobytes()
+    bad = transforms.copy()
+    bad[2, 3, 0] = 1.0
+    with pytest.raises(prism.SceneError, match="last row of transform 2"):
+        scene([quad, {"type": "instance", "of": "quad", "transforms": bad}])
+    bad[2, 3, 0], bad[1, 0, 0] = 0.0, np.nan
+    with pytest.raises(prism.SceneError, match="finite numbers in transform 1"):
+        scene([quad, {"type": "instance", "of": "quad", "transforms": bad}])
+    with pytest.raises(ValueError, match="transforms must be N x 4 x 4"):
+        scene([quad, {"type": "instance", "of": "quad", "transforms": transforms[:, :3]}])
+    with pytest.raises(prism.SceneError, match="which no array handed over holds"):
+        scene([quad, {"type": "instance", "of": "quad", "transforms": "elsewhere"}])

@@ -6,7 +6,7 @@ use super::images::ImageCache;
 use super::include::Document;
 use super::materials::{self, BuiltMaterial, DEFAULT_COLOR};
 use super::objects::{self, Geometry, place, placement_error};
-use super::raw::{MaterialRef, RawObject, RawTrack};
+use super::raw::{MaterialRef, RawObject, RawTrack, Transforms};
 use super::source::{Source, regular_file};
 use super::transform::Transform;
 use super::{camera, lights, settings, tracks};
@@ -47,6 +47,9 @@ struct Builder {
     warnings: Vec<String>,
     /// Meshes given in memory (Python's arrays), by the `file` name objects use.
     arrays: HashMap<String, Scene>,
+    /// Placements given in memory (Python's arrays), by the `transforms` name
+    /// instance objects use.
+    transforms: HashMap<String, Vec<[[f64; 4]; 4]>>,
     /// Named mesh objects, which instances place by name.
     meshes: HashMap<String, MeshObject>,
 }
@@ -86,9 +89,10 @@ enum Placed {
 
 pub type Built = (Scene, Option<Camera>, RenderOptions, Vec<String>);
 
-pub fn build(documents: &[Document], arrays: HashMap<String, Scene>) -> Result<Built> {
+pub fn build(documents: &[Document], given: super::InMemory) -> Result<Built> {
     let mut b = Builder {
-        arrays,
+        arrays: given.meshes,
+        transforms: given.transforms,
         ..Builder::default()
     };
     for doc in documents {
@@ -464,19 +468,44 @@ impl Builder {
         let placements: Vec<glam::DMat4> = match &o.transforms {
             None => vec![t.matrix()],
             Some(list) => {
-                if list.get_ref().len() > crate::util::limits::MAX_INSTANCES {
+                let rows_of: Vec<[[f64; 4]; 4]>;
+                let matrices: &[[[f64; 4]; 4]] = match list.get_ref() {
+                    Transforms::Listed(m) => {
+                        rows_of = m.iter().map(|m| m.map(|row| row.map(|n| n.0))).collect();
+                        &rows_of
+                    }
+                    Transforms::Named(name) => self.transforms.get(name).ok_or_else(|| {
+                        source.error(
+                            list,
+                            format!(
+                                "expected transforms as a list of 4 x 4 matrices, found the \
+                                 name \"{name}\", which no array handed over holds"
+                            ),
+                        )
+                    })?,
+                };
+                if matrices.len() > crate::util::limits::MAX_INSTANCES {
                     return Err(source.error(
                         list,
                         format!(
                             "expected at most {} transforms, found {}",
                             crate::util::limits::MAX_INSTANCES,
-                            list.get_ref().len()
+                            matrices.len()
                         ),
                     ));
                 }
-                let mut out = Vec::with_capacity(list.get_ref().len());
-                for (k, m) in list.get_ref().iter().enumerate() {
-                    let rows = m.map(|row| row.map(|n| n.0));
+                let mut out = Vec::with_capacity(matrices.len());
+                for (k, &rows) in matrices.iter().enumerate() {
+                    if !rows
+                        .iter()
+                        .flatten()
+                        .all(|v| v.is_finite() && v.abs() <= 1e30)
+                    {
+                        return Err(source.error(
+                            list,
+                            format!("expected finite numbers in transform {k}, found {rows:?}"),
+                        ));
+                    }
                     if rows[3] != [0.0, 0.0, 0.0, 1.0] {
                         return Err(source.error(
                             list,

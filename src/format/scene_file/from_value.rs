@@ -106,6 +106,7 @@ pub fn from_value(
     value: &serde_json::Value,
     folder: &Path,
     meshes: &HashMap<String, ArrayMesh>,
+    transforms: HashMap<String, Vec<[[f64; 4]; 4]>>,
 ) -> Result<SceneFile> {
     let origin = folder.join("<scene dict>");
     let data = |place: String, message: String| Error::Data {
@@ -125,7 +126,11 @@ pub fn from_value(
             .map_err(|e| data(format!("mesh {}", crate::util::text::shown(name)), e))?;
         scenes.insert(name.clone(), scene);
     }
-    parse_with_meshes(&text, &origin, scenes).map_err(|e| match e {
+    let given = super::InMemory {
+        meshes: scenes,
+        transforms,
+    };
+    parse_with_meshes(&text, &origin, given).map_err(|e| match e {
         Error::ParseAt {
             path,
             line,
@@ -202,7 +207,7 @@ mod tests {
             })
         };
         let meshes = HashMap::from([("quad".to_string(), quad())]);
-        let a = from_value(&scene("quad"), dir.path(), &meshes).unwrap();
+        let a = from_value(&scene("quad"), dir.path(), &meshes, HashMap::new()).unwrap();
         let text = toml::to_string(&scene("quad.obj")).unwrap();
         let path = dir.path().join("scene.toml");
         std::fs::write(&path, text).unwrap();
@@ -232,6 +237,7 @@ mod tests {
             &json!({"object": [{"type": "sphere", "radius": -1}]}),
             dir,
             &meshes,
+            HashMap::new(),
         )
         .unwrap_err()
         .to_string();
@@ -243,6 +249,7 @@ mod tests {
             &json!({"object": [{"type": "sphere", "radius": null}]}),
             dir,
             &meshes,
+            HashMap::new(),
         )
         .unwrap_err()
         .to_string();
@@ -250,7 +257,9 @@ mod tests {
         let mut bad = quad();
         bad.faces[1] = [0, 2, 9];
         let bad = HashMap::from([("quad".to_string(), bad)]);
-        let e = from_value(&json!({}), dir, &bad).unwrap_err().to_string();
+        let e = from_value(&json!({}), dir, &bad, HashMap::new())
+            .unwrap_err()
+            .to_string();
         assert_eq!(e, "mesh `quad`: face 1 names vertex 9, past the 4 vertices");
         let mut bad = quad();
         bad.colors = Some(vec![
@@ -260,7 +269,9 @@ mod tests {
             [1.0; 3],
         ]);
         let bad = HashMap::from([("quad".to_string(), bad)]);
-        let e = from_value(&json!({}), dir, &bad).unwrap_err().to_string();
+        let e = from_value(&json!({}), dir, &bad, HashMap::new())
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             e,
             "mesh `quad`: colour 2 is not a finite, non-negative linear RGB"
@@ -281,6 +292,7 @@ mod tests {
             &json!({"object": [{"type": "mesh", "file": "quad"}]}),
             Path::new("/nonexistent"),
             &meshes,
+            HashMap::new(),
         )
         .unwrap();
         let s = &f.scene;

@@ -49,18 +49,25 @@ pub fn load(path: &Path) -> Result<SceneFile> {
 /// Parses `text` as the scene file at `path`: the files it includes and names (meshes,
 /// images, a `.cmr`) are read from disk relative to `path`'s folder.
 pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
-    parse_with_meshes(text, path, Default::default())
+    parse_with_meshes(text, path, InMemory::default())
 }
 
-/// [`parse`] where objects of type `mesh` may name, as their `file`, one of `meshes`
-/// (scenes built in memory: arrays from Python) instead of a file on disk.
-pub fn parse_with_meshes(
-    text: &str,
-    path: &Path,
-    meshes: std::collections::HashMap<String, crate::scene::Scene>,
-) -> Result<SceneFile> {
+/// What a scene given as data carries beside its text (Python's arrays), by the names
+/// its objects use: meshes for a `file`, placements for an instance's `transforms`.
+#[derive(Default)]
+pub struct InMemory {
+    /// Scenes built in memory, named as a mesh object's `file`.
+    pub meshes: std::collections::HashMap<String, crate::scene::Scene>,
+    /// Placements (row-major affine 4 x 4 matrices), named as an instance's
+    /// `transforms`.
+    pub transforms: std::collections::HashMap<String, Vec<[[f64; 4]; 4]>>,
+}
+
+/// [`parse`] where objects may name, as their `file` or `transforms`, what `given`
+/// holds in memory instead of a file on disk or a list in the text.
+pub fn parse_with_meshes(text: &str, path: &Path, given: InMemory) -> Result<SceneFile> {
     let documents = include::read_all(text.to_owned(), path)?;
-    let (scene, camera, settings, warnings) = build::build(&documents, meshes)?;
+    let (scene, camera, settings, warnings) = build::build(&documents, given)?;
     Ok(SceneFile {
         dialect: SceneDialect::PrismScene,
         scene,

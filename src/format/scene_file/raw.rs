@@ -99,8 +99,37 @@ pub struct RawObject {
     /// Instances: the name of the mesh object they place.
     pub of: S<String>,
     /// Instances: one placement each, a row-major affine 4 x 4 matrix applied before
-    /// the object's own transform.
-    pub transforms: S<Vec<[[Num; 4]; 4]>>,
+    /// the object's own transform; or the name of matrices handed over in memory.
+    pub transforms: S<Transforms>,
+}
+
+/// An instance object's placements: written out, or named (Python's arrays).
+pub enum Transforms {
+    Listed(Vec<[[Num; 4]; 4]>),
+    Named(String),
+}
+
+impl<'de> Deserialize<'de> for Transforms {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Transforms;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a list of 4 x 4 matrices")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Transforms, E> {
+                Ok(Transforms::Named(v.to_owned()))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> Result<Transforms, A::Error> {
+                Deserialize::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(Transforms::Listed)
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 impl RawObject {

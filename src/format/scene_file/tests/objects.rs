@@ -263,6 +263,24 @@ fn instances_place_a_named_mesh_by_their_transforms() {
     );
     let e = dir.error("[[object]]\ntype = \"instance\"\n");
     assert!(e.contains("an instance needs `of` or `file`"), "{e}");
+    // Transforms are matrices: 3 x 3 is too few, a number is none, and a name only
+    // names arrays handed over in memory (Python's).
+    let tri = "[[object]]\nname = \"tri\"\ntype = \"mesh\"\nfile = \"tri.obj\"\n\
+               [[object]]\ntype = \"instance\"\nof = \"tri\"\n";
+    for (transforms, says) in [
+        (
+            "[[[1, 0, 0], [0, 1, 0], [0, 0, 1]]]",
+            "invalid length 3, expected an array of length 4",
+        ),
+        ("5", "expected a list of 4 x 4 matrices"),
+        (
+            "\"trees\"",
+            "found the name \"trees\", which no array handed over holds",
+        ),
+    ] {
+        let e = dir.error(&format!("{tri}transforms = {transforms}\n"));
+        assert!(e.contains(says), "{transforms}: {e}");
+    }
 }
 
 /// An instance of a `file` holds the mesh without placing it anywhere else; a later

@@ -107,6 +107,7 @@ fn a_scene_given_as_data_takes_openpbr_materials() {
         &value,
         dir.dir.path(),
         &std::collections::HashMap::new(),
+        std::collections::HashMap::new(),
     )
     .unwrap();
     let p = f.scene.surfaces[0].openpbr.as_ref().unwrap();
