@@ -68,14 +68,7 @@ def render_linear(scene, engine, samples=64):
         bpy.ops.render.render(write_still=True)
         if not os.path.isfile(path):
             raise AssertionError(f"{engine} wrote no image")
-        image = bpy.data.images.load(path)
-        try:
-            w, h = image.size
-            pixels = np.empty(w * h * 4, dtype=np.float32)
-            image.pixels.foreach_get(pixels)
-        finally:
-            bpy.data.images.remove(image)
-    return pixels.reshape(h, w, 4)[::-1]
+        return read_image(path)
 
 
 def lambert_floor(scene, size=40.0, color=(0.8, 0.8, 0.8)):
