@@ -266,6 +266,7 @@ class ViewportSession:
         self.camera = None
         self.size = None
         self.image = None
+        self.texture = None  # (the image it shows, the GPU texture)
         self.lock = threading.Lock()
         self.passes = None
         self.thread = None
@@ -368,10 +369,12 @@ class ViewportSession:
         import gpu
         from gpu_extras.presets import draw_texture_2d
 
-        h, w, _ = image.shape
-        rgba = rgba_rows(image)
-        buffer = gpu.types.Buffer("FLOAT", w * h * 4, rgba.ravel())
-        texture = gpu.types.GPUTexture((w, h), format="RGBA16F", data=buffer)
+        # A texture is made once a pass: Blender redraws far more often than passes land.
+        if self.texture is None or self.texture[0] is not image:
+            h, w, _ = image.shape
+            rgba = rgba_rows(image)
+            buffer = gpu.types.Buffer("FLOAT", w * h * 4, rgba.ravel())
+            self.texture = (image, gpu.types.GPUTexture((w, h), format="RGBA16F", data=buffer))
         self.engine.bind_display_space_shader(scene)
-        draw_texture_2d(texture, (0, 0), size[0], size[1])
+        draw_texture_2d(self.texture[1], (0, 0), size[0], size[1])
         self.engine.unbind_display_space_shader()
