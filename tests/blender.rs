@@ -34,7 +34,8 @@ fn blender_suite() {
     };
     build_extension(&venv);
     let repo = common::repo();
-    let status = Command::new(&blender)
+    let mut suite = Command::new(&blender);
+    suite
         .args([
             "-b",
             "--factory-startup",
@@ -42,15 +43,24 @@ fn blender_suite() {
             "1",
             "--python",
         ])
-        .arg(repo.join("tests/blender/run.py"))
+        .arg(repo.join("tests/blender/run.py"));
+    passes(&repo, suite, "the Blender add-on's tests");
+    viewport(&repo, &blender);
+    bpy_module_suite(&repo);
+}
+
+/// Runs `command` with the `prism` package of `python/` and fails the test, naming
+/// `what`, unless it succeeds (its output says why).
+fn passes(repo: &std::path::Path, mut command: Command, what: &str) {
+    let status = command
         .env("PRISM_PYTHON_PATH", repo.join("python"))
         .status()
-        .expect("blender runs");
-    assert!(
-        status.success(),
-        "the Blender add-on's tests failed (see above)"
-    );
+        .unwrap_or_else(|e| panic!("{what} could not start: {e}"));
+    assert!(status.success(), "{what} failed (see above)");
+}
 
+/// The viewport's test: Blender with its interface under Xvfb.
+fn viewport(repo: &std::path::Path, blender: &std::path::Path) {
     if !runs(std::path::Path::new("xvfb-run"), &["--help"]) {
         return skipped(
             "blender_suite's viewport test",
@@ -58,19 +68,14 @@ fn blender_suite() {
         );
     }
     let screenshots = tempfile::tempdir().expect("a temporary folder");
-    let status = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
-        .arg(&blender)
+    let mut test = Command::new("xvfb-run");
+    test.args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(blender)
         .args(["--factory-startup", "--python"])
         .arg(repo.join("tests/blender/viewport.py"))
         .arg("--")
-        .arg(screenshots.path())
-        .env("PRISM_PYTHON_PATH", repo.join("python"))
-        .status()
-        .expect("xvfb-run runs");
-    assert!(status.success(), "the viewport test failed (see above)");
-
-    bpy_module_suite(&repo);
+        .arg(screenshots.path());
+    passes(repo, test, "the viewport test");
 }
 
 /// The same suite on Blender as a Python module (PyPI's `bpy`, a newer Blender than
@@ -91,13 +96,7 @@ fn bpy_module_suite(repo: &std::path::Path) {
             ),
         );
     }
-    let status = Command::new(&python)
-        .arg(repo.join("tests/blender/run.py"))
-        .env("PRISM_PYTHON_PATH", repo.join("python"))
-        .status()
-        .expect("python runs");
-    assert!(
-        status.success(),
-        "the Blender add-on's tests failed on PyPI's bpy (see above)"
-    );
+    let mut suite = Command::new(&python);
+    suite.arg(repo.join("tests/blender/run.py"));
+    passes(repo, suite, "the Blender add-on's tests on PyPI's bpy");
 }

@@ -305,6 +305,8 @@ class ViewportSession:
             image = self.image
         if image is not None:
             self._draw_image(depsgraph.scene, image, size)
+        if self.error:
+            self.engine.update_stats("", f"Prism: {self.error}")
         if not self.done:
             self.engine.tag_redraw()
 

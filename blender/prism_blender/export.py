@@ -100,22 +100,26 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
     materials = {}  # name -> scene-file material
     vertex_colors = {}  # material name -> the colour attribute it reads
     lights = []
+
+    def material_name(material):
+        """The name a slot's material goes by, converted the first time it is met."""
+        name = material.name if material is not None else DEFAULT_MATERIAL
+        if name not in materials:
+            params = material_export.material_dict(material, images, warn)
+            reads = params.pop(material_export.VERTEX_COLORS, None)
+            materials[name] = params
+            if reads is not None:
+                vertex_colors[name] = reads
+        return name
+
     for inst in depsgraph.object_instances:
         obj = inst.object
         if obj.type in GEOMETRY:
             slots = _slot_materials(obj)
             key = _mesh_key(obj, inst.is_instance) + (_names(slots),)
             if key not in meshes:
-                for material in slots:
-                    name = material.name if material is not None else DEFAULT_MATERIAL
-                    if name not in materials:
-                        params = material_export.material_dict(material, images, warn)
-                        reads = params.pop(material_export.VERTEX_COLORS, None)
-                        materials[name] = params
-                        if reads is not None:
-                            vertex_colors[name] = reads
-                wanted = [vertex_colors[m.name] for m in slots
-                          if m is not None and m.name in vertex_colors]
+                names = [material_name(m) for m in slots]
+                wanted = [vertex_colors[n] for n in names if n in vertex_colors]
                 attribute = wanted[0] if wanted else None
                 if len(set(wanted)) > 1:
                     warn(f"object {obj.name}: its materials read different colour attributes; "
@@ -144,10 +148,7 @@ def export(depsgraph, width, height, camera_object=None, view=None, settings=Non
     for key, (parts, slots) in meshes.items():
         matrices = placements[key]
         for part in parts:
-            material = slots[part.slot] if part.slot < len(slots) else None
-            name = material.name if material is not None else DEFAULT_MATERIAL
-            if name not in materials:
-                materials[name] = material_export.material_dict(material, images, warn)
+            name = material_name(slots[part.slot] if part.slot < len(slots) else None)
             objects.append(_placed(part, name, matrices, name in vertex_colors))
             triangles += part.triangles * len(matrices)
 

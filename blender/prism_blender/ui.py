@@ -15,16 +15,21 @@ _GENERIC = (
 )
 
 
-class PRISM_PT_render(bpy.types.Panel):
-    bl_label = "Prism"
+class _PrismPanel:
+    """A Properties editor panel shown while Prism is the render engine."""
+
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
-    bl_context = "render"
     COMPAT_ENGINES = {"PRISM"}
 
     @classmethod
     def poll(cls, context):
         return context.engine in cls.COMPAT_ENGINES
+
+
+class PRISM_PT_render(_PrismPanel, bpy.types.Panel):
+    bl_label = "Prism"
+    bl_context = "render"
 
     def draw(self, context):
         layout = self.layout
@@ -46,19 +51,16 @@ class PRISM_PT_render(bpy.types.Panel):
         layout.prop(context.scene.render, "film_transparent")
 
 
-class PRISM_PT_object_visibility(bpy.types.Panel):
+class PRISM_PT_object_visibility(_PrismPanel, bpy.types.Panel):
     """What Blender's Cycles-only visibility panel holds that Prism reads."""
 
     bl_label = "Prism Visibility"
-    bl_space_type = "PROPERTIES"
-    bl_region_type = "WINDOW"
     bl_context = "object"
     bl_options = {"DEFAULT_CLOSED"}
-    COMPAT_ENGINES = {"PRISM"}
 
     @classmethod
     def poll(cls, context):
-        return context.engine in cls.COMPAT_ENGINES and context.object is not None
+        return super().poll(context) and context.object is not None
 
     def draw(self, context):
         layout = self.layout
