@@ -9,6 +9,7 @@
 //! fixed order of dimensions, so the image does not depend on threads or passes.
 
 mod environment;
+mod interior;
 mod lanes;
 mod subsurface;
 #[cfg(test)]
@@ -50,6 +51,9 @@ pub struct Path<'a> {
     weighing: Weighing,
     /// Whether a pixel's samples may be traced side by side ([`Path::lanes_apply`]).
     lanes: Option<lanes::LaneScene>,
+    /// The scattering medium inside each surface, by material (empty where none has
+    /// one).
+    interiors: Vec<Option<super::bsdf::medium::Medium>>,
 }
 
 /// How the light that both a light's samples and the BSDF's can find is shared between
@@ -116,6 +120,7 @@ impl<'a> Path<'a> {
             environment: Environment::of(scene),
             weighing: Weighing::PowerHeuristic,
             lanes: Path::lanes_apply(scene, surfaces),
+            interiors: interior::interiors(surfaces),
         }
     }
 
@@ -167,6 +172,38 @@ impl<'a> Path<'a> {
         sampler: &mut PixelSampler,
         count: &mut RayCount,
     ) -> bool {
+        count.rays += 1;
+        // Without cut-outs the closest hit is the surface, and its shading point is
+        // made in place below: passed through an `Option` it was copied, two hundred
+        // bytes a vertex.
+        let (hit, mut cut_point) = if self.cuts_out {
+            match first_uncut(self.scene, self.accel, self.surfaces, &path.ray, Some(hit)) {
+                Some((hit, sp)) => (Some(hit), Some(sp)),
+                None => (None, None),
+            }
+        } else {
+            (hit, None)
+        };
+        // A ray that meets a solid from inside crossed its medium, and where that
+        // scatters the ray may not get there.
+        let mut crossed = false;
+        if let Some(h) = hit
+            && let Some(medium) = self.interior(h.id())
+        {
+            let sp = cut_point.take().unwrap_or_else(|| {
+                let s = self.surface(h.id());
+                let ray = &path.ray;
+                self.scene
+                    .surface_point(h.id(), ray, h.t, s.reads_texture_coords())
+            });
+            if path.ray.dir.dot(sp.ng) >= 0.0 {
+                match self.cross(path, medium, h.t, sampler) {
+                    interior::Crossing::Scattered(goes_on) => return goes_on,
+                    interior::Crossing::Reached => crossed = true,
+                }
+            }
+            cut_point = Some(sp);
+        }
         let PathState {
             ray,
             l,
@@ -174,19 +211,8 @@ impl<'a> Path<'a> {
             last,
             channel,
             depth,
+            ..
         } = path;
-        count.rays += 1;
-        // Without cut-outs the closest hit is the surface, and its shading point is
-        // made in place below: passed through an `Option` it was copied, two hundred
-        // bytes a vertex.
-        let (hit, cut_point) = if self.cuts_out {
-            match first_uncut(self.scene, self.accel, self.surfaces, ray, Some(hit)) {
-                Some((hit, sp)) => (Some(hit), Some(sp)),
-                None => (None, None),
-            }
-        } else {
-            (hit, None)
-        };
         let t_scene = hit.map_or(f32::INFINITY, |h| h.t);
         if let Some((light, t, normal)) = self.shaped_light_hit(ray, t_scene, *depth == 0) {
             let le = light.color * light.intensity;
@@ -228,7 +254,7 @@ impl<'a> Path<'a> {
         } else {
             (-sp.ng, -mapped)
         };
-        if !entering && s.absorption != Vec3::ZERO {
+        if !entering && !crossed && s.absorption != Vec3::ZERO {
             *beta *= (-s.absorption * hit.t).exp();
         }
         if entering && s.emission != Vec3::ZERO {
@@ -469,6 +495,8 @@ struct PathState {
     channel: Option<usize>,
     /// Scatterings so far.
     depth: u32,
+    /// Scatterings inside media so far (not counted in `depth`).
+    flights: u32,
 }
 
 impl PathState {
@@ -480,6 +508,7 @@ impl PathState {
             last: None,
             channel: None,
             depth: 0,
+            flights: 0,
         }
     }
 

@@ -9,10 +9,10 @@
 pub mod albedo;
 mod diffuse;
 mod fuzz;
+pub mod medium;
 pub mod microfacet;
 pub mod openpbr;
 mod phong;
-pub mod subsurface;
 mod thin_film;
 
 pub use openpbr::{OpenPbrBsdf, Params};
@@ -218,7 +218,7 @@ impl Bsdf {
 
     /// The medium under the surface that [`Bsdf::sample`] may send light into.
     #[inline]
-    pub fn medium(&self) -> Option<subsurface::Medium> {
+    pub fn medium(&self) -> Option<medium::Medium> {
         match self {
             Bsdf::Phong(_) => None,
             Bsdf::OpenPbr(f) => f.local.medium(),

@@ -17,8 +17,8 @@
 
 use super::albedo::{self, refract_about};
 use super::diffuse::eon;
+use super::medium::Medium;
 use super::microfacet::Ggx;
-use super::subsurface::Medium;
 use super::{Sampled, cosine_hemisphere};
 use crate::math::Vec3;
 use crate::render::optics::fresnel_dielectric;

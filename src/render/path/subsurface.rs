@@ -7,12 +7,11 @@
 //! (so a path that dispersion left with one channel keeps to it) and draws a free
 //! flight by that channel's extinction; the step is weighed by the channels' densities
 //! mixed in the same shares (one-sample MIS over the channels, as Cycles and pbrt-v4
-//! walk a coloured medium), which is unbiased and keeps the sum of the channels'
-//! weights from growing along the walk.
+//! walk a coloured medium): [`Medium::flight`] and [`Medium::weigh`].
 
 use super::{Bsdf, Path, PathState};
 use crate::math::{Ray, Vec3, offset_origin};
-use crate::render::bsdf::subsurface::Medium;
+use crate::render::bsdf::medium::Medium;
 use crate::render::bsdf::{PhongBsdf, Terms};
 use crate::render::{PixelSampler, RayCount};
 use crate::scene::ShapeId;
@@ -67,43 +66,13 @@ impl Path<'_> {
         sampler: &mut PixelSampler,
         count: &mut RayCount,
     ) -> Option<(Ray, f32, ShapeId)> {
-        let sigma_t = medium.sigma_t;
         for _ in 0..MAX_WALK_STEPS {
-            // The channel whose extinction draws the flight, chosen by the share of
-            // the path's throughput it carries: the flight's density is then the
-            // throughput-weighed mean of the channels', and the sum of the channels'
-            // weights cannot grow from step to step.
-            let beta = path.beta;
-            let total = beta.x + beta.y + beta.z;
-            if !(total > 0.0 && total.is_finite()) {
-                return None;
-            }
-            let u = sampler.next_f32() * total;
-            let c = if u < beta.x {
-                0
-            } else if u < beta.x + beta.y || beta.z <= 0.0 {
-                1
-            } else {
-                2
-            };
-            let flight = -(1.0 - sampler.next_f32()).ln() / sigma_t[c];
+            let (u, v) = (sampler.next_f32(), sampler.next_f32());
+            let flight = medium.flight(path.beta, u, v)?;
             count.rays += 1;
             let hit = self.accel.closest(&ray, flight);
             let t = hit.map_or(flight, |h| h.t);
-            let tr = (-sigma_t * t).exp();
-            // Leaving: the chance of flying this far; scattering: the density of
-            // stopping here, times what scatters.
-            let (chance, kept) = match hit {
-                Some(_) => (beta.dot(tr), tr),
-                None => (beta.dot(sigma_t * tr), medium.sigma_s() * tr),
-            };
-            if chance.is_nan() || chance <= 0.0 {
-                return None;
-            }
-            path.beta = beta * kept * (total / chance);
-            if !path.beta.is_finite() || path.beta.max_element() <= 0.0 {
-                return None;
-            }
+            path.beta = medium.weigh(path.beta, t, hit.is_none())?;
             if let Some(hit) = hit {
                 return Some((ray, hit.t, hit.id()));
             }
