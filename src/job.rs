@@ -381,6 +381,7 @@ pub fn resolve(file: SceneFile, options: &JobOptions) -> Result<Job> {
         integrator,
         max_depth: o.max_depth.unwrap_or(integrator.default_max_depth()),
         min_weight: o.min_weight.unwrap_or(crate::render::DEFAULT_MIN_WEIGHT),
+        light_sampling: o.light_sampling.unwrap_or_default(),
         max_memory: options.max_memory,
     };
     let denoise = o.denoise.unwrap_or(false);

@@ -51,6 +51,8 @@ pub struct RenderOptions {
     pub max_depth: Option<u32>,
     /// Rays whose weight falls below this are not traced (whitted model), in 0..1.
     pub min_weight: Option<f32>,
+    /// How many shadow rays a path vertex traces (path model).
+    pub light_sampling: Option<LightSampling>,
     /// Exposure in stops for display formats (+1 doubles the light).
     pub exposure: Option<f32>,
     /// How display formats bring radiance above 1 into range.
@@ -79,6 +81,7 @@ impl RenderOptions {
             integrator: self.integrator.or(lower.integrator),
             max_depth: self.max_depth.or(lower.max_depth),
             min_weight: self.min_weight.or(lower.min_weight),
+            light_sampling: self.light_sampling.or(lower.light_sampling),
             exposure: self.exposure.or(lower.exposure),
             tonemap: self.tonemap.or(lower.tonemap),
             denoise: self.denoise.or(lower.denoise),
@@ -250,6 +253,70 @@ impl std::str::FromStr for Region {
                 shown(s)
             )),
         }
+    }
+}
+
+/// How the path model gathers light from lights at a vertex. Either way every light
+/// (and the environment) is sampled and weighed against the BSDF's own samples; they
+/// differ in the shadow rays traced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightSampling {
+    /// `all` up to [`LightSampling::AUTO_ALL_UP_TO`] lights, `one` above.
+    #[default]
+    Auto,
+    /// A shadow ray toward every light's sample: the least noise a sample, and work
+    /// that grows with the number of lights.
+    All,
+    /// One shadow ray a vertex, toward one of the lights' samples chosen in proportion
+    /// to its unshadowed contribution and weighed by the odds of the choice (resampled
+    /// importance sampling over the lights): unbiased, and as many shadow rays with a
+    /// thousand lights as with one.
+    One,
+}
+
+impl LightSampling {
+    /// Every choice, in the order messages list them.
+    pub const ALL: [LightSampling; 3] =
+        [LightSampling::Auto, LightSampling::All, LightSampling::One];
+
+    /// Scenes of at most this many lights trace a shadow ray toward each under `auto`.
+    pub const AUTO_ALL_UP_TO: usize = 16;
+
+    /// The name front ends accept and print; parsed back by `FromStr`.
+    pub fn name(self) -> &'static str {
+        match self {
+            LightSampling::Auto => "auto",
+            LightSampling::All => "all",
+            LightSampling::One => "one",
+        }
+    }
+
+    /// Whether a scene of `lights` lights traces one shadow ray a vertex.
+    pub fn traces_one(self, lights: usize) -> bool {
+        match self {
+            LightSampling::Auto => lights > LightSampling::AUTO_ALL_UP_TO,
+            LightSampling::All => false,
+            LightSampling::One => true,
+        }
+    }
+}
+
+impl fmt::Display for LightSampling {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for LightSampling {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<LightSampling, String> {
+        by_name(
+            s,
+            &LightSampling::ALL,
+            LightSampling::name,
+            "light sampling",
+        )
     }
 }
 

@@ -22,6 +22,17 @@ class PrismRenderSettings(bpy.types.PropertyGroup):
     max_bounces: bpy.props.IntProperty(
         name="Max Bounces", description="Bounces of a path at most", default=12, min=0,
         max=1024)
+    light_sampling: bpy.props.EnumProperty(
+        name="Light Sampling",
+        description="Shadow rays a path traces at each bounce",
+        items=[
+            ("auto", "Auto", "A shadow ray toward every light up to 16 lights, one above"),
+            ("all", "All Lights", "A shadow ray toward every light: the least noise a sample"),
+            ("one", "One Light", "One shadow ray, toward a light chosen by its contribution: "
+             "as fast with many lights as with one"),
+        ],
+        default="auto",
+    )
     seed: bpy.props.IntProperty(
         name="Seed", description="Seed of the samples: the same seed gives the same image",
         default=0, min=0)
@@ -37,6 +48,8 @@ def job_settings(scene, viewport=False):
            "max_depth": s.max_bounces, "seed": s.seed}
     if s.integrator == "whitted":
         out["max_depth"] = min(s.max_bounces, 64)
+    elif s.light_sampling != "auto":
+        out["light_sampling"] = s.light_sampling
     return out
 
 

@@ -46,6 +46,8 @@ class PRISM_PT_render(_PrismPanel, bpy.types.Panel):
         col.prop(settings, "samples", text="Render Samples")
         col.prop(settings, "preview_samples", text="Viewport Samples")
         layout.prop(settings, "max_bounces")
+        if settings.integrator == "path":
+            layout.prop(settings, "light_sampling")
         layout.prop(settings, "seed")
         layout.prop(settings, "denoise")
         layout.prop(context.scene.render, "film_transparent")

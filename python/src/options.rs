@@ -57,6 +57,7 @@ pub fn job_options(
             "threads" => o.threads = Some(value.extract()?),
             "max_depth" => o.render.max_depth = Some(value.extract()?),
             "min_weight" => o.render.min_weight = Some(value.extract()?),
+            "light_sampling" => o.render.light_sampling = Some(parse(&value)?),
             "max_memory" => {
                 o.max_memory = Some(match value.extract::<String>() {
                     Ok(text) => {

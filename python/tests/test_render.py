@@ -36,10 +36,11 @@ def test_shapes_and_dtypes(example):
     (EXAMPLE, EXAMPLE_CMR, dict(width=120, aa=2)),
     (SHOWCASE, None, dict(width=96, height=54, seed=3)),
     (SHOWCASE, None, dict(width=64, spp=2, exposure=1.5, tonemap="aces")),
+    (SHOWCASE, None, dict(width=64, height=36, spp=2, integrator="path", light_sampling="one")),
 ])
 def test_pixels_equal_the_command_line(prism_bin, tmp_path, scene_path, camera, options):
     cli_args = [scene_path] + ([camera] if camera else [])
-    flags = [x for k, v in options.items() for x in (f"--{k}", v)]
+    flags = [x for k, v in options.items() for x in (f"--{k.replace('_', '-')}", v)]
     run_cli(prism_bin, "render", *cli_args, tmp_path / "cli.ppm", *flags)
     run_cli(prism_bin, "render", *cli_args, tmp_path / "cli.png", *flags)
     scene = prism.load_scene(scene_path)
@@ -52,6 +53,18 @@ def test_pixels_equal_the_command_line(prism_bin, tmp_path, scene_path, camera, 
                       exposure=plan["exposure"], tonemap=plan["tonemap"],
                       transfer=plan["transfer"])
     assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+
+
+def test_one_shadow_ray_a_bounce_renders_the_same_light_with_other_noise():
+    scene = prism.load_scene(SHOWCASE)
+    options = dict(width=48, height=27, spp=16, integrator="path")
+    every = prism.render(scene, **options, light_sampling="all")
+    one = prism.render(scene, **options, light_sampling="one")
+    assert not same_bits(every, one)
+    assert abs(one.mean() / every.mean() - 1) < 0.05
+    assert same_bits(every, prism.render(scene, **options))  # two lights: auto is all
+    with pytest.raises(ValueError, match="unknown light sampling"):
+        prism.render(scene, **options, light_sampling="some")
 
 
 def test_look_at_camera_equals_the_command_line(prism_bin, tmp_path):

@@ -437,7 +437,8 @@ impl<'a> Renderer<'a> {
             }
             IntegratorKind::Path => {
                 let surfaces = self.scene.resolved_surfaces();
-                let path = Path::new(self.scene, accel, &surfaces, plan.max_depth);
+                let path = Path::new(self.scene, accel, &surfaces, plan.max_depth)
+                    .light_sampling(plan.light_sampling);
                 self.render_frame(&path, accel, start, observer, pass)
             }
         }

@@ -21,6 +21,7 @@ use super::cut_outs::{MAX_CUT_OUTS, first_uncut};
 use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
+use crate::options::LightSampling;
 use crate::scene::{Light, LightKind, Scene, ShapeId, Surface, SurfacePoint};
 use environment::Environment;
 
@@ -54,6 +55,9 @@ pub struct Path<'a> {
     /// The scattering medium inside each surface, by material (empty where none has
     /// one).
     interiors: Vec<Option<super::bsdf::medium::Medium>>,
+    /// Whether a vertex traces one shadow ray, toward a light sample chosen by its
+    /// contribution, instead of one toward each ([`LightSampling`]).
+    one_shadow_ray: bool,
 }
 
 /// How the light that both a light's samples and the BSDF's can find is shared between
@@ -109,6 +113,7 @@ impl<'a> Path<'a> {
                 _ => {}
             }
         }
+        let one_shadow_ray = LightSampling::default().traces_one(scene.lights.len());
         Path {
             scene,
             accel,
@@ -119,9 +124,20 @@ impl<'a> Path<'a> {
             cuts_out: surfaces.iter().any(|s| s.alpha_map.is_some()),
             environment: Environment::of(scene),
             weighing: Weighing::PowerHeuristic,
-            lanes: Path::lanes_apply(scene, surfaces),
+            lanes: Path::lanes_apply(scene, surfaces).filter(|_| !one_shadow_ray),
             interiors: interior::interiors(surfaces),
+            one_shadow_ray,
         }
+    }
+
+    /// The same integrator tracing the shadow rays `how` says. One shadow ray a vertex
+    /// is the path at a time's alone: the vectorised lanes trace one toward each light.
+    pub fn light_sampling(mut self, how: LightSampling) -> Path<'a> {
+        self.one_shadow_ray = how.traces_one(self.scene.lights.len());
+        if self.one_shadow_ray {
+            self.lanes = None;
+        }
+        self
     }
 
     /// The same integrator weighing the two strategies by `weighing`.
@@ -362,51 +378,118 @@ impl<'a> Path<'a> {
         count: &mut RayCount,
     ) -> Vec3 {
         let from = sp.shadow_origin(ng);
+        if self.one_shadow_ray {
+            return self.direct_one_shadow_ray(bsdf, sp, from, ng, sampler, count);
+        }
         let mut l = Vec3::ZERO;
         for light in &self.scene.lights {
             let u = sampler.next_2d();
             let Some(inc) = light.sample_incident(self.scene, self.surfaces, sp.p, u) else {
                 continue;
             };
-            l += self.light_sample(bsdf, from, ng, inc.dir, inc.dist, inc.li, inc.pdf, count);
+            let c = self.unshadowed(bsdf, inc.dir, inc.li, inc.pdf);
+            l += self.shadowed(c, from, ng, inc.dir, inc.dist, count);
         }
         if let Some(env) = &self.environment {
             let u = sampler.next_2d();
             if let Some((dir, le, pdf)) = env.sample(self.scene, u) {
-                l += self.light_sample(bsdf, from, ng, dir, f32::INFINITY, le, pdf, count);
+                let c = self.unshadowed(bsdf, dir, le, pdf);
+                l += self.shadowed(c, from, ng, dir, f32::INFINITY, count);
             }
         }
         l
     }
 
-    /// What one light sample adds: `f cos Li / pdf`, weighed by the power heuristic
-    /// unless the light has one direction (`pdf` 0), where `li` is its irradiance.
-    #[allow(clippy::too_many_arguments)]
-    #[inline]
-    fn light_sample(
+    /// [`Path::direct`] with one shadow ray: every light (and the environment) is
+    /// sampled as there, and of their unshadowed contributions one is chosen in
+    /// proportion to its size, tested for visibility and divided by the odds of the
+    /// choice. Its expectation is the sum of the shadowed contributions, whatever the
+    /// choice, so the estimate is unbiased and the weights against the BSDF's samples
+    /// stay as they are. The choice streams over the candidates with one random
+    /// number, which no allocation holds.
+    fn direct_one_shadow_ray(
         &self,
         bsdf: &Bsdf,
+        sp: &SurfacePoint,
+        from: Vec3,
+        ng: Vec3,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) -> Vec3 {
+        let mut u = sampler.next_f32();
+        let mut total = 0.0f32;
+        let mut chosen: Option<(Vec3, f32, Vec3, f32)> = None;
+        let mut offer = |c: Vec3, dir: Vec3, dist: f32| {
+            let w = c.x + c.y + c.z;
+            if !(w > 0.0 && w.is_finite()) {
+                return;
+            }
+            total += w;
+            // Take this one with probability w / total: `u` is then rescaled onto the
+            // part of [0, 1) it fell in, so it stays uniform for the next offers.
+            let p = w / total;
+            if u < p {
+                chosen = Some((c, w, dir, dist));
+                u /= p;
+            } else {
+                u = (u - p) / (1.0 - p);
+            }
+            u = u.min(1.0 - f32::EPSILON / 2.0);
+        };
+        for light in &self.scene.lights {
+            let v = sampler.next_2d();
+            if let Some(inc) = light.sample_incident(self.scene, self.surfaces, sp.p, v) {
+                offer(
+                    self.unshadowed(bsdf, inc.dir, inc.li, inc.pdf),
+                    inc.dir,
+                    inc.dist,
+                );
+            }
+        }
+        if let Some(env) = &self.environment {
+            let v = sampler.next_2d();
+            if let Some((dir, le, pdf)) = env.sample(self.scene, v) {
+                offer(self.unshadowed(bsdf, dir, le, pdf), dir, f32::INFINITY);
+            }
+        }
+        match chosen {
+            Some((c, w, dir, dist)) => self.shadowed(c * (total / w), from, ng, dir, dist, count),
+            None => Vec3::ZERO,
+        }
+    }
+
+    /// `c`, a light sample's unshadowed contribution along `dir`, where nothing blocks
+    /// the `dist` from `from` to the light.
+    #[inline]
+    fn shadowed(
+        &self,
+        c: Vec3,
         from: Vec3,
         ng: Vec3,
         dir: Vec3,
         dist: f32,
-        li: Vec3,
-        pdf: f32,
         count: &mut RayCount,
     ) -> Vec3 {
+        if c.max_element() <= 0.0 || !self.visible(from, ng, dir, dist, count) {
+            return Vec3::ZERO;
+        }
+        c
+    }
+
+    /// What one light sample adds where nothing blocks it: `f cos Li / pdf`, weighed
+    /// by the power heuristic unless the light has one direction (`pdf` 0), where
+    /// `li` is its irradiance.
+    #[inline]
+    fn unshadowed(&self, bsdf: &Bsdf, dir: Vec3, li: Vec3, pdf: f32) -> Vec3 {
         let (f, bsdf_pdf, cos) = bsdf.eval_pdf(dir);
         if f == Vec3::ZERO || li == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        let contribution = if pdf > 0.0 {
+        if pdf > 0.0 {
             f * li * (cos * self.weighing.of(pdf, bsdf_pdf, true) / pdf)
         } else {
             f * li * cos
-        };
-        if contribution.max_element() <= 0.0 || !self.visible(from, ng, dir, dist, count) {
-            return Vec3::ZERO;
         }
-        contribution
     }
 
     /// Whether nothing blocks the segment from `from` (geometric normal `ng`) along

@@ -2,7 +2,7 @@
 
 use crate::accel::AccelKind;
 use crate::error::{Error, Result};
-use crate::options::{Filter, IntegratorKind, Region};
+use crate::options::{Filter, IntegratorKind, LightSampling, Region};
 use crate::scene::Camera;
 use crate::util::limits::{
     MAX_AA, MAX_CAMERA_RAYS, MAX_SIDE, MAX_SPP, MAX_THREADS_PER_CORE, max_threads,
@@ -36,6 +36,8 @@ pub struct RenderSettings {
     pub max_depth: u32,
     /// Rays whose weight falls below this, in 0..1, are not traced (whitted model).
     pub min_weight: f32,
+    /// The shadow rays a path vertex traces (path model).
+    pub light_sampling: LightSampling,
     /// Memory budget in bytes for the render's big allocations; `None` uses
     /// [`super::memory::default_budget`].
     pub max_memory: Option<u64>,
@@ -56,6 +58,7 @@ impl Default for RenderSettings {
             integrator: IntegratorKind::default(),
             max_depth: DEFAULT_MAX_DEPTH,
             min_weight: DEFAULT_MIN_WEIGHT,
+            light_sampling: LightSampling::default(),
             max_memory: None,
         }
     }
@@ -98,6 +101,7 @@ pub(crate) struct Plan {
     pub integrator: IntegratorKind,
     pub max_depth: u32,
     pub min_weight: f32,
+    pub light_sampling: LightSampling,
     pub max_memory: u64,
 }
 
@@ -184,6 +188,7 @@ impl RenderSettings {
             integrator: self.integrator,
             max_depth: self.max_depth,
             min_weight: self.min_weight,
+            light_sampling: self.light_sampling,
             max_memory: self
                 .max_memory
                 .unwrap_or_else(super::memory::default_budget),

@@ -20,6 +20,19 @@ class Registration(unittest.TestCase):
         self.assertEqual((settings.integrator, settings.samples, settings.max_bounces),
                          ("path", 64, 12))
 
+    def test_light_sampling_reaches_the_job_where_it_is_not_left_to_prism(self):
+        from prism_blender import properties
+        support.empty_scene()
+        scene = bpy.context.scene
+        scene.render.engine = "PRISM"
+        settings = scene.prism
+        self.assertEqual(settings.light_sampling, "auto")
+        self.assertNotIn("light_sampling", properties.job_settings(scene))
+        settings.light_sampling = "one"
+        self.assertEqual(properties.job_settings(scene)["light_sampling"], "one")
+        settings.integrator = "whitted"
+        self.assertNotIn("light_sampling", properties.job_settings(scene))
+
     def test_blender_panels_for_cameras_lights_materials_and_the_world_show_for_prism(self):
         support.addon()
         for name in ("DATA_PT_lens", "DATA_PT_camera_dof", "DATA_PT_EEVEE_light",

@@ -9,7 +9,7 @@ use prism::film::{ExrPrecision, OutputFile, PngBits};
 use prism::format::SceneDialect;
 use prism::job::{EnvironmentMap, JobOptions, LookAt};
 use prism::math::Vec3;
-use prism::options::{Filter, IntegratorKind, Region, RenderOptions, ToneMap};
+use prism::options::{Filter, IntegratorKind, LightSampling, Region, RenderOptions, ToneMap};
 use prism::render::Observer;
 use std::path::PathBuf;
 
@@ -114,6 +114,10 @@ pub struct JobArgs {
     /// Whitted model: rays whose weight falls below this are not traced (default 1/255).
     #[arg(long, value_name = "W")]
     pub min_weight: Option<f32>,
+    /// Path model: shadow rays a vertex traces, toward every light (all) or one chosen
+    /// by its contribution (one); default auto: all up to 16 lights, one above.
+    #[arg(long, value_name = "HOW", value_parser = names_parser::<LightSampling, 3>(LightSampling::ALL.map(LightSampling::name)))]
+    pub light_sampling: Option<LightSampling>,
     /// Exposure in stops for 8- and 16-bit outputs (+1 doubles the light).
     #[arg(long, value_name = "EV", allow_hyphen_values = true, value_parser = prism::film::develop::parse_exposure)]
     pub exposure: Option<f32>,
@@ -174,6 +178,7 @@ impl JobArgs {
                 integrator: self.integrator,
                 max_depth: self.max_depth,
                 min_weight: self.min_weight,
+                light_sampling: self.light_sampling,
                 exposure: self.exposure,
                 tonemap: self.tonemap,
                 denoise: None,

@@ -447,6 +447,7 @@ pub struct RawRender {
     pub spp: S<u32>,
     pub max_depth: S<u32>,
     pub min_weight: S<Num>,
+    pub light_sampling: S<String>,
     pub seed: S<u64>,
     pub integrator: S<String>,
     pub exposure: S<Num>,

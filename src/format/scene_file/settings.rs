@@ -50,6 +50,7 @@ pub fn render(source: &Source, raw: &RawRender) -> Result<RenderOptions> {
         spp: range(&raw.spp, "spp", 1, MAX_SPP)?,
         max_depth: range(&raw.max_depth, "max_depth", 0, depth_limit)?,
         min_weight,
+        light_sampling: parsed(source, &raw.light_sampling)?,
         seed: raw.seed.as_ref().map(|s| *s.get_ref()),
         integrator,
         exposure: raw.exposure.as_ref().map(|e| e.get_ref().f32()),

@@ -9,9 +9,13 @@ fn the_camera_looks_at_with_a_lens_and_the_render_size() {
         "[camera]\nfrom = [0, 0, 5]\nat = [0, 0, 0]\nfov = 90\naperture = 0.1\nlens_samples = 8\n\
          [render]\nwidth = 200\nheight = 100\naa = 2\nfilter = \"lanczos\"\nspp = 4\nmax_depth = 5\n\
          min_weight = 0.01\nseed = 7\nintegrator = \"classic\"\nexposure = -1\ntonemap = \"aces\"\n\
-         denoise = true\n",
+         denoise = true\nlight_sampling = \"one\"\n",
     );
     assert_eq!(f.settings.denoise, Some(true));
+    assert_eq!(
+        f.settings.light_sampling,
+        Some(crate::options::LightSampling::One)
+    );
     let c = f.camera.unwrap();
     assert_eq!((c.width, c.height, c.aa, c.spp), (200, 100, 2, 8));
     assert_eq!((c.focal_length, c.aperture), (4.0, 0.1));

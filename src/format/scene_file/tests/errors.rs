@@ -78,6 +78,10 @@ fn every_error_names_file_line_and_column() {
             "DIR/scene.toml:2:10: unknown filter `box`",
         ),
         (
+            "[render]\nlight_sampling = \"some\"\n",
+            "DIR/scene.toml:2:18: unknown light sampling `some`: expected auto, all or one",
+        ),
+        (
             "[camera]\nfrom = [0, 0, 0]\nat = [0, 0, 0]\n",
             "DIR/scene.toml:3:6: expected `at` away from `from`",
         ),
