@@ -43,9 +43,26 @@ fn weighed_radiance(s: &Scene, ray: Ray, n: u32, weighing: Weighing) -> Vec3 {
 
 /// The mean radiance along `ray` over `n` samples and its standard error.
 fn estimate(s: &Scene, ray: Ray, n: u32, weighing: Weighing) -> (Vec3, Vec3) {
+    let depth = crate::options::MAX_PATH_DEPTH;
+    let (mean, error, _) = estimate_with(s, ray, n, depth, weighing, LightSampling::Auto);
+    (mean, error)
+}
+
+/// [`estimate`] by a path integrator scattering at most `max_depth` times, tracing
+/// shadow rays as `how` says; and the rays it traced.
+fn estimate_with(
+    s: &Scene,
+    ray: Ray,
+    n: u32,
+    max_depth: u32,
+    weighing: Weighing,
+    how: LightSampling,
+) -> (Vec3, Vec3, u64) {
     let accel = Accel::build(AccelKind::List, &s.shapes);
     let surfaces = s.resolved_surfaces();
-    let path = Path::new(s, &accel, &surfaces, crate::options::MAX_PATH_DEPTH).weighing(weighing);
+    let path = Path::new(s, &accel, &surfaces, max_depth)
+        .weighing(weighing)
+        .light_sampling(how);
     let mut count = RayCount::default();
     // Summed in f64: thousands of f32 additions would drift by 1e-4.
     let (mut sum, mut squares) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
@@ -62,7 +79,21 @@ fn estimate(s: &Scene, ray: Ray, n: u32, weighing: Weighing) -> (Vec3, Vec3) {
     (
         Vec3::from(mean.as_vec3()),
         Vec3::from((variance / n).sqrt().as_vec3()),
+        count.rays,
     )
+}
+
+/// The radiance of `s` seen down -z from above each of `xs` (on the x axis) is one, to
+/// four standard errors and 0.02: a furnace returns all the light.
+fn assert_returns_all_the_light(s: &Scene, xs: &[f32], what: &str) {
+    for &x in xs {
+        let ray = Ray::new(Vec3::new(x, 0.0, 5.0), -Vec3::Z);
+        let (l, error) = estimate(s, ray, 4000, Weighing::PowerHeuristic);
+        assert!(
+            ((l - Vec3::ONE).abs() - 4.0 * error).max_element() < 0.02,
+            "{what} at x {x}: {l} ± {error}"
+        );
+    }
 }
 
 fn assert_near(got: Vec3, want: f32, tol: f32, what: &str) {
@@ -1146,14 +1177,7 @@ fn furnace_a_white_subsurface_ball_returns_all_the_light() {
         ..OpenPbr::default()
     };
     let s = furnace_of(milk, Vec3::ZERO, 1.0);
-    for x in [0.0f32, 0.7] {
-        let ray = Ray::new(Vec3::new(x, 0.0, 5.0), -Vec3::Z);
-        let (l, error) = estimate(&s, ray, 4000, Weighing::PowerHeuristic);
-        assert!(
-            ((l - Vec3::ONE).abs() - 4.0 * error).max_element() < 0.02,
-            "at x {x}: {l} ± {error}"
-        );
-    }
+    assert_returns_all_the_light(&s, &[0.0, 0.7], "white subsurface");
 }
 
 /// A medium far deeper than its free path is the semi-infinite slab the specification
@@ -1248,14 +1272,8 @@ fn furnace_glass_holding_a_white_scattering_medium_returns_all_the_light() {
             ..OpenPbr::default()
         };
         let s = furnace_of(milky, Vec3::ZERO, 1.0);
-        for x in [0.0f32, 0.8] {
-            let ray = Ray::new(Vec3::new(x, 0.0, 5.0), -Vec3::Z);
-            let (l, error) = estimate(&s, ray, 4000, Weighing::PowerHeuristic);
-            assert!(
-                ((l - Vec3::ONE).abs() - 4.0 * error).max_element() < 0.02,
-                "roughness {roughness}, g {g}, at x {x}: {l} ± {error}"
-            );
-        }
+        let what = format!("roughness {roughness}, g {g}");
+        assert_returns_all_the_light(&s, &[0.0, 0.8], &what);
     }
 }
 
@@ -1366,9 +1384,8 @@ fn a_milky_ball_lit_from_the_side_glows_where_clear_glass_shows_black() {
     );
 }
 
-/// A floor under five lights of every kind (a sphere light casting part of the quad
-/// light's shadow) in a grey environment, and the same floor's path integrator
-/// tracing shadow rays as `how` says, scattering at most `max_depth` times.
+/// A floor under five lights of every kind (a sphere casting part of the quad light's
+/// shadow) in a grey environment.
 fn many_lights_floor() -> Scene {
     let floor = Shape::Rectangle(Rectangle {
         v: [
@@ -1422,37 +1439,6 @@ fn many_lights_floor() -> Scene {
     )
 }
 
-/// The mean and standard error of the radiance along `ray` in `s`, the path model
-/// tracing shadow rays as `how` says, over `n` samples; and the rays it traced.
-fn estimate_lights(
-    s: &Scene,
-    ray: Ray,
-    n: u32,
-    how: LightSampling,
-    max_depth: u32,
-) -> (Vec3, Vec3, u64) {
-    let accel = Accel::build(AccelKind::List, &s.shapes);
-    let surfaces = s.resolved_surfaces();
-    let path = Path::new(s, &accel, &surfaces, max_depth).light_sampling(how);
-    let mut count = RayCount::default();
-    let (mut sum, mut squares) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
-    for i in 0..n {
-        let mut sampler = PixelSampler::for_sample(11, 0, 0, i);
-        let hit = accel.closest(&ray, f32::INFINITY);
-        let l = path.radiance(ray, hit, &mut sampler, &mut count).as_dvec3();
-        sum += l;
-        squares += l * l;
-    }
-    let n = f64::from(n);
-    let mean = sum / n;
-    let variance = (squares / n - mean * mean).max(glam::DVec3::ZERO);
-    (
-        Vec3::from(mean.as_vec3()),
-        Vec3::from((variance / n).sqrt().as_vec3()),
-        count.rays,
-    )
-}
-
 /// One shadow ray a vertex, toward a light sample chosen by its contribution, is
 /// unbiased: the floor under five lights, part in a shadow, converges to what a
 /// shadow ray toward every light gives, direct light alone and with bounces; and a
@@ -1465,10 +1451,11 @@ fn one_shadow_ray_a_vertex_converges_to_a_shadow_ray_toward_every_light() {
             Vec3::new(x, 1.5, 0.6),
             normalize(Vec3::new(0.0, -1.0, -0.2)),
         );
+        let mis = Weighing::PowerHeuristic;
         let (all, all_error, all_rays) =
-            estimate_lights(&s, ray, 20_000, LightSampling::All, max_depth);
+            estimate_with(&s, ray, 20_000, max_depth, mis, LightSampling::All);
         let (one, one_error, one_rays) =
-            estimate_lights(&s, ray, 20_000, LightSampling::One, max_depth);
+            estimate_with(&s, ray, 20_000, max_depth, mis, LightSampling::One);
         let error = (all_error * all_error + one_error * one_error).sqrt();
         assert!(
             ((one - all).abs() - 4.0 * error).max_element() < 1e-3 * all.max_element(),
