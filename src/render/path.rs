@@ -113,7 +113,6 @@ impl<'a> Path<'a> {
                 _ => {}
             }
         }
-        let one_shadow_ray = LightSampling::default().traces_one(scene.lights.len());
         Path {
             scene,
             accel,
@@ -124,10 +123,11 @@ impl<'a> Path<'a> {
             cuts_out: surfaces.iter().any(|s| s.alpha_map.is_some()),
             environment: Environment::of(scene),
             weighing: Weighing::PowerHeuristic,
-            lanes: Path::lanes_apply(scene, surfaces).filter(|_| !one_shadow_ray),
+            lanes: Path::lanes_apply(scene, surfaces),
             interiors: interior::interiors(surfaces),
-            one_shadow_ray,
+            one_shadow_ray: false,
         }
+        .light_sampling(LightSampling::default())
     }
 
     /// The same integrator tracing the shadow rays `how` says. One shadow ray a vertex
@@ -368,7 +368,8 @@ impl<'a> Path<'a> {
     }
 
     /// Light arriving at the hit straight from every light and the environment, each
-    /// sampled once and weighed against the BSDF's own samples.
+    /// sampled once and weighed against the BSDF's own samples. Each sample is tested
+    /// by a shadow ray, or with one shadow ray a vertex only the one [`OneOf`] chooses.
     fn direct(
         &self,
         bsdf: &Bsdf,
@@ -378,83 +379,32 @@ impl<'a> Path<'a> {
         count: &mut RayCount,
     ) -> Vec3 {
         let from = sp.shadow_origin(ng);
-        if self.one_shadow_ray {
-            return self.direct_one_shadow_ray(bsdf, sp, from, ng, sampler, count);
-        }
+        let mut one = self.one_shadow_ray.then(|| OneOf::new(sampler.next_f32()));
         let mut l = Vec3::ZERO;
+        let mut gather = |c: Vec3, dir: Vec3, dist: f32| match &mut one {
+            Some(one) => one.offer(c, dir, dist),
+            None => l += self.shadowed(c, from, ng, dir, dist, count),
+        };
         for light in &self.scene.lights {
             let u = sampler.next_2d();
             let Some(inc) = light.sample_incident(self.scene, self.surfaces, sp.p, u) else {
                 continue;
             };
-            let c = self.unshadowed(bsdf, inc.dir, inc.li, inc.pdf);
-            l += self.shadowed(c, from, ng, inc.dir, inc.dist, count);
+            gather(
+                self.unshadowed(bsdf, inc.dir, inc.li, inc.pdf),
+                inc.dir,
+                inc.dist,
+            );
         }
         if let Some(env) = &self.environment {
             let u = sampler.next_2d();
             if let Some((dir, le, pdf)) = env.sample(self.scene, u) {
-                let c = self.unshadowed(bsdf, dir, le, pdf);
-                l += self.shadowed(c, from, ng, dir, f32::INFINITY, count);
+                gather(self.unshadowed(bsdf, dir, le, pdf), dir, f32::INFINITY);
             }
         }
-        l
-    }
-
-    /// [`Path::direct`] with one shadow ray: every light (and the environment) is
-    /// sampled as there, and of their unshadowed contributions one is chosen in
-    /// proportion to its size, tested for visibility and divided by the odds of the
-    /// choice. Its expectation is the sum of the shadowed contributions, whatever the
-    /// choice, so the estimate is unbiased and the weights against the BSDF's samples
-    /// stay as they are. The choice streams over the candidates with one random
-    /// number, which no allocation holds.
-    fn direct_one_shadow_ray(
-        &self,
-        bsdf: &Bsdf,
-        sp: &SurfacePoint,
-        from: Vec3,
-        ng: Vec3,
-        sampler: &mut PixelSampler,
-        count: &mut RayCount,
-    ) -> Vec3 {
-        let mut u = sampler.next_f32();
-        let mut total = 0.0f32;
-        let mut chosen: Option<(Vec3, f32, Vec3, f32)> = None;
-        let mut offer = |c: Vec3, dir: Vec3, dist: f32| {
-            let w = c.x + c.y + c.z;
-            if !(w > 0.0 && w.is_finite()) {
-                return;
-            }
-            total += w;
-            // Take this one with probability w / total: `u` is then rescaled onto the
-            // part of [0, 1) it fell in, so it stays uniform for the next offers.
-            let p = w / total;
-            if u < p {
-                chosen = Some((c, w, dir, dist));
-                u /= p;
-            } else {
-                u = (u - p) / (1.0 - p);
-            }
-            u = u.min(1.0 - f32::EPSILON / 2.0);
-        };
-        for light in &self.scene.lights {
-            let v = sampler.next_2d();
-            if let Some(inc) = light.sample_incident(self.scene, self.surfaces, sp.p, v) {
-                offer(
-                    self.unshadowed(bsdf, inc.dir, inc.li, inc.pdf),
-                    inc.dir,
-                    inc.dist,
-                );
-            }
-        }
-        if let Some(env) = &self.environment {
-            let v = sampler.next_2d();
-            if let Some((dir, le, pdf)) = env.sample(self.scene, v) {
-                offer(self.unshadowed(bsdf, dir, le, pdf), dir, f32::INFINITY);
-            }
-        }
-        match chosen {
-            Some((c, w, dir, dist)) => self.shadowed(c * (total / w), from, ng, dir, dist, count),
-            None => Vec3::ZERO,
+        match one.and_then(OneOf::chosen) {
+            Some((c, dir, dist)) => self.shadowed(c, from, ng, dir, dist, count),
+            None => l,
         }
     }
 
@@ -560,6 +510,56 @@ impl<'a> Path<'a> {
             }
         }
         best
+    }
+}
+
+/// One of the light samples offered, chosen in proportion to its unshadowed
+/// contribution and divided by the odds of the choice: its expectation is the sum of
+/// the offers whatever the choice, so testing it alone for shadow is unbiased and
+/// leaves the weights against the BSDF's samples as they are. The choice streams over
+/// the offers with one random number (reservoir sampling), so nothing is allocated.
+struct OneOf {
+    /// The random number, rescaled after each offer onto the part of [0, 1) it fell
+    /// in, so it stays uniform for the next.
+    u: f32,
+    total: f32,
+    /// The chosen contribution, its size, direction and distance.
+    chosen: Option<(Vec3, f32, Vec3, f32)>,
+}
+
+impl OneOf {
+    fn new(u: f32) -> OneOf {
+        OneOf {
+            u,
+            total: 0.0,
+            chosen: None,
+        }
+    }
+
+    /// A light sample of unshadowed contribution `c` along `dir` for `dist`, taken
+    /// with probability its size over the sizes offered so far.
+    #[inline]
+    fn offer(&mut self, c: Vec3, dir: Vec3, dist: f32) {
+        let w = c.x + c.y + c.z;
+        if !(w > 0.0 && w.is_finite()) {
+            return;
+        }
+        self.total += w;
+        let p = w / self.total;
+        if self.u < p {
+            self.chosen = Some((c, w, dir, dist));
+            self.u /= p;
+        } else {
+            self.u = (self.u - p) / (1.0 - p);
+        }
+        self.u = self.u.min(1.0 - f32::EPSILON / 2.0);
+    }
+
+    /// The chosen sample's contribution over the odds of its choice, its direction and
+    /// distance.
+    fn chosen(self) -> Option<(Vec3, Vec3, f32)> {
+        let (c, w, dir, dist) = self.chosen?;
+        Some((c * (self.total / w), dir, dist))
     }
 }
 

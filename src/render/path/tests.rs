@@ -1149,6 +1149,17 @@ fn paths_stepped_together_give_each_the_radiance_of_the_path_at_a_time() {
 /// A sphere of `m` (base colour white) of radius `radius` at the origin, in a uniform
 /// environment of 1.
 fn furnace_of(m: crate::scene::OpenPbr, center: Vec3, radius: f32) -> Scene {
+    ball_of(m, center, radius, vec![], Background::Color(Vec3::ONE))
+}
+
+/// A sphere of `m` (base colour white) under `lights` before `background`.
+fn ball_of(
+    m: crate::scene::OpenPbr,
+    center: Vec3,
+    radius: f32,
+    lights: Vec<Light>,
+    background: Background,
+) -> Scene {
     scene(
         vec![(
             Shape::Sphere(Sphere { center, radius }),
@@ -1158,8 +1169,8 @@ fn furnace_of(m: crate::scene::OpenPbr, center: Vec3, radius: f32) -> Scene {
                 ..Surface::default()
             },
         )],
-        vec![],
-        Background::Color(Vec3::ONE),
+        lights,
+        background,
     )
 }
 
@@ -1298,17 +1309,10 @@ fn a_light_seen_through_a_scattering_medium_is_dimmed_by_its_extinction() {
         specular_roughness: Scalar::constant(0.0),
         ..OpenPbr::default()
     };
-    let s = scene(
-        vec![(
-            Shape::Sphere(Sphere {
-                center: Vec3::ZERO,
-                radius: 0.5,
-            }),
-            Surface {
-                openpbr: Some(Box::new(fog)),
-                ..matte(1.0)
-            },
-        )],
+    let s = ball_of(
+        fog,
+        Vec3::ZERO,
+        0.5,
         vec![area_light(
             LightKind::Quad {
                 u: Vec3::new(0.02, 0.0, 0.0),
@@ -1347,17 +1351,10 @@ fn a_milky_ball_lit_from_the_side_glows_where_clear_glass_shows_black() {
             specular_roughness: Scalar::constant(0.0),
             ..OpenPbr::default()
         };
-        let s = scene(
-            vec![(
-                Shape::Sphere(Sphere {
-                    center: Vec3::ZERO,
-                    radius: 1.0,
-                }),
-                Surface {
-                    openpbr: Some(Box::new(glass)),
-                    ..matte(1.0)
-                },
-            )],
+        let s = ball_of(
+            glass,
+            Vec3::ZERO,
+            1.0,
             vec![area_light(
                 LightKind::Quad {
                     u: Vec3::new(0.0, 0.0, 2.0),
