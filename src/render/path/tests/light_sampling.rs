@@ -1,0 +1,108 @@
+//! One shadow ray a vertex against one a light: the same expectation, fewer rays.
+
+use super::*;
+
+/// A floor under five lights of every kind (a sphere casting part of the quad light's
+/// shadow) in a grey environment.
+fn many_lights_floor() -> Scene {
+    let floor = Shape::Rectangle(Rectangle {
+        v: [
+            Vec3::new(-50.0, 0.0, -50.0),
+            Vec3::new(-50.0, 0.0, 50.0),
+            Vec3::new(50.0, 0.0, 50.0),
+            Vec3::new(50.0, 0.0, -50.0),
+        ],
+    });
+    let blocker = Shape::Sphere(Sphere {
+        center: Vec3::new(0.3, 1.0, 0.0),
+        radius: 0.3,
+    });
+    scene(
+        vec![(floor, matte(0.8)), (blocker, matte(0.5))],
+        vec![
+            Light {
+                falloff: crate::scene::Falloff::InverseSquare,
+                intensity: 5.0,
+                ..Light::point(Vec3::new(1.0, 2.0, 0.0), Vec3::ONE)
+            },
+            area_light(
+                LightKind::Quad {
+                    u: Vec3::new(2.0, 0.0, 0.0),
+                    v: Vec3::new(0.0, 0.0, 2.0),
+                },
+                Vec3::new(0.5, 2.0, 0.0),
+                3.0,
+            ),
+            area_light(
+                LightKind::Sphere { radius: 0.4 },
+                Vec3::new(-2.0, 1.5, 1.0),
+                8.0,
+            ),
+            area_light(
+                LightKind::Disk {
+                    normal: -Vec3::Y,
+                    radius: 0.5,
+                },
+                Vec3::new(0.0, 3.0, -2.0),
+                2.0,
+            ),
+            Light {
+                falloff: crate::scene::Falloff::InverseSquare,
+                intensity: 1.0,
+                color: Vec3::new(1.0, 0.5, 0.2),
+                ..Light::point(Vec3::new(-1.0, 0.5, -1.0), Vec3::ONE)
+            },
+        ],
+        Background::Color(Vec3::splat(0.2)),
+    )
+}
+
+/// One shadow ray a vertex, toward a light sample chosen by its contribution, is
+/// unbiased: the floor under five lights, part in a shadow, converges to what a
+/// shadow ray toward every light gives, direct light alone and with bounces; and a
+/// direct-light vertex traces one shadow ray where it traced five.
+#[test]
+fn one_shadow_ray_a_vertex_converges_to_a_shadow_ray_toward_every_light() {
+    let s = many_lights_floor();
+    for (x, max_depth) in [(0.0, 0), (0.4, 0), (0.0, crate::options::MAX_PATH_DEPTH)] {
+        let ray = Ray::new(
+            Vec3::new(x, 1.5, 0.6),
+            normalize(Vec3::new(0.0, -1.0, -0.2)),
+        );
+        let mis = Weighing::PowerHeuristic;
+        let (all, all_error, all_rays) =
+            estimate_with(&s, ray, 20_000, max_depth, mis, LightSampling::All);
+        let (one, one_error, one_rays) =
+            estimate_with(&s, ray, 20_000, max_depth, mis, LightSampling::One);
+        let error = (all_error * all_error + one_error * one_error).sqrt();
+        assert!(
+            ((one - all).abs() - 4.0 * error).max_element() < 1e-3 * all.max_element(),
+            "x {x}, depth {max_depth}: one {one} ± {one_error}, all {all} ± {all_error}"
+        );
+        if max_depth == 0 {
+            // The camera ray and a shadow ray toward each light with light to give
+            // (the environment's samples below the floor give none).
+            assert!(all_rays >= 20_000 * 5, "{all_rays}");
+            assert!(one_rays <= 20_000 * 2, "{one_rays}");
+        }
+    }
+}
+
+#[test]
+fn auto_light_sampling_traces_one_shadow_ray_above_sixteen_lights() {
+    let lights = LightSampling::AUTO_ALL_UP_TO;
+    assert!(!LightSampling::Auto.traces_one(lights));
+    assert!(LightSampling::Auto.traces_one(lights + 1));
+    assert!(LightSampling::One.traces_one(1));
+    assert!(!LightSampling::All.traces_one(1000));
+    // Lambertian lanes trace a ray toward every light: a scene that traces one
+    // takes the path at a time.
+    let mut s = many_lights_floor();
+    s.background = Background::Black;
+    s.lights.retain(|l| matches!(l.kind, LightKind::Point));
+    let accel = Accel::build(AccelKind::List, &s.shapes);
+    let surfaces = s.resolved_surfaces();
+    let path = Path::new(&s, &accel, &surfaces, 4);
+    assert!(path.lanes.is_none() || !path.one_shadow_ray);
+    assert!(path.light_sampling(LightSampling::One).lanes.is_none());
+}
