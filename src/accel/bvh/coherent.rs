@@ -325,8 +325,10 @@ impl Frustum {
             let (a, b) = (v[0].to_array(), v[1].to_array());
             [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
         };
-        let mut t_near = [0.0f32; WIDTH];
-        let mut t_far = [bound; WIDTH];
+        // Each axis's entry and exit, then reduced as trees rather than chains: two
+        // steps from the planes to the test.
+        let mut lo = [[0.0f32; WIDTH]; 3];
+        let mut hi = [[0.0f32; WIDTH]; 3];
         for axis in 0..3 {
             let (near, far) = if self.negative[axis] {
                 (row(&node.max[axis]), row(&node.min[axis]))
@@ -337,16 +339,17 @@ impl Frustum {
             let (i_lo, i_hi) = (self.inv_lo[axis], self.inv_hi[axis]);
             for lane in 0..WIDTH {
                 let a = near[lane] - o_near;
-                let lo = min(a * i_lo, a * i_hi);
+                lo[axis][lane] = min(a * i_lo, a * i_hi);
                 let c = far[lane] - o_far;
-                let hi = max(c * i_lo, c * i_hi);
-                t_near[lane] = if lo > t_near[lane] { lo } else { t_near[lane] };
-                t_far[lane] = if hi < t_far[lane] { hi } else { t_far[lane] };
+                hi[axis][lane] = max(c * i_lo, c * i_hi);
             }
         }
+        let mut t_near = [0.0f32; WIDTH];
         let mut hits = [0u32; WIDTH];
         for lane in 0..WIDTH {
-            hits[lane] = lane_flag(t_near[lane] <= t_far[lane] * BOX_SLACK);
+            t_near[lane] = max(max(lo[0][lane], lo[1][lane]), max(lo[2][lane], 0.0));
+            let t_far = min(min(hi[0][lane], hi[1][lane]), min(hi[2][lane], bound));
+            hits[lane] = lane_flag(t_near[lane] <= t_far * BOX_SLACK);
         }
         (lane_bits(&hits), t_near)
     }

@@ -148,12 +148,15 @@ impl Stack {
     fn pop(&mut self) -> Option<Entry> {
         self.len = self.len.checked_sub(1)?;
         // SAFETY: slots below `len` were written by `push` or `push_sorted`.
-        Some(unsafe { self.items[self.len].assume_init() })
+        Some(unsafe { self.items.get_unchecked(self.len).assume_init() })
     }
 
     #[inline]
     fn push(&mut self, e: Entry) {
-        self.items[self.len] = MaybeUninit::new(e);
+        debug_assert!(self.len < STACK);
+        // SAFETY: a tree of at most MAX_DEPTH levels has at most seven entries a
+        // level waiting beside the one entered, which STACK holds.
+        unsafe { *self.items.get_unchecked_mut(self.len) = MaybeUninit::new(e) };
         self.len += 1;
     }
 
@@ -169,6 +172,16 @@ impl Stack {
         }
     }
 
+    /// Pushes the children of `node` in `mask` (at least two) as [`Stack::push_children`]
+    /// does, and takes the nearest back off.
+    #[inline(always)]
+    fn push_children_but_nearest(&mut self, node: &Node8, mask: u32, t: &[f32; WIDTH]) -> Entry {
+        self.push_children(node, mask, t);
+        self.len -= 1;
+        // SAFETY: the slot just written by `push_children`.
+        unsafe { self.items.get_unchecked(self.len).assume_init() }
+    }
+
     /// Pushes `e` among the entries above `base`, kept farthest first, so the nearest
     /// is popped next.
     #[inline]
@@ -180,10 +193,13 @@ impl Stack {
             if below.t >= e.t {
                 break;
             }
-            self.items[i] = MaybeUninit::new(below);
+            // SAFETY: i <= len < STACK, as in `push`.
+            unsafe { *self.items.get_unchecked_mut(i) = MaybeUninit::new(below) };
             i -= 1;
         }
-        self.items[i] = MaybeUninit::new(e);
+        debug_assert!(self.len < STACK);
+        // SAFETY: as above.
+        unsafe { *self.items.get_unchecked_mut(i) = MaybeUninit::new(e) };
         self.len += 1;
     }
 }
@@ -191,9 +207,6 @@ impl Stack {
 /// The slab test of one ray against a node's eight boxes: lanes whose box the ray
 /// enters before `t_max` (bit `i` for lane `i`), and the entry distances.
 trait BoxTest {
-    fn new(ray: &Ray) -> Self;
-    /// The test of boxes grown by `pad` on every side.
-    fn padded(ray: &Ray, pad: f32) -> Self;
     fn hit(&self, node: &Node8, t_max: f32) -> (u32, [f32; WIDTH]);
 }
 
@@ -233,7 +246,7 @@ struct Boxes4<const PADDED: bool = false> {
     negative: [bool; 3],
 }
 
-impl<const PADDED: bool> BoxTest for Boxes4<PADDED> {
+impl<const PADDED: bool> Boxes4<PADDED> {
     #[inline(always)]
     fn new(ray: &Ray) -> Boxes4<PADDED> {
         let o = ray.origin.to_array();
@@ -255,7 +268,9 @@ impl<const PADDED: bool> BoxTest for Boxes4<PADDED> {
             ..Boxes4::new(ray)
         }
     }
+}
 
+impl<const PADDED: bool> BoxTest for Boxes4<PADDED> {
     #[inline(always)]
     fn hit(&self, node: &Node8, t_max: f32) -> (u32, [f32; WIDTH]) {
         let mut mask = 0;
@@ -285,93 +300,167 @@ impl<const PADDED: bool> BoxTest for Boxes4<PADDED> {
     }
 }
 
-/// All eight lanes in one AVX2 register. Only built inside functions compiled for AVX2
-/// (see [`Bvh::closest`]).
+/// All eight lanes in one AVX2 register, each plane distance one fused multiply-add:
+/// `plane * inv_dir - origin * inv_dir`, as Embree measures it. The product
+/// `origin * inv_dir` is rounded once per ray, an error of up to half a unit in its
+/// last place that no relative slack covers (it does not shrink with the distance), so
+/// each axis moves its near planes nearer and its far planes farther by a few units in
+/// the last place of that product. The far planes' distances come out already grown by
+/// [`BOX_SLACK`] (their inverse direction and origin product scaled by it), which takes
+/// a multiplication off the path from a node's load to its children. The box is never
+/// culled where the subtracting test of [`Boxes4`] keeps it, and the hits, which only
+/// the leaves decide, are the same. Only built inside functions compiled for AVX2 and
+/// FMA (see [`Bvh::closest`]).
 #[cfg(target_arch = "x86_64")]
 struct Boxes8<const PADDED: bool = false> {
-    near_origin: [std::arch::x86_64::__m256; 3],
-    far_origin: [std::arch::x86_64::__m256; 3],
+    /// Per axis, the byte offsets in a [`Node8`] of its near planes' row (the minima
+    /// for a ray going up the axis, the maxima for one going down) and far planes' row.
+    near_at: [usize; 3],
+    far_at: [usize; 3],
     inv_dir: [std::arch::x86_64::__m256; 3],
-    negative: [bool; 3],
+    /// `inv_dir` grown by [`BOX_SLACK`], for the far planes.
+    inv_dir_far: [std::arch::x86_64::__m256; 3],
+    /// Where the near plane's distance is measured from, scaled: `origin * inv_dir`
+    /// moved back by its rounding.
+    near_scaled: [std::arch::x86_64::__m256; 3],
+    /// The same for the far plane, with `inv_dir_far`, moved on by its rounding.
+    far_scaled: [std::arch::x86_64::__m256; 3],
 }
 
 #[cfg(target_arch = "x86_64")]
 impl<const PADDED: bool> Boxes8<PADDED> {
+    /// The test of `ray`; `None` where a product `origin * inv_dir` overflows (an
+    /// origin beyond about 10^8 on an axis the ray does not move along), which the
+    /// subtracting test of [`Boxes4`] takes instead.
     #[inline(always)]
-    fn with_origins(ray: &Ray, near: [f32; 3], far: [f32; 3]) -> Boxes8<PADDED> {
+    fn new(ray: &Ray) -> Option<Boxes8<PADDED>> {
+        let o = ray.origin.to_array();
+        Boxes8::with_origins(ray, o, o)
+    }
+
+    /// The test of boxes grown by `pad` on every side.
+    #[inline(always)]
+    fn padded(ray: &Ray, pad: f32) -> Option<Boxes8<PADDED>> {
+        let (near, far) = slab_origins(ray, pad);
+        Boxes8::with_origins(ray, near, far)
+    }
+
+    #[inline(always)]
+    fn with_origins(ray: &Ray, near: [f32; 3], far: [f32; 3]) -> Option<Boxes8<PADDED>> {
         use std::arch::x86_64::_mm256_set1_ps;
-        let d = ray.dir;
-        // SAFETY: reached only from AVX2 functions, on processors that run them. No
-        // closures here: they would not inherit the caller's instruction set.
-        unsafe {
-            Boxes8 {
-                near_origin: [
-                    _mm256_set1_ps(near[0]),
-                    _mm256_set1_ps(near[1]),
-                    _mm256_set1_ps(near[2]),
-                ],
-                far_origin: [
-                    _mm256_set1_ps(far[0]),
-                    _mm256_set1_ps(far[1]),
-                    _mm256_set1_ps(far[2]),
-                ],
-                inv_dir: [
-                    _mm256_set1_ps(inverse(d.x)),
-                    _mm256_set1_ps(inverse(d.y)),
-                    _mm256_set1_ps(inverse(d.z)),
-                ],
-                negative: [
-                    d.x.is_sign_negative(),
-                    d.y.is_sign_negative(),
-                    d.z.is_sign_negative(),
-                ],
-            }
+        let d = ray.dir.to_array();
+        let s = [
+            Slab::of(near[0], far[0], d[0])?,
+            Slab::of(near[1], far[1], d[1])?,
+            Slab::of(near[2], far[2], d[2])?,
+        ];
+        let min_at = |axis: usize| axis * size_of::<[Vec4; 2]>();
+        let max_at = |axis: usize| std::mem::offset_of!(Node8, max) + min_at(axis);
+        let (mut near_at, mut far_at) = ([0; 3], [0; 3]);
+        for axis in 0..3 {
+            (near_at[axis], far_at[axis]) = if d[axis].is_sign_negative() {
+                (max_at(axis), min_at(axis))
+            } else {
+                (min_at(axis), max_at(axis))
+            };
         }
+        // SAFETY: reached only from AVX2 functions, on processors that run them. No
+        // closures around the intrinsics: they would not inherit the caller's
+        // instruction set.
+        unsafe {
+            Some(Boxes8 {
+                near_at,
+                far_at,
+                inv_dir: [
+                    _mm256_set1_ps(s[0].inv_dir),
+                    _mm256_set1_ps(s[1].inv_dir),
+                    _mm256_set1_ps(s[2].inv_dir),
+                ],
+                inv_dir_far: [
+                    _mm256_set1_ps(s[0].inv_dir_far),
+                    _mm256_set1_ps(s[1].inv_dir_far),
+                    _mm256_set1_ps(s[2].inv_dir_far),
+                ],
+                near_scaled: [
+                    _mm256_set1_ps(s[0].near_scaled),
+                    _mm256_set1_ps(s[1].near_scaled),
+                    _mm256_set1_ps(s[2].near_scaled),
+                ],
+                far_scaled: [
+                    _mm256_set1_ps(s[0].far_scaled),
+                    _mm256_set1_ps(s[1].far_scaled),
+                    _mm256_set1_ps(s[2].far_scaled),
+                ],
+            })
+        }
+    }
+}
+
+/// One axis of [`Boxes8`]: a plane at `p` lies `p * inv_dir - near_scaled` along the
+/// ray if it is a near plane, and `p * inv_dir_far - far_scaled` is at least
+/// [`BOX_SLACK`] times its distance if it is a far one.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct Slab {
+    inv_dir: f32,
+    inv_dir_far: f32,
+    near_scaled: f32,
+    far_scaled: f32,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Slab {
+    /// `None` where a product overflows.
+    #[inline(always)]
+    fn of(near_origin: f32, far_origin: f32, dir: f32) -> Option<Slab> {
+        let inv_dir = inverse(dir);
+        let inv_dir_far = inv_dir * BOX_SLACK;
+        // The products rounded, then moved by units in their last place: four cover
+        // the product's rounding and the plane's product's; eight on the far side
+        // also cover the rounding of `inv_dir_far`.
+        let near_scaled = near_origin * inv_dir;
+        let near_scaled = near_scaled + 4.0 * f32::EPSILON * near_scaled.abs();
+        let far_scaled = far_origin * inv_dir_far;
+        let far_scaled = far_scaled - 8.0 * f32::EPSILON * far_scaled.abs();
+        (near_scaled.is_finite() && far_scaled.is_finite()).then_some(Slab {
+            inv_dir,
+            inv_dir_far,
+            near_scaled,
+            far_scaled,
+        })
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 impl<const PADDED: bool> BoxTest for Boxes8<PADDED> {
     #[inline(always)]
-    fn new(ray: &Ray) -> Boxes8<PADDED> {
-        let o = ray.origin.to_array();
-        Boxes8::with_origins(ray, o, o)
-    }
-
-    #[inline(always)]
-    fn padded(ray: &Ray, pad: f32) -> Boxes8<PADDED> {
-        let (near, far) = slab_origins(ray, pad);
-        Boxes8::with_origins(ray, near, far)
-    }
-
-    #[inline(always)]
     fn hit(&self, node: &Node8, t_max: f32) -> (u32, [f32; WIDTH]) {
         use std::arch::x86_64::*;
-        // SAFETY: as in `new`; the rows are 32-byte aligned in a 64-byte-aligned node.
+        let base = (node as *const Node8).cast::<u8>();
+        // SAFETY: as in `new`. The offsets are those of the rows of a node, 32-byte
+        // aligned in a 64-byte-aligned node.
         unsafe {
-            let mut t_near = _mm256_setzero_ps();
-            let mut t_far = _mm256_set1_ps(t_max);
-            for axis in 0..3 {
-                let (near, far) = if self.negative[axis] {
-                    (&node.max[axis], &node.min[axis])
-                } else {
-                    (&node.min[axis], &node.max[axis])
-                };
-                let near = _mm256_load_ps(near.as_ptr().cast::<f32>());
-                let far = _mm256_load_ps(far.as_ptr().cast::<f32>());
-                let n = _mm256_mul_ps(
-                    _mm256_sub_ps(near, self.near_origin[axis]),
-                    self.inv_dir[axis],
-                );
-                let f = _mm256_mul_ps(
-                    _mm256_sub_ps(far, self.far_origin[axis]),
-                    self.inv_dir[axis],
-                );
-                t_near = _mm256_max_ps(t_near, n);
-                t_far = _mm256_min_ps(t_far, f);
-            }
-            let slack = _mm256_mul_ps(t_far, _mm256_set1_ps(BOX_SLACK));
-            let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, slack)) as u32;
+            let row = |at: usize| base.add(at).cast::<f32>();
+            let n0 = _mm256_load_ps(row(self.near_at[0]));
+            let n1 = _mm256_load_ps(row(self.near_at[1]));
+            let n2 = _mm256_load_ps(row(self.near_at[2]));
+            let f0 = _mm256_load_ps(row(self.far_at[0]));
+            let f1 = _mm256_load_ps(row(self.far_at[1]));
+            let f2 = _mm256_load_ps(row(self.far_at[2]));
+            let n0 = _mm256_fmsub_ps(n0, self.inv_dir[0], self.near_scaled[0]);
+            let n1 = _mm256_fmsub_ps(n1, self.inv_dir[1], self.near_scaled[1]);
+            let n2 = _mm256_fmsub_ps(n2, self.inv_dir[2], self.near_scaled[2]);
+            let f0 = _mm256_fmsub_ps(f0, self.inv_dir_far[0], self.far_scaled[0]);
+            let f1 = _mm256_fmsub_ps(f1, self.inv_dir_far[1], self.far_scaled[1]);
+            let f2 = _mm256_fmsub_ps(f2, self.inv_dir_far[2], self.far_scaled[2]);
+            // Reduced as trees, not chains: two steps from the planes to the test.
+            let t_near = _mm256_max_ps(
+                _mm256_max_ps(n0, n1),
+                _mm256_max_ps(n2, _mm256_setzero_ps()),
+            );
+            let bound = _mm256_set1_ps(t_max * BOX_SLACK);
+            let t_far = _mm256_min_ps(_mm256_min_ps(f0, f1), _mm256_min_ps(f2, bound));
+            let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_near, t_far)) as u32;
             let mut t = [0.0; WIDTH];
             _mm256_storeu_ps(t.as_mut_ptr(), t_near);
             (mask, t)
@@ -493,42 +582,49 @@ impl<'s> Bvh<'s> {
     /// at every level.
     #[inline(never)]
     fn closest_sse2(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.closest_in::<Boxes4>(ray, t_max)
+        self.closest_in(Boxes4::<false>::new(ray), ray, t_max)
     }
 
     /// [`Bvh::closest`] compiled for AVX2: the same operations, VEX-encoded.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn closest_avx2(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.closest_in::<Boxes8>(ray, t_max)
+        match Boxes8::<false>::new(ray) {
+            Some(boxes) => self.closest_in(boxes, ray, t_max),
+            None => self.closest_sse2(ray, t_max),
+        }
     }
 
     #[inline(always)]
-    fn closest_in<B: BoxTest>(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+    fn closest_in(&self, boxes: impl BoxTest, ray: &Ray, t_max: f32) -> Option<Hit> {
         if self.shape_count == 0 {
             return None;
         }
         let lanes = RayLanes::new(ray);
         let mut best: Option<Hit> = None;
-        let boxes = B::new(ray);
+        // `Hit::bound(&best, t_max)`, which only a leaf changes.
+        let mut bound = t_max;
         let mut stack = Stack::new(self.root);
-        let mut next: Option<Entry> = None;
-        while let Some(entry) = next.take().or_else(|| stack.pop()) {
-            let bound = Hit::bound(&best, t_max);
+        'pop: while let Some(mut entry) = stack.pop() {
             if entry.t > bound * BOX_SLACK {
                 continue;
             }
-            if entry.count > 0 {
-                self.leaf_closest(entry, &lanes, ray, t_max, &mut best);
-                continue;
+            // Down the tree through the nearest child hit, the others stacked: a child
+            // just hit is entered before the bound, so it needs no test of its own.
+            loop {
+                if entry.count > 0 {
+                    self.leaf_closest(entry, &lanes, ray, t_max, &mut best);
+                    bound = Hit::bound(&best, t_max);
+                    continue 'pop;
+                }
+                let node = self.node(entry);
+                let (mask, t_near) = boxes.hit(node, bound);
+                entry = match node.only_child(mask, &t_near) {
+                    Some(only) => only,
+                    None if mask == 0 => continue 'pop,
+                    None => stack.push_children_but_nearest(node, mask, &t_near),
+                };
             }
-            let node = &self.nodes[entry.child as usize];
-            let (mask, t_near) = boxes.hit(node, bound);
-            next = node.only_child(mask, &t_near);
-            if next.is_some() {
-                continue;
-            }
-            stack.push_children(node, mask, &t_near);
         }
         best
     }
@@ -551,22 +647,30 @@ impl<'s> Bvh<'s> {
     /// [`Bvh::occluded`] on four lanes, not inlined (see [`Bvh::closest_sse2`]).
     #[inline(never)]
     fn occluded_sse2(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
-        self.occluded_in::<Boxes4>(ray, t_max, blocks)
+        self.occluded_in(Boxes4::<false>::new(ray), ray, t_max, blocks)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn occluded_avx2(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
-        self.occluded_in::<Boxes8>(ray, t_max, blocks)
+        match Boxes8::<false>::new(ray) {
+            Some(boxes) => self.occluded_in(boxes, ray, t_max, blocks),
+            None => self.occluded_sse2(ray, t_max, blocks),
+        }
     }
 
     #[inline(always)]
-    fn occluded_in<B: BoxTest>(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
+    fn occluded_in(
+        &self,
+        boxes: impl BoxTest,
+        ray: &Ray,
+        t_max: f32,
+        blocks: impl Fn(u32) -> bool,
+    ) -> bool {
         if self.shape_count == 0 {
             return false;
         }
         let lanes = RayLanes::new(ray);
-        let boxes = B::new(ray);
         let mut stack = Stack::new(self.root);
         let mut next: Option<Entry> = None;
         while let Some(entry) = next.take().or_else(|| stack.pop()) {
@@ -593,6 +697,15 @@ impl<'s> Bvh<'s> {
 }
 
 impl Bvh<'_> {
+    /// The inner node `entry` names.
+    #[inline(always)]
+    fn node(&self, entry: Entry) -> &Node8 {
+        debug_assert!(entry.count == 0 && (entry.child as usize) < self.nodes.len());
+        // SAFETY: inner entries are written by the collapse, which names only nodes it
+        // made, and the nodes never change after the build.
+        unsafe { self.nodes.get_unchecked(entry.child as usize) }
+    }
+
     /// Updates `best` with the hits of the shapes of leaf `entry`.
     #[inline(always)]
     fn leaf_closest(

@@ -43,19 +43,34 @@ impl Bvh<'_> {
             // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
             return unsafe { self.closest_placed_avx2(ray, t_max, best) };
         }
-        self.closest_placed_in::<Boxes4<true>>(ray, t_max, best)
+        self.closest_placed_sse2(ray, t_max, best)
+    }
+
+    /// [`Bvh::closest_placed`] on four lanes, not inlined (see [`Bvh::closest_sse2`]).
+    #[inline(never)]
+    fn closest_placed_sse2(&self, ray: &PlacedRay, t_max: f32, best: &mut Option<Hit>) {
+        let boxes = Boxes4::<true>::padded(&ray.local, ray.pad);
+        self.closest_placed_in(boxes, ray, t_max, best)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn closest_placed_avx2(&self, ray: &PlacedRay, t_max: f32, best: &mut Option<Hit>) {
-        self.closest_placed_in::<Boxes8<true>>(ray, t_max, best)
+        match Boxes8::<true>::padded(&ray.local, ray.pad) {
+            Some(boxes) => self.closest_placed_in(boxes, ray, t_max, best),
+            None => self.closest_placed_sse2(ray, t_max, best),
+        }
     }
 
     #[inline(always)]
-    fn closest_placed_in<B: BoxTest>(&self, ray: &PlacedRay, t_max: f32, best: &mut Option<Hit>) {
+    fn closest_placed_in(
+        &self,
+        boxes: impl BoxTest,
+        ray: &PlacedRay,
+        t_max: f32,
+        best: &mut Option<Hit>,
+    ) {
         let lanes = RayLanes::new(ray.world);
-        let boxes = B::padded(&ray.local, ray.pad);
         let mut stack = Stack::new(self.root);
         let mut next: Option<Entry> = None;
         while let Some(entry) = next.take().or_else(|| stack.pop()) {
@@ -94,7 +109,19 @@ impl Bvh<'_> {
             // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
             return unsafe { self.occluded_placed_avx2(ray, t_max, blocks) };
         }
-        self.occluded_placed_in::<Boxes4<true>>(ray, t_max, blocks)
+        self.occluded_placed_sse2(ray, t_max, blocks)
+    }
+
+    /// [`Bvh::occluded_placed`] on four lanes, not inlined.
+    #[inline(never)]
+    fn occluded_placed_sse2(
+        &self,
+        ray: &PlacedRay,
+        t_max: f32,
+        blocks: &impl Fn(ShapeId) -> bool,
+    ) -> bool {
+        let boxes = Boxes4::<true>::padded(&ray.local, ray.pad);
+        self.occluded_placed_in(boxes, ray, t_max, blocks)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -105,18 +132,21 @@ impl Bvh<'_> {
         t_max: f32,
         blocks: &impl Fn(ShapeId) -> bool,
     ) -> bool {
-        self.occluded_placed_in::<Boxes8<true>>(ray, t_max, blocks)
+        match Boxes8::<true>::padded(&ray.local, ray.pad) {
+            Some(boxes) => self.occluded_placed_in(boxes, ray, t_max, blocks),
+            None => self.occluded_placed_sse2(ray, t_max, blocks),
+        }
     }
 
     #[inline(always)]
-    fn occluded_placed_in<B: BoxTest>(
+    fn occluded_placed_in(
         &self,
+        boxes: impl BoxTest,
         ray: &PlacedRay,
         t_max: f32,
         blocks: &impl Fn(ShapeId) -> bool,
     ) -> bool {
         let lanes = RayLanes::new(ray.world);
-        let boxes = B::padded(&ray.local, ray.pad);
         let mut stack = Stack::new(self.root);
         let mut next: Option<Entry> = None;
         while let Some(entry) = next.take().or_else(|| stack.pop()) {

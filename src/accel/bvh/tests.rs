@@ -102,3 +102,167 @@ fn coincident_shapes_beyond_a_leaf_still_build_and_tie_to_the_lowest_index() {
     let hit = bvh.closest(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY);
     assert_eq!(hit, Some(Hit::world(5.0, 0)));
 }
+
+/// Whether the ray `o + t d`, `0 <= t <= t_max`, meets the box, in exact arithmetic
+/// (f64 holds every product and quotient of these f32 values closely enough: a ray
+/// the margin-free test says meets is one the f32 tests must keep).
+fn meets_exactly(ray: &Ray, b: &Aabb, t_max: f32) -> Option<f64> {
+    let (mut near, mut far) = (0.0f64, t_max as f64);
+    for axis in 0..3 {
+        let (o, d) = (ray.origin[axis] as f64, ray.dir[axis] as f64);
+        let (lo, hi) = (b.min[axis] as f64, b.max[axis] as f64);
+        if d == 0.0 {
+            if o < lo || o > hi {
+                return None;
+            }
+            continue;
+        }
+        let (a, c) = ((lo - o) / d, (hi - o) / d);
+        near = near.max(a.min(c));
+        far = far.min(a.max(c));
+    }
+    (near <= far).then_some(near)
+}
+
+/// Random rays (far origins, zero and tiny direction components) against boxes around
+/// points on them (as thin as the tree grows them, tiny, touching the origin): neither slab test ever culls a box
+/// the ray meets, the entry distance either reports never lies beyond the true one by
+/// more than its rounding, and the eight-lane test (fused multiply-adds from a rounded
+/// `origin * inv_dir`, the far planes pre-grown by the slack) keeps every box the
+/// four-lane one keeps.
+#[test]
+fn the_slab_tests_never_cull_a_box_the_ray_meets() {
+    use rand_core::Rng;
+    let mut rng = rand_pcg::Pcg32::new(0xb0c5, 7);
+    let mut unit = move || (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
+    let (mut kept, mut handed_on) = (0, 0);
+    for case in 0..20_000 {
+        let scale = [1.0, 1e3, 1e6, 3e8, 1e20][case % 5];
+        let component = |u: &mut dyn FnMut() -> f32| match (u() * 8.0) as u32 {
+            0 => 0.0,
+            1 => (u() - 0.5) * 1e-30,
+            _ => u() - 0.5,
+        };
+        let dir = Vec3::new(
+            component(&mut unit),
+            component(&mut unit),
+            component(&mut unit),
+        );
+        if dir == Vec3::ZERO {
+            continue;
+        }
+        let dir = dir.normalize_or(Vec3::X);
+        let origin = Vec3::new(unit() - 0.5, unit() - 0.5, unit() - 0.5) * scale;
+        let ray = Ray::new(origin, dir);
+        let t_max = if case % 3 == 0 {
+            f32::INFINITY
+        } else {
+            10.0 * unit() * scale
+        };
+        let pad = if case % 4 == 0 {
+            unit() * 1e-3 * scale
+        } else {
+            0.0
+        };
+        // The origin's magnitude along the ray, axis by axis.
+        let origin_in_t = (0..3)
+            .filter(|&i| dir[i] != 0.0)
+            .map(|i| (origin[i].abs() + pad) as f64 / dir[i].abs() as f64)
+            .fold(0.0, f64::max);
+        let mut node = EMPTY_NODE;
+        let mut boxes = [None; WIDTH];
+        for (lane, slot) in boxes.iter_mut().enumerate().take(7) {
+            let t = match lane {
+                0 => 0.0,
+                _ => unit() * t_max.min(4.0 * scale),
+            };
+            let at = ray.origin + ray.dir * t;
+            // The least a tree's box is grown by (`padded_bounds`): a box that thin
+            // around a ray running along its face is still met.
+            let least = 16.0 * f32::EPSILON * at.abs().max_element();
+            let mut half = |k: u32| match (unit() * 4.0) as u32 + k {
+                0 | 1 => least,
+                _ => least + unit() * scale * 0.01,
+            };
+            let h = Vec3::new(half(0), half(0), half(1));
+            let b = Aabb {
+                min: at - h,
+                max: at + h,
+            };
+            node.set_box(lane, &b);
+            let grown = Aabb {
+                min: b.min - Vec3::splat(pad),
+                max: b.max + Vec3::splat(pad),
+            };
+            *slot = meets_exactly(&ray, &grown, t_max);
+        }
+        let four = if pad > 0.0 {
+            Boxes4::<true>::padded(&ray, pad).hit(&node, t_max)
+        } else {
+            Boxes4::<false>::new(&ray).hit(&node, t_max)
+        };
+        let mut answers = vec![("four lanes", four)];
+        #[cfg(target_arch = "x86_64")]
+        if SimdLevel::Avx2.supported() == SimdLevel::Avx2 {
+            #[target_feature(enable = "avx2,fma")]
+            unsafe fn eight(
+                ray: &Ray,
+                pad: f32,
+                node: &Node8,
+                t_max: f32,
+            ) -> Option<(u32, [f32; WIDTH])> {
+                Some(if pad > 0.0 {
+                    Boxes8::<true>::padded(ray, pad)?.hit(node, t_max)
+                } else {
+                    Boxes8::<false>::new(ray)?.hit(node, t_max)
+                })
+            }
+            // SAFETY: the processor runs AVX2 and FMA.
+            match unsafe { eight(&ray, pad, &node, t_max) } {
+                Some(eight) => {
+                    assert_eq!(eight.0 & four.0, four.0, "case {case}: {ray:?}");
+                    answers.push(("eight lanes", eight));
+                }
+                // The four-lane test's turn: the products overflow.
+                None => handed_on += 1,
+            }
+        }
+        for (name, (mask, t)) in answers {
+            assert_eq!(
+                mask >> 7,
+                0,
+                "{name}, case {case}: the empty lane is culled"
+            );
+            for (lane, exact) in boxes.iter().enumerate() {
+                let Some(exact) = *exact else { continue };
+                kept += 1;
+                assert!(
+                    mask >> lane & 1 == 1,
+                    "{name}, case {case}, lane {lane}: {ray:?} culled"
+                );
+                // Rounding the distance, and for the four-lane test the origin it
+                // moves by the pad (the eight-lane one moves its planes by more than
+                // its roundings).
+                let moved = if name == "four lanes" {
+                    origin_in_t
+                } else {
+                    0.0
+                };
+                let slack = 8.0 * f32::EPSILON as f64 * (exact.abs() + moved);
+                assert!(
+                    t[lane] as f64 <= exact + slack,
+                    "{name}, case {case}, lane {lane}: entered at {} beyond {exact}",
+                    t[lane]
+                );
+            }
+        }
+    }
+    assert!(kept > 100_000, "{kept} boxes met");
+    #[cfg(target_arch = "x86_64")]
+    if SimdLevel::Avx2.supported() == SimdLevel::Avx2 {
+        assert!(
+            handed_on > 100,
+            "{handed_on} rays handed to the four-lane test"
+        );
+    }
+}
