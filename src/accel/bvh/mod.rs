@@ -33,6 +33,8 @@ pub enum Leaves {
 
 use super::Hit;
 use super::simd::SimdLevel;
+#[cfg(target_arch = "x86_64")]
+use crate::math::Vec3;
 use crate::math::{Aabb, Ray};
 use crate::scene::Shapes;
 use build::MAX_DEPTH;
@@ -348,21 +350,31 @@ impl<const PADDED: bool> Boxes8<PADDED> {
     #[inline(always)]
     fn with_origins(ray: &Ray, near: [f32; 3], far: [f32; 3]) -> Option<Boxes8<PADDED>> {
         use std::arch::x86_64::_mm256_set1_ps;
-        let d = ray.dir.to_array();
-        let s = [
-            Slab::of(near[0], far[0], d[0])?,
-            Slab::of(near[1], far[1], d[1])?,
-            Slab::of(near[2], far[2], d[2])?,
-        ];
-        let min_at = |axis: usize| axis * size_of::<[Vec4; 2]>();
-        let max_at = |axis: usize| std::mem::offset_of!(Node8, max) + min_at(axis);
+        // The three axes at once, in one register each: the set-up is paid by every
+        // ray, and a shadow ray through a small tree visits few nodes to repay it.
+        let d = ray.dir;
+        let inv = Vec3::ONE / d;
+        // `inverse`: a zero component gives a huge finite value, not infinity.
+        let inv = Vec3::select(inv.is_finite_mask(), inv, Vec3::splat(1e30).copysign(d));
+        let inv_far = inv * BOX_SLACK;
+        // The products rounded, then moved by units in their last place: four cover
+        // the product's rounding and the plane's product's; eight on the far side
+        // also cover the rounding of `inv_far`.
+        let near_scaled = Vec3::from_array(near) * inv;
+        let near_scaled = near_scaled + 4.0 * f32::EPSILON * near_scaled.abs();
+        let far_scaled = Vec3::from_array(far) * inv_far;
+        let far_scaled = far_scaled - 8.0 * f32::EPSILON * far_scaled.abs();
+        if !(near_scaled.is_finite() && far_scaled.is_finite()) {
+            return None;
+        }
+        let negative = d.is_negative_bitmask() as usize;
+        let row = size_of::<[Vec4; 2]>();
+        let max_row = std::mem::offset_of!(Node8, max);
         let (mut near_at, mut far_at) = ([0; 3], [0; 3]);
         for axis in 0..3 {
-            (near_at[axis], far_at[axis]) = if d[axis].is_sign_negative() {
-                (max_at(axis), min_at(axis))
-            } else {
-                (min_at(axis), max_at(axis))
-            };
+            let down = negative >> axis & 1;
+            near_at[axis] = axis * row + down * max_row;
+            far_at[axis] = axis * row + (1 - down) * max_row;
         }
         // SAFETY: reached only from AVX2 functions, on processors that run them. No
         // closures around the intrinsics: they would not inherit the caller's
@@ -372,62 +384,27 @@ impl<const PADDED: bool> Boxes8<PADDED> {
                 near_at,
                 far_at,
                 inv_dir: [
-                    _mm256_set1_ps(s[0].inv_dir),
-                    _mm256_set1_ps(s[1].inv_dir),
-                    _mm256_set1_ps(s[2].inv_dir),
+                    _mm256_set1_ps(inv.x),
+                    _mm256_set1_ps(inv.y),
+                    _mm256_set1_ps(inv.z),
                 ],
                 inv_dir_far: [
-                    _mm256_set1_ps(s[0].inv_dir_far),
-                    _mm256_set1_ps(s[1].inv_dir_far),
-                    _mm256_set1_ps(s[2].inv_dir_far),
+                    _mm256_set1_ps(inv_far.x),
+                    _mm256_set1_ps(inv_far.y),
+                    _mm256_set1_ps(inv_far.z),
                 ],
                 near_scaled: [
-                    _mm256_set1_ps(s[0].near_scaled),
-                    _mm256_set1_ps(s[1].near_scaled),
-                    _mm256_set1_ps(s[2].near_scaled),
+                    _mm256_set1_ps(near_scaled.x),
+                    _mm256_set1_ps(near_scaled.y),
+                    _mm256_set1_ps(near_scaled.z),
                 ],
                 far_scaled: [
-                    _mm256_set1_ps(s[0].far_scaled),
-                    _mm256_set1_ps(s[1].far_scaled),
-                    _mm256_set1_ps(s[2].far_scaled),
+                    _mm256_set1_ps(far_scaled.x),
+                    _mm256_set1_ps(far_scaled.y),
+                    _mm256_set1_ps(far_scaled.z),
                 ],
             })
         }
-    }
-}
-
-/// One axis of [`Boxes8`]: a plane at `p` lies `p * inv_dir - near_scaled` along the
-/// ray if it is a near plane, and `p * inv_dir_far - far_scaled` is at least
-/// [`BOX_SLACK`] times its distance if it is a far one.
-#[cfg(target_arch = "x86_64")]
-#[derive(Clone, Copy)]
-struct Slab {
-    inv_dir: f32,
-    inv_dir_far: f32,
-    near_scaled: f32,
-    far_scaled: f32,
-}
-
-#[cfg(target_arch = "x86_64")]
-impl Slab {
-    /// `None` where a product overflows.
-    #[inline(always)]
-    fn of(near_origin: f32, far_origin: f32, dir: f32) -> Option<Slab> {
-        let inv_dir = inverse(dir);
-        let inv_dir_far = inv_dir * BOX_SLACK;
-        // The products rounded, then moved by units in their last place: four cover
-        // the product's rounding and the plane's product's; eight on the far side
-        // also cover the rounding of `inv_dir_far`.
-        let near_scaled = near_origin * inv_dir;
-        let near_scaled = near_scaled + 4.0 * f32::EPSILON * near_scaled.abs();
-        let far_scaled = far_origin * inv_dir_far;
-        let far_scaled = far_scaled - 8.0 * f32::EPSILON * far_scaled.abs();
-        (near_scaled.is_finite() && far_scaled.is_finite()).then_some(Slab {
-            inv_dir,
-            inv_dir_far,
-            near_scaled,
-            far_scaled,
-        })
     }
 }
 
