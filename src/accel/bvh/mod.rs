@@ -314,7 +314,7 @@ impl<const PADDED: bool> BoxTest for Boxes4<PADDED> {
 /// the leaves decide, are the same. Only built inside functions compiled for AVX2 and
 /// FMA (see [`Bvh::closest`]).
 #[cfg(target_arch = "x86_64")]
-struct Boxes8<const PADDED: bool = false> {
+struct Boxes8 {
     /// Per axis, the byte offsets in a [`Node8`] of its near planes' row (the minima
     /// for a ray going up the axis, the maxima for one going down) and far planes' row.
     near_at: [usize; 3],
@@ -330,25 +330,25 @@ struct Boxes8<const PADDED: bool = false> {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<const PADDED: bool> Boxes8<PADDED> {
+impl Boxes8 {
     /// The test of `ray`; `None` where a product `origin * inv_dir` overflows (an
     /// origin beyond about 10^8 on an axis the ray does not move along), which the
     /// subtracting test of [`Boxes4`] takes instead.
     #[inline(always)]
-    fn new(ray: &Ray) -> Option<Boxes8<PADDED>> {
+    fn new(ray: &Ray) -> Option<Boxes8> {
         let o = ray.origin.to_array();
         Boxes8::with_origins(ray, o, o)
     }
 
     /// The test of boxes grown by `pad` on every side.
     #[inline(always)]
-    fn padded(ray: &Ray, pad: f32) -> Option<Boxes8<PADDED>> {
+    fn padded(ray: &Ray, pad: f32) -> Option<Boxes8> {
         let (near, far) = slab_origins(ray, pad);
         Boxes8::with_origins(ray, near, far)
     }
 
     #[inline(always)]
-    fn with_origins(ray: &Ray, near: [f32; 3], far: [f32; 3]) -> Option<Boxes8<PADDED>> {
+    fn with_origins(ray: &Ray, near: [f32; 3], far: [f32; 3]) -> Option<Boxes8> {
         use std::arch::x86_64::_mm256_set1_ps;
         // The three axes at once, in one register each: the set-up is paid by every
         // ray, and a shadow ray through a small tree visits few nodes to repay it.
@@ -409,7 +409,7 @@ impl<const PADDED: bool> Boxes8<PADDED> {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<const PADDED: bool> BoxTest for Boxes8<PADDED> {
+impl BoxTest for Boxes8 {
     #[inline(always)]
     fn hit(&self, node: &Node8, t_max: f32) -> (u32, [f32; WIDTH]) {
         use std::arch::x86_64::*;
@@ -566,7 +566,7 @@ impl<'s> Bvh<'s> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn closest_avx2(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        match Boxes8::<false>::new(ray) {
+        match Boxes8::new(ray) {
             Some(boxes) => self.closest_in(boxes, ray, t_max),
             None => self.closest_sse2(ray, t_max),
         }
@@ -630,7 +630,7 @@ impl<'s> Bvh<'s> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn occluded_avx2(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
-        match Boxes8::<false>::new(ray) {
+        match Boxes8::new(ray) {
             Some(boxes) => self.occluded_in(boxes, ray, t_max, blocks),
             None => self.occluded_sse2(ray, t_max, blocks),
         }

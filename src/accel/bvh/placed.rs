@@ -56,7 +56,7 @@ impl Bvh<'_> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn closest_placed_avx2(&self, ray: &PlacedRay, t_max: f32, best: &mut Option<Hit>) {
-        match Boxes8::<true>::padded(&ray.local, ray.pad) {
+        match Boxes8::padded(&ray.local, ray.pad) {
             Some(boxes) => self.closest_placed_in(boxes, ray, t_max, best),
             None => self.closest_placed_sse2(ray, t_max, best),
         }
@@ -132,7 +132,7 @@ impl Bvh<'_> {
         t_max: f32,
         blocks: &impl Fn(ShapeId) -> bool,
     ) -> bool {
-        match Boxes8::<true>::padded(&ray.local, ray.pad) {
+        match Boxes8::padded(&ray.local, ray.pad) {
             Some(boxes) => self.occluded_placed_in(boxes, ray, t_max, blocks),
             None => self.occluded_placed_sse2(ray, t_max, blocks),
         }

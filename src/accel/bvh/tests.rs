@@ -212,9 +212,9 @@ fn the_slab_tests_never_cull_a_box_the_ray_meets() {
                 t_max: f32,
             ) -> Option<(u32, [f32; WIDTH])> {
                 Some(if pad > 0.0 {
-                    Boxes8::<true>::padded(ray, pad)?.hit(node, t_max)
+                    Boxes8::padded(ray, pad)?.hit(node, t_max)
                 } else {
-                    Boxes8::<false>::new(ray)?.hit(node, t_max)
+                    Boxes8::new(ray)?.hit(node, t_max)
                 })
             }
             // SAFETY: the processor runs AVX2 and FMA.
