@@ -38,9 +38,14 @@ pub struct Path<'a> {
     accel: &'a Accel<'a>,
     surfaces: &'a [Surface],
     max_depth: u32,
-    /// The light each emissive triangle belongs to, by shape (empty without mesh
-    /// lights): what a BSDF ray that meets one weighs itself against.
+    /// The light each emissive triangle of the scene's own belongs to, by shape (empty
+    /// without mesh lights): what a BSDF ray that meets one weighs itself against.
     light_of_shape: Vec<u32>,
+    /// The mesh lights holding triangles each instance places:
+    /// `placed_lights[placed_lights_from[i]..placed_lights_from[i + 1]]` for instance
+    /// `i` (both empty when no light holds a placed triangle).
+    placed_lights_from: Vec<u32>,
+    placed_lights: Vec<u32>,
     /// Lights with an extent that are not geometry (quads, disks, spheres): a ray may
     /// meet them.
     shaped_lights: Vec<u32>,
@@ -97,14 +102,22 @@ impl<'a> Path<'a> {
     ) -> Path<'a> {
         let mut light_of_shape = Vec::new();
         let mut shaped_lights = Vec::new();
+        let mut placed = Vec::new();
         for (k, light) in scene.lights.iter().enumerate() {
             match &light.kind {
                 LightKind::Mesh { shapes, .. } => {
-                    if light_of_shape.is_empty() {
-                        light_of_shape = vec![NONE; scene.shapes.len()];
-                    }
                     for &s in shapes {
-                        light_of_shape[s as usize] = k as u32;
+                        if !s.is_world() {
+                            // Placed shapes come sorted: one entry per instance.
+                            if placed.last() != Some(&(s.instance, k as u32)) {
+                                placed.push((s.instance, k as u32));
+                            }
+                            continue;
+                        }
+                        if light_of_shape.is_empty() {
+                            light_of_shape = vec![NONE; scene.shapes.len()];
+                        }
+                        light_of_shape[s.shape as usize] = k as u32;
                     }
                 }
                 LightKind::Quad { .. } | LightKind::Disk { .. } | LightKind::Sphere { .. } => {
@@ -113,12 +126,15 @@ impl<'a> Path<'a> {
                 _ => {}
             }
         }
+        let (placed_lights_from, placed_lights) = by_instance(placed, scene.instances.len());
         Path {
             scene,
             accel,
             surfaces,
             max_depth,
             light_of_shape,
+            placed_lights_from,
+            placed_lights,
             shaped_lights,
             cuts_out: surfaces.iter().any(|s| s.alpha_map.is_some()),
             environment: Environment::of(scene),
@@ -151,15 +167,20 @@ impl<'a> Path<'a> {
         &self.surfaces[self.scene.material_index(shape) as usize]
     }
 
-    /// The light whose triangle `shape` is, if any. (Readers leave emissive meshes out
-    /// of instances, so a placed shape is never one.)
+    /// The light whose triangle `shape` is, if any.
     #[inline]
     fn light_of(&self, shape: ShapeId) -> Option<&Light> {
-        if !shape.is_world() {
-            return None;
+        if shape.is_world() {
+            let k = *self.light_of_shape.get(shape.shape as usize)?;
+            return self.scene.lights.get(k as usize);
         }
-        let k = *self.light_of_shape.get(shape.shape as usize)?;
-        self.scene.lights.get(k as usize)
+        let i = shape.instance as usize;
+        let from = *self.placed_lights_from.get(i)? as usize;
+        let to = *self.placed_lights_from.get(i + 1)? as usize;
+        self.placed_lights[from..to]
+            .iter()
+            .map(|&k| &self.scene.lights[k as usize])
+            .find(|light| light.emits_from(shape))
     }
 
     /// Radiance arriving along camera ray `ray` whose closest hit is `hit`.
@@ -697,4 +718,23 @@ fn chunks_of_lanes<'r, 's>(
         .zip(samplers.chunks_mut(lanes::LANES))
         .enumerate()
         .map(|(k, ((r, h), s))| (r, h, s, k * lanes::LANES))
+}
+
+/// Pairs of (instance, light) as a table of each instance's lights: where each
+/// instance's run starts in the second vector (`instances + 1` entries), and the runs.
+fn by_instance(mut pairs: Vec<(u32, u32)>, instances: usize) -> (Vec<u32>, Vec<u32>) {
+    if pairs.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut from = Vec::with_capacity(instances + 1);
+    let mut at = 0;
+    for i in 0..=instances as u32 {
+        while at < pairs.len() && pairs[at].0 < i {
+            at += 1;
+        }
+        from.push(at as u32);
+    }
+    (from, pairs.into_iter().map(|(_, k)| k).collect())
 }

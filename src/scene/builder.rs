@@ -5,7 +5,7 @@
 
 use super::{
     Background, Group, ImageTexture, Instance, Light, Material, MeshAttributes, Object, Scene,
-    Shape, Surface, Texture,
+    Shape, ShapeId, Surface, Texture,
 };
 use crate::math::Vec3;
 use std::ops::Range;
@@ -219,25 +219,73 @@ impl SceneBuilder {
         self.scene.background = background;
     }
 
+    /// The triangles [`SceneBuilder::add_emissive_lights`] would light: the scene's own
+    /// emissive ones and those the instances place, each counted once per instance (a
+    /// reader checks them against [`crate::util::limits::MAX_LIGHT_TRIANGLES`] first).
+    pub fn emissive_triangles(&self) -> u64 {
+        let scene = &self.scene;
+        let emits = |m: &u32| {
+            scene
+                .surfaces
+                .get(*m as usize)
+                .is_some_and(|s| s.emission.max_element() > 0.0)
+        };
+        let per_object: Vec<u64> = scene
+            .objects
+            .iter()
+            .map(|o| o.material_of.iter().filter(|m| emits(m)).count() as u64)
+            .collect();
+        let own = scene.material_of.iter().filter(|m| emits(m)).count() as u64;
+        scene
+            .instances
+            .iter()
+            .fold(own, |n, i| n.saturating_add(per_object[i.object as usize]))
+    }
+
     /// Every emissive material's triangles as one area light of `samples` shadow rays,
-    /// in material order; the names of the emissive materials whose faces have no area
+    /// in material order: the scene's own, then those each instance places, in
+    /// instance order. The names of the emissive materials whose faces have no area
     /// (so no light) come back for the reader to warn of.
     pub fn add_emissive_lights(&mut self, samples: u32) -> Vec<String> {
         let scene = &mut self.scene;
-        let mut emissive: Vec<Vec<u32>> = vec![Vec::new(); scene.materials.len()];
+        let emits = |m: u32| {
+            scene
+                .surfaces
+                .get(m as usize)
+                .is_some_and(|s| s.emission.max_element() > 0.0)
+        };
+        let mut emissive: Vec<Vec<ShapeId>> = vec![Vec::new(); scene.materials.len()];
         for (i, &m) in scene.material_of.iter().enumerate() {
-            if let Some(s) = scene.surfaces.get(m as usize)
-                && s.emission.max_element() > 0.0
-            {
-                emissive[m as usize].push(i as u32);
+            if emits(m) {
+                emissive[m as usize].push(ShapeId::world(i as u32));
+            }
+        }
+        // Each object's emitting triangles, found once however often it is placed.
+        let object_emitters: Vec<Vec<(u32, u32)>> = scene
+            .objects
+            .iter()
+            .map(|o| {
+                let shapes = o.material_of.iter().enumerate();
+                shapes
+                    .filter(|&(_, &m)| emits(m))
+                    .map(|(i, &m)| (m, i as u32))
+                    .collect()
+            })
+            .collect();
+        for (k, instance) in scene.instances.iter().enumerate() {
+            for &(m, shape) in &object_emitters[instance.object as usize] {
+                emissive[m as usize].push(ShapeId {
+                    instance: k as u32,
+                    shape,
+                });
             }
         }
         let mut dark = Vec::new();
-        for (m, shapes) in emissive.iter().enumerate() {
+        for (m, shapes) in emissive.into_iter().enumerate() {
             if shapes.is_empty() {
                 continue;
             }
-            match Light::mesh(&scene.shapes, shapes) {
+            match Light::mesh(scene, shapes) {
                 Some(mut light) => {
                     light.samples = samples;
                     scene.lights.push(light);
@@ -332,7 +380,61 @@ mod tests {
         let crate::scene::LightKind::Mesh { shapes, .. } = &s.lights[0].kind else {
             panic!()
         };
-        assert_eq!(shapes, &[1, 3]);
+        assert_eq!(shapes, &[ShapeId::world(1), ShapeId::world(3)]);
         assert_eq!(s.lights[0].samples, 4);
+    }
+
+    /// Glowing triangles placed by instances join their material's light after the
+    /// scene's own, instance by instance, and are counted once per instance.
+    #[test]
+    fn placed_emitters_join_their_materials_light() {
+        let mut b = SceneBuilder::new();
+        let glow = b.add_material(
+            Material::default_white(),
+            Surface {
+                emission: Vec3::ONE,
+                ..Surface::default()
+            },
+        );
+        let matte = b.add_material(Material::default_white(), Surface::default());
+        let tri = Shape::Triangle(Triangle {
+            v: [Vec3::ZERO, Vec3::X, Vec3::Y],
+        });
+        b.add_shape(tri, glow);
+        let mut shapes = super::super::Shapes::new();
+        for _ in 0..3 {
+            shapes.push(tri);
+        }
+        let object = b.add_object(Object {
+            shapes,
+            material_of: vec![matte, glow, glow],
+            ..Object::default()
+        });
+        let twice = glam::Affine3A::from_scale(glam::Vec3::new(2.0, 1.0, 1.0));
+        b.add_instance(object, twice).unwrap();
+        b.add_instance(object, glam::Affine3A::IDENTITY).unwrap();
+        assert_eq!(b.emissive_triangles(), 5);
+        assert!(b.add_emissive_lights(1).is_empty());
+        let s = b.finish();
+        let crate::scene::LightKind::Mesh { shapes, cdf, area } = &s.lights[0].kind else {
+            panic!()
+        };
+        let placed = |instance, shape| ShapeId { instance, shape };
+        assert_eq!(
+            shapes,
+            &[
+                ShapeId::world(0),
+                placed(0, 1),
+                placed(0, 2),
+                placed(1, 1),
+                placed(1, 2)
+            ]
+        );
+        // Areas 0.5, 1, 1, 0.5, 0.5: cumulative over 3.5.
+        assert_eq!(*area, 3.5);
+        assert_eq!(cdf[1], (1.5f64 / 3.5) as f32);
+        assert!(s.lights[0].emits_from(placed(1, 2)));
+        assert!(!s.lights[0].emits_from(placed(1, 0)));
+        assert!(!s.lights[0].emits_from(placed(2, 1)));
     }
 }

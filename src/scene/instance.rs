@@ -7,7 +7,7 @@
 //! [`Instance::normal_to_world`]. [`Scene::flattened`] copies every instance out with those
 //! same functions, so a scene of instances renders bit for bit as its flattened twin.
 
-use super::{MeshAttributes, Scene, Shape, Shapes, Stored, Triangle};
+use super::{LightKind, MeshAttributes, Scene, Shape, Shapes, Stored, Triangle};
 use crate::math::{Aabb, Vec3};
 use glam::Affine3A;
 use rayon::prelude::*;
@@ -239,6 +239,17 @@ impl Scene {
         )
     }
 
+    /// The shape `id` names, in world space; `None` when the scene has no such shape.
+    pub fn try_shape_at(&self, id: ShapeId) -> Option<Shape> {
+        if id.is_world() {
+            return self.shapes.try_get(id.shape as usize);
+        }
+        let instance = self.instances.get(id.instance as usize)?;
+        let object = self.objects.get(instance.object as usize)?;
+        ((id.shape as usize) < object.shapes.len())
+            .then(|| placed_shape(instance, object, id.shape as usize))
+    }
+
     /// Index into `materials` of the material shape `id` wears.
     #[inline]
     pub fn material_index(&self, id: ShapeId) -> u32 {
@@ -279,15 +290,17 @@ impl Scene {
     }
 
     /// The scene with every instance copied out into shapes of its own, appended after
-    /// the scene's in instance order: what a scene of instances must render as, bit for
-    /// bit.
+    /// the scene's in instance order (its emissive meshes' lights naming the copies):
+    /// what a scene of instances must render as, bit for bit.
     pub fn flattened(&self) -> Scene {
         let mut flat = Scene {
             objects: Vec::new(),
             instances: Vec::new(),
             ..self.clone()
         };
+        let mut first_of_instance = Vec::with_capacity(self.instances.len());
         for instance in &self.instances {
+            first_of_instance.push(flat.shapes.len() as u32);
             let object = &self.objects[instance.object as usize];
             let first = flat.shapes.len() as u32;
             for (i, &material) in object.material_of.iter().enumerate() {
@@ -296,6 +309,13 @@ impl Scene {
             for mesh in &object.meshes {
                 flat.meshes
                     .push(instance.placed_mesh(mesh, first + mesh.first_shape));
+            }
+        }
+        for light in &mut flat.lights {
+            if let LightKind::Mesh { shapes, .. } = &mut light.kind {
+                for id in shapes.iter_mut().filter(|id| !id.is_world()) {
+                    *id = ShapeId::world(first_of_instance[id.instance as usize] + id.shape);
+                }
             }
         }
         flat

@@ -1,6 +1,7 @@
 //! Lights: the 2014 point light, and the kinds the physically based model adds
 //! (SPEC 4.3): directional, spot, and area lights sampled with stratified shadow rays.
 
+use super::{Scene, Shape, ShapeId};
 use crate::math::{Vec3, cross};
 
 pub mod sampling;
@@ -76,12 +77,13 @@ pub enum LightKind {
         /// Radius in world units; shading points are sampled over the cone it subtends.
         radius: f32,
     },
-    /// Triangles of `Scene::shapes` (by index) emitting with their material's
-    /// emission: an emissive mesh. `cdf` holds their cumulative areas, normalised, so
-    /// samples pick triangles in proportion to area; `area` is the total.
+    /// Triangles of the scene (its own, or placed by instances) emitting with their
+    /// material's emission: an emissive mesh. `cdf` holds their cumulative areas,
+    /// normalised, so samples pick triangles in proportion to area; `area` is the total.
     Mesh {
-        /// Indices of the emitting triangles in `Scene::shapes`.
-        shapes: Vec<u32>,
+        /// The emitting triangles, in ascending [`ShapeId::order`] where they are
+        /// placed ones (so a hit finds its light by a binary search).
+        shapes: Vec<ShapeId>,
         /// Cumulative area of `shapes` over the total, rising to 1.
         cdf: Vec<f32>,
         /// Total area of the triangles, in squared world units.
@@ -165,14 +167,21 @@ impl ConeEdge {
 }
 
 impl Light {
-    /// An emissive-mesh light over the triangles `shapes` of `scene_shapes` (others
-    /// are skipped), or `None` when they have no area.
-    pub fn mesh(scene_shapes: &super::Shapes, shapes: &[u32]) -> Option<Light> {
+    /// An emissive-mesh light over the triangles `shapes` of `scene`, in world space
+    /// (shapes that are not triangles of it, or have no area, are skipped), or `None`
+    /// when they have no area. The scene's own shapes keep the order given; placed
+    /// ones follow them in ascending [`ShapeId::order`].
+    pub fn mesh(scene: &Scene, shapes: impl IntoIterator<Item = ShapeId>) -> Option<Light> {
+        let mut shapes: Vec<ShapeId> = shapes.into_iter().collect();
+        let key = |id: &ShapeId| if id.is_world() { 0 } else { id.order() };
+        if !shapes.is_sorted_by_key(key) {
+            shapes.sort_by_key(key);
+        }
         let mut kept = Vec::with_capacity(shapes.len());
         let mut cdf = Vec::with_capacity(shapes.len());
         let mut total = 0.0f64;
-        for &i in shapes {
-            if let Some(super::Shape::Triangle(t)) = scene_shapes.try_get(i as usize) {
+        for i in shapes {
+            if let Some(Shape::Triangle(t)) = scene.try_shape_at(i) {
                 let [a, b, c] = t.v;
                 let area = 0.5 * f64::from(cross(b - a, c - a).length());
                 if area > 0.0 && area.is_finite() {
@@ -194,6 +203,22 @@ impl Light {
             },
             ..Light::point(Vec3::ZERO, Vec3::ONE)
         })
+    }
+
+    /// Whether `shape` is one of the triangles of this emissive mesh (false for the
+    /// other kinds). A placed shape is found by binary search, the scene's own by a
+    /// scan: callers keep a table for those.
+    pub fn emits_from(&self, shape: ShapeId) -> bool {
+        let LightKind::Mesh { shapes, .. } = &self.kind else {
+            return false;
+        };
+        if shape.is_world() {
+            return shapes.contains(&shape);
+        }
+        let placed = &shapes[shapes.partition_point(|s| s.is_world())..];
+        placed
+            .binary_search_by_key(&shape.order(), |s| s.order())
+            .is_ok()
     }
 
     /// A white point light of intensity 1 (the 2014 format's lights).

@@ -19,6 +19,9 @@ pub const MAX_THREADS_PER_CORE: usize = 4;
 /// The most shapes (triangles, mostly) a scene may hold: 2^28, about 40 GB of mesh and
 /// BVH. Readers refuse a mesh that would pass it where they read its size.
 pub const MAX_SHAPES: usize = 1 << 28;
+/// The most triangles the lights of emissive meshes may name, those of instances counted
+/// once per instance: 2^28, about 3 GB of lists (a copied emitter would cost more).
+pub const MAX_LIGHT_TRIANGLES: u64 = 1 << 28;
 /// The most instances a scene may place: 2^24, about 2.5 GB of transforms and tree.
 pub const MAX_INSTANCES: usize = 1 << 24;
 /// Largest 2014 scene, material or camera file: 1 GiB of text is tens of millions of

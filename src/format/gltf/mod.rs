@@ -116,16 +116,7 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
                 (material, set)
             };
             let primitives = &meshes[&m.index()];
-            // An emissive mesh stays copied: its triangles are lights of the scene.
-            let emits = primitives.iter().any(|p| {
-                let (material, _) = wears(p);
-                scene
-                    .scene()
-                    .surfaces
-                    .get(material as usize)
-                    .is_some_and(|s| s.emission != Vec3::ZERO)
-            });
-            if uses.get(&m.index()).is_some_and(|&n| n > 1) && !emits {
+            if uses.get(&m.index()).is_some_and(|&n| n > 1) {
                 let object = *objects
                     .entry(m.index())
                     .or_insert_with(|| scene.add_object(object_of(primitives, m.name(), &wears)));
@@ -196,11 +187,25 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
             skipped.points_and_lines
         ));
     }
-    if scene.scene().material_of.contains(&default_material) {
+    let wears_default = |m: &[u32]| m.contains(&default_material);
+    if wears_default(&scene.scene().material_of)
+        || scene
+            .scene()
+            .objects
+            .iter()
+            .any(|o| wears_default(&o.material_of))
+    {
         // glTF's default material is a rough white metal, which the whitted model
         // shows nearly black; Prism's matte default (as for OBJ and PLY) is what users
         // of a model without materials expect.
         scene.add_material(Material::default_white(), Surface::default());
+    }
+    let emitting = scene.emissive_triangles();
+    if emitting > crate::util::limits::MAX_LIGHT_TRIANGLES {
+        return Err(err(format!(
+            "its emissive meshes place {emitting} triangles, more than the {} lights may hold",
+            crate::util::limits::MAX_LIGHT_TRIANGLES
+        )));
     }
     for name in scene.add_emissive_lights(DEFAULT_AREA_SAMPLES) {
         warnings.push(format!(

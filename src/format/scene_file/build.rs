@@ -16,7 +16,7 @@ use crate::options::RenderOptions;
 use crate::scene::material::linear_to_srgb;
 use crate::scene::{
     Albedo, Camera, Falloff, Group, Light, LightKind, Material, Rectangle, Scene, SceneBuilder,
-    Shape, Surface,
+    Shape, ShapeId, Surface,
 };
 use std::collections::HashMap;
 use toml::Spanned;
@@ -52,6 +52,9 @@ struct Builder {
     transforms: HashMap<String, Vec<[[f64; 4]; 4]>>,
     /// Named mesh objects, which instances place by name.
     meshes: HashMap<String, MeshObject>,
+    /// Triangles the lights of glowing instances name so far, each counted once per
+    /// instance.
+    placed_emitters: u64,
 }
 
 /// A named mesh object as instances place it: its file and how it was read, and once
@@ -80,10 +83,11 @@ impl MeshObject {
 /// What instances of a mesh place.
 #[derive(Clone)]
 enum Placed {
-    /// An object of the scene, held once.
-    Object(u32),
-    /// A mesh that emits or carries lights: each placement copies it, so its
-    /// triangles are lights of the scene.
+    /// An object of the scene, held once, with the mesh lights its file gave (over
+    /// its triangles, by their index in the object): each instance lights its own.
+    Object(u32, Vec<Light>),
+    /// A mesh that carries lights of other kinds: each placement copies it, so they
+    /// are lights of the scene.
     Copies(Box<Scene>),
 }
 
@@ -389,6 +393,34 @@ impl Builder {
         Ok(())
     }
 
+    /// Mesh lights for the glowing triangles instance `instance` places: one per run
+    /// of triangles with one emissive material, as [`Builder::emitters`] makes them for
+    /// a copy.
+    fn instance_emitters(&mut self, instance: u32, samples: u32) {
+        let scene = self.scene.scene();
+        let object = &scene.objects[scene.instances[instance as usize].object as usize];
+        let material_of = &object.material_of;
+        let mut runs = Vec::new();
+        let mut i = 0;
+        while i < material_of.len() {
+            let m = material_of[i];
+            let end = (i..material_of.len())
+                .find(|&j| material_of[j] != m)
+                .unwrap_or(material_of.len());
+            let emission = scene.surfaces[m as usize].emission;
+            if emission != Vec3::ZERO {
+                runs.push((i as u32..end as u32, emission));
+            }
+            i = end;
+        }
+        for (run, emission) in runs {
+            let shapes = run.map(|shape| ShapeId { instance, shape });
+            if let Some(light) = mesh_light(self.scene.scene(), shapes, emission, samples) {
+                self.scene.add_light(light);
+            }
+        }
+    }
+
     /// Area lights for the glowing shapes from `first` on: a sphere light per sphere,
     /// a mesh light per run of triangles with one emissive material.
     fn emitters(&mut self, first: usize, samples: u32) {
@@ -422,9 +454,8 @@ impl Builder {
                                 || !matches!(self.scene.scene().shapes.get(j), Shape::Triangle(_))
                         })
                         .unwrap_or(end);
-                    if let Some(light) =
-                        mesh_light(self.scene.scene(), i, run_end, emission, samples)
-                    {
+                    let run = (i as u32..run_end as u32).map(ShapeId::world);
+                    if let Some(light) = mesh_light(self.scene.scene(), run, emission, samples) {
                         self.scene.add_light(light);
                     }
                     i = run_end;
@@ -540,9 +571,24 @@ impl Builder {
             }
         };
         let material = self.meshes[of.get_ref()].material;
+        // Whether the instances glow in the material they were given, and what each
+        // instance's lights name: its object's glowing triangles.
+        let glows = material
+            .is_some_and(|m| self.scene.scene().surfaces[m as usize].emission != Vec3::ZERO);
+        let emitting = match &placed {
+            Placed::Object(object, lights) => {
+                let own = self.scene.scene().objects[*object as usize].shapes.len() as u64;
+                let file = lights.iter().map(|l| match &l.kind {
+                    LightKind::Mesh { shapes, .. } => shapes.len() as u64,
+                    _ => 0,
+                });
+                u64::from(glows) * own + file.sum::<u64>()
+            }
+            Placed::Copies(_) => 0,
+        };
         for m in placements {
             match &placed {
-                Placed::Object(object) => {
+                Placed::Object(object, lights) => {
                     if self.scene.scene().instances.len() >= crate::util::limits::MAX_INSTANCES {
                         return Err(source.error(
                             of,
@@ -554,9 +600,42 @@ impl Builder {
                     }
                     // A transform that flattens the mesh or is not finite places
                     // nothing that can be seen.
-                    let _ = self
+                    let Some(instance) = self
                         .scene
-                        .add_instance(*object, glam::Affine3A::from_mat4(m.as_mat4()));
+                        .add_instance(*object, glam::Affine3A::from_mat4(m.as_mat4()))
+                    else {
+                        continue;
+                    };
+                    self.placed_emitters += emitting;
+                    if self.placed_emitters > crate::util::limits::MAX_LIGHT_TRIANGLES {
+                        return Err(source.error(
+                            of,
+                            format!(
+                                "the scene's glowing instances place more than {} triangles \
+                                 for their lights",
+                                crate::util::limits::MAX_LIGHT_TRIANGLES
+                            ),
+                        ));
+                    }
+                    if glows {
+                        self.instance_emitters(instance, lights::DEFAULT_AREA_SAMPLES);
+                    }
+                    for light in lights {
+                        let LightKind::Mesh { shapes, .. } = &light.kind else {
+                            unreachable!("objects carry mesh lights only")
+                        };
+                        let placed = shapes.iter().map(|s| ShapeId {
+                            instance,
+                            shape: s.shape,
+                        });
+                        if let Some(mesh) = Light::mesh(self.scene.scene(), placed) {
+                            self.scene.add_light(Light {
+                                position: Transform::from_matrix(m).point_f32(light.position),
+                                kind: mesh.kind,
+                                ..light.clone()
+                            });
+                        }
+                    }
                 }
                 Placed::Copies(loaded) => {
                     let first = self.scene.scene().shapes.len();
@@ -607,6 +686,11 @@ impl Builder {
         }
         regular_file(source, file, &path)?;
         let mut loaded = crate::format::load_scene(&path)?;
+        if !loaded.instances.is_empty() {
+            // A mesh object is one mesh: the instances of a file (a glTF's reused
+            // meshes) become its own triangles.
+            loaded = loaded.flattened();
+        }
         prepare_mesh(source, up_axis, smooth, &mut loaded)?;
         Ok(loaded)
     }
@@ -722,7 +806,8 @@ fn prepare_mesh(
 }
 
 /// A loaded mesh as instances place it: an object of `scene` wearing its own materials
-/// (added to the scene's) or `material`; or, where it emits or carries lights, copies.
+/// (added to the scene's) or `material`, with the mesh lights of its emissive ones; or,
+/// where it carries lights of other kinds, copies.
 fn as_object(
     scene: &mut SceneBuilder,
     loaded: Scene,
@@ -735,14 +820,16 @@ fn as_object(
                 .into(),
         );
     }
-    let surfaces = loaded.resolved_surfaces();
-    let emits = match material {
-        Some(m) => scene.scene().surfaces[m as usize].emission != Vec3::ZERO,
-        None => surfaces.iter().any(|s| s.emission != Vec3::ZERO),
-    };
-    if emits || !loaded.lights.is_empty() {
+    let mesh_lights = |l: &Light| matches!(l.kind, LightKind::Mesh { .. });
+    if !loaded.lights.iter().all(mesh_lights) {
         return Ok(Placed::Copies(Box::new(loaded)));
     }
+    // An overriding material's glow is lit run by run as each instance is placed;
+    // the file's own emissive materials come with their lights.
+    let lights = match material {
+        Some(_) => Vec::new(),
+        None => loaded.lights.clone(),
+    };
     let material_base = add_materials(scene, &loaded, material);
     let object = crate::scene::Object {
         name: name.to_owned(),
@@ -754,7 +841,7 @@ fn as_object(
         shapes: loaded.shapes,
         meshes: loaded.meshes,
     };
-    Ok(Placed::Object(scene.add_object(object)))
+    Ok(Placed::Object(scene.add_object(object), lights))
 }
 
 /// Adds the materials, textures and images of `loaded` to `scene` unless `material`
@@ -787,17 +874,15 @@ fn add_materials(scene: &mut SceneBuilder, loaded: &Scene, material: Option<u32>
     material_base
 }
 
-/// The emitting triangles `first..end` as one area light, sampled in proportion to area.
+/// The emitting triangles `shapes` as one area light, sampled in proportion to area.
 fn mesh_light(
     scene: &Scene,
-    first: usize,
-    end: usize,
+    shapes: impl Iterator<Item = ShapeId> + Clone,
     emission: Vec3,
     samples: u32,
 ) -> Option<Light> {
-    let shapes: Vec<u32> = (first as u32..end as u32).collect();
-    let mut light = Light::mesh(&scene.shapes, &shapes)?;
-    let bounds = (first..end).fold(Aabb::EMPTY, |b, i| b.union(scene.shapes.get(i).bounds()));
+    let mut light = Light::mesh(scene, shapes.clone())?;
+    let bounds = shapes.fold(Aabb::EMPTY, |b, i| b.union(scene.shape_at(i).bounds()));
     light.position = bounds.center();
     light.color = emission;
     light.samples = samples;
@@ -876,8 +961,8 @@ fn merge(
             LightKind::Mesh { shapes, .. } => {
                 // The placed triangles' areas: a scale changes them all, and an
                 // uneven one their shares.
-                let placed: Vec<u32> = shapes.iter().map(|s| s + shape_base).collect();
-                let Some(mesh) = Light::mesh(&scene.scene().shapes, &placed) else {
+                let placed = shapes.iter().map(|s| ShapeId::world(s.shape + shape_base));
+                let Some(mesh) = Light::mesh(scene.scene(), placed) else {
                     continue;
                 };
                 light.kind = mesh.kind;

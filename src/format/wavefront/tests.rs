@@ -64,7 +64,10 @@ fn illum_models_map_to_the_whitted_terms() {
     let LightKind::Mesh { shapes, area, .. } = &s.lights[0].kind else {
         panic!("{:?}", s.lights[0]);
     };
-    assert_eq!((shapes.as_slice(), *area), (&[5u32][..], 0.5));
+    assert_eq!(
+        (shapes.as_slice(), *area),
+        (&[crate::scene::ShapeId::world(5)][..], 0.5)
+    );
     assert_eq!(s.background, Background::Black);
 }
 

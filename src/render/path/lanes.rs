@@ -329,6 +329,7 @@ impl Path<'_> {
         let flat = scene
             .meshes
             .iter()
+            .chain(scene.objects.iter().flat_map(|o| &o.meshes))
             .all(|m| m.normal_indices.is_empty() && m.color_indices.is_empty());
         Some(LaneScene {
             lights: meshes.collect::<Option<_>>()?,

@@ -7,7 +7,7 @@
 
 use super::{Falloff, Light, LightKind};
 use crate::math::{Ray, Vec3, concentric_disk, cross, normalize, sin_cos};
-use crate::scene::{Scene, Shape, Surface};
+use crate::scene::{Scene, Shape, ShapeId, Surface};
 
 /// Light arriving at a point from one sample of a light.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -236,15 +236,15 @@ impl Light {
         &self,
         scene: &Scene,
         surfaces: &[Surface],
-        shape: u32,
+        shape: ShapeId,
     ) -> Option<MeshTriangle> {
-        let Shape::Triangle(tri) = scene.shapes.get(shape as usize) else {
+        let Shape::Triangle(tri) = scene.shape_at(shape) else {
             return None;
         };
         Some(MeshTriangle {
             v: tri.v,
             normal: tri.normal(),
-            le: surfaces[scene.material_of[shape as usize] as usize].emission * self.intensity,
+            le: surfaces[scene.material_index(shape) as usize].emission * self.intensity,
         })
     }
 

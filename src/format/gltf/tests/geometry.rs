@@ -337,10 +337,10 @@ fn a_scene_file_places_a_gltf_mesh_with_its_materials_and_lights() {
     assert!(s.surfaces[0].openpbr.is_some());
 }
 
-/// A mesh placed by several nodes is held once and placed by instances, unless it
-/// emits: an emitter's triangles are lights of the scene, so each placement is copied.
+/// A mesh placed by several nodes is held once and placed by instances; where it
+/// emits, its placed triangles are one light per emissive material, as copies were.
 #[test]
-fn a_mesh_placed_twice_is_instanced_unless_it_emits() {
+fn a_mesh_placed_twice_is_instanced_and_lights_where_it_emits() {
     let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
     for emits in [false, true] {
         let mut b = Builder::default();
@@ -348,16 +348,70 @@ fn a_mesh_placed_twice_is_instanced_unless_it_emits() {
         let glow = if emits { [1.0, 1.0, 1.0] } else { [0.0; 3] };
         let doc = b.finish(json!({
             "materials": [{"emissiveFactor": glow}],
-            "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0.0, 0.0, 2.0]}],
+            "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0.0, 0.0, 2.0], "scale": [2.0, 1.0, 1.0]}],
             "scenes": [{"nodes": [0, 1]}],
         }));
         let (_dir, path) = write(&doc);
         let scene = crate::format::load(&path).unwrap().scene;
-        let instances = if emits { 0 } else { 2 };
-        assert_eq!(scene.instances.len(), instances, "emits {emits}");
-        assert_eq!(scene.shapes.len() + scene.placed_triangles() as usize, 2);
-        // The emitter's two copies are the scene's own shapes, lit as a light.
-        assert_eq!(scene.shapes.len(), if emits { 2 } else { 0 });
-        assert_eq!(scene.lights.is_empty(), !emits);
+        assert_eq!(scene.instances.len(), 2, "emits {emits}");
+        assert_eq!((scene.shapes.len(), scene.placed_triangles()), (0, 2));
+        assert_eq!(scene.lights.len(), emits as usize);
+        if emits {
+            let crate::scene::LightKind::Mesh { shapes, cdf, area } = &scene.lights[0].kind else {
+                panic!("{:?}", scene.lights[0])
+            };
+            let placed = |instance| crate::scene::ShapeId { instance, shape: 0 };
+            assert_eq!(shapes, &[placed(0), placed(1)]);
+            // The second is scaled twice as wide: 0.5 and 1.0 square units.
+            assert_eq!((cdf.as_slice(), *area), (&[1.0 / 3.0, 1.0][..], 1.5));
+        }
     }
+}
+
+/// A mesh without a material, placed twice: its instances wear Prism's matte default,
+/// which is added though no triangle of the scene's own wears it.
+#[test]
+fn instances_of_a_mesh_without_a_material_wear_the_default() {
+    let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let mut b = Builder::default();
+    b.mesh(&tri, None, 4, None);
+    let doc = b.finish(json!({
+        "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0.0, 0.0, 2.0]}],
+        "scenes": [{"nodes": [0, 1]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let scene = crate::format::load(&path).unwrap().scene;
+    assert_eq!((scene.shapes.len(), scene.instances.len()), (0, 2));
+    let m = scene.objects[0].material_of[0] as usize;
+    assert!(m < scene.surfaces.len() && m < scene.materials.len());
+    assert_eq!(scene.surfaces[m].openpbr, None);
+}
+
+/// A glTF file whose nodes reuse a mesh, read as a mesh object of a scene file: its
+/// instances become the object's own triangles, glowing ones with their light.
+#[test]
+fn a_scene_file_mesh_from_a_gltf_of_instances_keeps_them() {
+    let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let mut b = Builder::default();
+    b.mesh(&tri, None, 4, Some(0));
+    let doc = b.finish(json!({
+        "materials": [{"emissiveFactor": [1.0, 1.0, 1.0]}],
+        "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0.0, 0.0, 2.0]}],
+        "scenes": [{"nodes": [0, 1]}],
+    }));
+    let (dir, _) = write(&doc);
+    let toml = dir.path().join("scene.toml");
+    std::fs::write(
+        &toml,
+        "[[object]]\ntype = \"mesh\"\nfile = \"scene.gltf\"\ntranslate = [0, 1, 0]\n",
+    )
+    .unwrap();
+    let scene = crate::format::load(&toml).unwrap().scene;
+    assert_eq!((scene.shapes.len(), scene.instances.len()), (2, 0));
+    assert_eq!(scene.shapes.get(1).bounds().min, Vec3::new(0.0, 1.0, 2.0));
+    let crate::scene::LightKind::Mesh { shapes, area, .. } = &scene.lights[0].kind else {
+        panic!("{:?}", scene.lights)
+    };
+    assert_eq!(shapes, &[0, 1].map(crate::scene::ShapeId::world));
+    assert_eq!(*area, 1.0);
 }

@@ -88,7 +88,14 @@ fn glowing_objects_are_area_lights_in_their_group() {
     };
     assert_eq!(
         (shapes.as_slice(), cdf.as_slice(), *area),
-        (&[0u32, 1][..], &[0.5, 1.0][..], 3.0)
+        (
+            &[
+                crate::scene::ShapeId::world(0),
+                crate::scene::ShapeId::world(1)
+            ][..],
+            &[0.5, 1.0][..],
+            3.0
+        )
     );
     assert_eq!(f.scene.lights[0].samples, 4);
     assert_eq!(f.scene.lights[1].kind, LightKind::Sphere { radius: 0.5 });

@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::math::{cross, normalize};
-use crate::scene::{Albedo, Shape};
+use crate::scene::{Albedo, LightKind, Shape, ShapeId};
 
 #[test]
 fn a_sphere_is_scaled_then_translated() {
@@ -324,17 +324,54 @@ fn a_plane_is_sized_by_the_instances_too() {
     assert!(plane.max.x > 2001.0 * 50.0, "{plane:?}");
 }
 
-/// A glowing mesh is copied at every placement: its triangles are lights.
+/// Each instance of a glowing mesh is a light of its own, over its placed triangles,
+/// as a copy of it was: the object's own glow (`emission` on it), or the glowing
+/// materials of its file.
 #[test]
-fn instances_of_a_glowing_mesh_are_copies_that_light() {
+fn instances_of_a_glowing_mesh_are_lights() {
     let dir = Folder::new();
     dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-    let f = dir.load(
-        "[[object]]\nname = \"lamp\"\ntype = \"mesh\"\nfile = \"tri.obj\"\n\
-         material = { emission = [4, 4, 4] }\n\
-         [[object]]\ntype = \"instance\"\nof = \"lamp\"\ntranslate = [0, 0, -2]\n",
+    dir.write(
+        "lamp.mtl",
+        "newmtl glow\nKe 2 2 2\nnewmtl matte\nKd 0.5 0.5 0.5\n",
     );
-    assert!(f.scene.instances.is_empty());
-    assert_eq!(f.scene.shapes.len(), 2);
-    assert_eq!(f.scene.lights.len(), 2);
+    dir.write(
+        "lamp.obj",
+        "mtllib lamp.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n\
+         usemtl glow\nf 1 2 3\nusemtl matte\nf 2 4 3\n",
+    );
+    let f = dir.load(
+        "[[object]]\nname = \"tri\"\ntype = \"mesh\"\nfile = \"tri.obj\"\n\
+         material = { emission = [4, 4, 4] }\n\
+         [[object]]\ntype = \"instance\"\nof = \"tri\"\ntranslate = [0, 0, -2]\n\
+         scale = [2, 2, 2]\n\
+         [[object]]\ntype = \"instance\"\nfile = \"lamp.obj\"\n\
+         transforms = [[[1, 0, 0, 5], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],\n\
+                       [[3, 0, 0, 9], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]]\n",
+    );
+    let s = &f.scene;
+    // The named mesh is the scene's own triangle; three instances place the rest.
+    assert_eq!((s.shapes.len(), s.instances.len()), (1, 3));
+    let lights: Vec<(Vec<ShapeId>, f32)> = s
+        .lights
+        .iter()
+        .map(|l| match &l.kind {
+            LightKind::Mesh { shapes, area, .. } => (shapes.clone(), *area),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    let placed = |instance| ShapeId { instance, shape: 0 };
+    assert_eq!(
+        lights,
+        [
+            (vec![ShapeId::world(0)], 0.5),
+            (vec![placed(0)], 2.0),
+            (vec![placed(1)], 0.5),
+            (vec![placed(2)], 1.5),
+        ]
+    );
+    // An emission light sits at the middle of its placed triangles; a file's light
+    // where the placement puts its own.
+    assert_eq!(s.lights[1].position, Vec3::new(1.0, 1.0, -2.0));
+    assert_eq!(s.lights[3].position, Vec3::new(9.0, 0.0, 0.0));
 }

@@ -149,11 +149,11 @@ fn room() -> Scene {
         }),
         emitter(Vec3::new(0.5, 1.0, 3.0)),
     );
-    let mut light = Light::mesh(&s.shapes, &ceiling_light).unwrap();
+    let mut light = Light::mesh(&s, ceiling_light.map(crate::scene::ShapeId::world)).unwrap();
     light.intensity = 1.5;
     s.lights.push(light);
     s.lights
-        .push(Light::mesh(&s.shapes, &[wall_light]).unwrap());
+        .push(Light::mesh(&s, [crate::scene::ShapeId::world(wall_light)]).unwrap());
     // The floor's shading normals lean away from its face, and its corners have
     // colours of their own.
     let lean = |x: f32, z: f32| Vec3::new(x, 1.0, z);

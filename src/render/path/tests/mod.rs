@@ -287,9 +287,9 @@ fn a_diffuse_floor_under_each_area_light_converges_to_the_analytic_irradiance() 
         probe.shapes.push(*shape);
     }
     // Shapes 1 and 2 of the floor scene.
-    let mut light = Light::mesh(&probe.shapes, &[0, 1]).unwrap();
+    let mut light = Light::mesh(&probe, [0, 1].map(ShapeId::world)).unwrap();
     if let LightKind::Mesh { shapes, .. } = &mut light.kind {
-        *shapes = vec![1, 2];
+        *shapes = vec![ShapeId::world(1), ShapeId::world(2)];
     }
     let mesh = floor_under(vec![light], tris);
     assert_near(mesh, rho / PI * quad_e, 0.02, "mesh");

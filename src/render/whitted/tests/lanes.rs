@@ -224,7 +224,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         (
             "mesh",
             LightKind::Mesh {
-                shapes: vec![0, 3],
+                shapes: worlds(&[0, 3]),
                 cdf: vec![0.5, 1.0],
                 area: 1.0,
             },
@@ -232,7 +232,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         (
             "mesh degenerate",
             LightKind::Mesh {
-                shapes: vec![0, 1, 3],
+                shapes: worlds(&[0, 1, 3]),
                 cdf: vec![0.4, 0.5, 1.0],
                 area: 1.0,
             },
@@ -240,7 +240,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         (
             "mesh non-tri",
             LightKind::Mesh {
-                shapes: vec![0, 2, 3],
+                shapes: worlds(&[0, 2, 3]),
                 cdf: vec![0.3, 0.6, 1.0],
                 area: 1.0,
             },
@@ -248,7 +248,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         (
             "mesh non-tri first",
             LightKind::Mesh {
-                shapes: vec![2, 0, 2, 3, 2],
+                shapes: worlds(&[2, 0, 2, 3, 2]),
                 cdf: vec![0.2, 0.4, 0.6, 0.8, 1.0],
                 area: 1.0,
             },
@@ -256,7 +256,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         (
             "mesh nan",
             LightKind::Mesh {
-                shapes: vec![0, 4],
+                shapes: worlds(&[0, 4]),
                 cdf: vec![0.5, 1.0],
                 area: 1.0,
             },
@@ -264,7 +264,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         (
             "mesh empty",
             LightKind::Mesh {
-                shapes: vec![],
+                shapes: worlds(&[]),
                 cdf: vec![],
                 area: 0.0,
             },
@@ -272,7 +272,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         (
             "mesh nan cdf",
             LightKind::Mesh {
-                shapes: vec![0, 3],
+                shapes: worlds(&[0, 3]),
                 cdf: vec![nan, 1.0],
                 area: 1.0,
             },
@@ -280,7 +280,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         (
             "mesh zero area",
             LightKind::Mesh {
-                shapes: vec![0, 3],
+                shapes: worlds(&[0, 3]),
                 cdf: vec![0.5, 1.0],
                 area: 0.0,
             },
@@ -289,7 +289,7 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
     kinds.push((
         "mesh many",
         LightKind::Mesh {
-            shapes: vec![0, 3, 0, 3, 0, 3, 0, 3],
+            shapes: worlds(&[0, 3, 0, 3, 0, 3, 0, 3]),
             cdf: (1..=8).map(|k| k as f32 / 8.0).collect(),
             area: 1.0,
         },
@@ -324,4 +324,12 @@ fn lanes_give_the_samples_of_for_each_sample_on_odd_lights() {
         }
     }
     assert!(compared > 50_000, "{compared} samples compared");
+}
+
+/// Shapes of the scene's own, by index.
+fn worlds(indices: &[u32]) -> Vec<crate::scene::ShapeId> {
+    indices
+        .iter()
+        .map(|&i| crate::scene::ShapeId::world(i))
+        .collect()
 }

@@ -83,7 +83,8 @@ fn area_light_shadow_packets_give_the_single_ray_radiance() {
         .map(|(name, shapes)| (name, scene(shapes, lights.clone(), Background::Black)))
         .collect();
     for (_, s) in &mut cases {
-        let mut mesh = Light::mesh(&s.shapes, &[first_emitter, first_emitter + 1]).unwrap();
+        let mut mesh =
+            Light::mesh(s, [first_emitter, first_emitter + 1].map(ShapeId::world)).unwrap();
         mesh.samples = 19;
         s.lights.push(mesh);
     }
