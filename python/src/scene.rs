@@ -47,7 +47,8 @@ pub fn scene_from_json(
     json: &str,
     meshes: Vec<MeshArrays>,
     folder: PathBuf,
-    transforms: Vec<(String, Vec<u8>)>,
+    // Borrowed: ten thousand placements are not copied out of Python to be read once.
+    transforms: Vec<(String, pyo3::pybacked::PyBackedBytes)>,
 ) -> PyResult<Scene> {
     let value: serde_json::Value =
         serde_json::from_str(json).map_err(|e| PyValueError::new_err(e.to_string()))?;

@@ -12,11 +12,36 @@ use rayon::prelude::*;
 /// The relative slack of the top level's box test, as the BVH's.
 const BOX_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 
+/// A box in six floats ([`Aabb`] pads its corners to sixteen bytes each): a node of
+/// the top tree and an instance hold one each.
+#[derive(Clone, Copy, Debug)]
+struct PackedBox {
+    min: glam::Vec3,
+    max: glam::Vec3,
+}
+
+impl PackedBox {
+    fn pack(b: &Aabb) -> PackedBox {
+        PackedBox {
+            min: b.min.into(),
+            max: b.max.into(),
+        }
+    }
+
+    #[inline(always)]
+    fn get(&self) -> Aabb {
+        Aabb {
+            min: self.min.into(),
+            max: self.max.into(),
+        }
+    }
+}
+
 /// A node of the top tree: a leaf lists `order[first..first + count]`; an inner node
 /// (`count` 0) has its left child next to it and its right child at `first`.
 #[derive(Clone, Copy, Debug)]
 struct TopNode {
-    bounds: Aabb,
+    bounds: PackedBox,
     first: u32,
     count: u32,
 }
@@ -39,7 +64,7 @@ pub struct Instances<'s> {
     objects: Vec<Bvh<'s>>,
     rounding: Vec<Rounding>,
     /// Each instance's world box, grown by its rounding.
-    boxes: Vec<Aabb>,
+    boxes: Vec<PackedBox>,
     nodes: Vec<TopNode>,
     order: Vec<u32>,
 }
@@ -61,6 +86,7 @@ impl<'s> Instances<'s> {
             .zip(boxes.par_iter())
             .map(|(i, b)| rounding_of(i, b))
             .collect();
+        let boxes = boxes.iter().map(PackedBox::pack).collect();
         let mut top = Instances {
             instances,
             objects: trees,
@@ -70,10 +96,10 @@ impl<'s> Instances<'s> {
             order: Vec::new(),
         };
         let live: Vec<u32> = (0..instances.len() as u32)
-            .filter(|&i| !top.boxes[i as usize].is_empty())
+            .filter(|&i| !top.boxes[i as usize].get().is_empty())
             .collect();
         if !live.is_empty() {
-            let live_boxes: Vec<Aabb> = live.iter().map(|&i| top.boxes[i as usize]).collect();
+            let live_boxes: Vec<Aabb> = live.iter().map(|&i| top.boxes[i as usize].get()).collect();
             let binary = build::build(&live_boxes);
             top.order = binary.order.iter().map(|&k| live[k as usize]).collect();
             top.nodes.reserve_exact(binary.tree.nodes());
@@ -89,7 +115,7 @@ impl<'s> Instances<'s> {
                 start,
                 count,
             } => self.nodes.push(TopNode {
-                bounds: *bounds,
+                bounds: PackedBox::pack(bounds),
                 first: *start,
                 count: *count,
             }),
@@ -98,7 +124,7 @@ impl<'s> Instances<'s> {
             } => {
                 let at = self.nodes.len();
                 self.nodes.push(TopNode {
-                    bounds: *bounds,
+                    bounds: PackedBox::pack(bounds),
                     first: 0,
                     count: 0,
                 });
@@ -113,7 +139,7 @@ impl<'s> Instances<'s> {
     pub fn memory_bytes(&self) -> usize {
         self.objects.iter().map(Bvh::memory_bytes).sum::<usize>()
             + self.rounding.capacity() * size_of::<Rounding>()
-            + self.boxes.capacity() * size_of::<Aabb>()
+            + self.boxes.capacity() * size_of::<PackedBox>()
             + self.nodes.capacity() * size_of::<TopNode>()
             + self.order.capacity() * size_of::<u32>()
     }
@@ -124,16 +150,17 @@ impl<'s> Instances<'s> {
     fn placed<'a>(&'a self, ray: &'a Ray, index: u32, t_far: f32) -> PlacedRay<'a> {
         let instance = &self.instances[index as usize];
         let r = self.rounding[index as usize];
+        let from_world = instance.from_world();
         let local = Ray {
-            origin: instance.from_world.transform_point3a(ray.origin),
-            dir: instance.from_world.transform_vector3a(ray.dir),
+            origin: from_world.transform_point3a(ray.origin),
+            dir: from_world.transform_vector3a(ray.dir),
         };
         // The object-space ray's point at t is off by at most this much: the
         // transform's rounding of the origin and direction, grown by the distance.
         let e = r.relative * f32::EPSILON;
         let origin_error = e
             * (r.inverse_norm * ray.origin.abs().max_element()
-                + instance.from_world.translation.abs().max_element());
+                + from_world.translation.abs().max_element());
         let dir_error = e * r.inverse_norm * ray.dir.abs().max_element();
         let pad = 2.0 * (r.corners + origin_error + t_far * dir_error);
         PlacedRay {
@@ -164,7 +191,8 @@ impl<'s> Instances<'s> {
             if node.count > 0 {
                 for &i in &self.order[node.first as usize..][..node.count as usize] {
                     let bound = Hit::bound(best, t_max);
-                    let Some((_, t_far)) = slab(&self.boxes[i as usize], ray, inv, bound) else {
+                    let Some((_, t_far)) = slab(&self.boxes[i as usize].get(), ray, inv, bound)
+                    else {
                         continue;
                     };
                     let placed = self.placed(ray, i, t_far);
@@ -174,7 +202,8 @@ impl<'s> Instances<'s> {
                 continue;
             }
             let children = [at + 1, node.first];
-            let hits = children.map(|c| slab(&self.nodes[c as usize].bounds, ray, inv, bound));
+            let hits =
+                children.map(|c| slab(&self.nodes[c as usize].bounds.get(), ray, inv, bound));
             // The farther child is pushed first, so the nearer is met first.
             let far_first = match hits {
                 [Some(a), Some(b)] if b.0 < a.0 => [0, 1],
@@ -202,7 +231,7 @@ impl<'s> Instances<'s> {
             len -= 1;
             let at = stack[len];
             let node = &self.nodes[at as usize];
-            if slab(&node.bounds, ray, inv, t_max).is_none() {
+            if slab(&node.bounds.get(), ray, inv, t_max).is_none() {
                 continue;
             }
             if node.count == 0 {
@@ -212,7 +241,7 @@ impl<'s> Instances<'s> {
                 continue;
             }
             for &i in &self.order[node.first as usize..][..node.count as usize] {
-                let Some((_, t_far)) = slab(&self.boxes[i as usize], ray, inv, t_max) else {
+                let Some((_, t_far)) = slab(&self.boxes[i as usize].get(), ray, inv, t_max) else {
                     continue;
                 };
                 let placed = self.placed(ray, i, t_far);
@@ -267,8 +296,8 @@ fn pad_world(b: Aabb) -> Aabb {
 
 /// The rounding bound of instance `i`, whose padded world box is `world`.
 fn rounding_of(i: &Instance, world: &Aabb) -> Rounding {
-    let inverse_norm = row_sum_norm(&i.from_world.matrix3);
-    let condition = row_sum_norm(&i.to_world.matrix3) * inverse_norm;
+    let inverse_norm = row_sum_norm(&i.from_world().matrix3);
+    let condition = row_sum_norm(&i.to_world().matrix3) * inverse_norm;
     let magnitude = world.min.abs().max(world.max.abs()).max_element();
     Rounding {
         inverse_norm,

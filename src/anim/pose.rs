@@ -308,7 +308,7 @@ impl<'s> State<'s> {
         }
         for (&i, x) in &self.instances {
             let base = &self.base.instances[i as usize];
-            let to_world = glam::DMat4::from(*x) * glam::DMat4::from(base.to_world.as_daffine3());
+            let to_world = glam::DMat4::from(*x) * glam::DMat4::from(base.to_world().as_daffine3());
             posed.instances[i as usize] =
                 Instance::new(base.object, glam::Affine3A::from_mat4(to_world.as_mat4()));
         }

@@ -672,7 +672,7 @@ fn a_track_moves_the_instances_of_a_named_instance_object() {
     assert!(a.still_geometry().unwrap().is_none(), "the instances move");
     let (scene, _) = a.pose(2).unwrap();
     assert_eq!(scene.instances.len(), 3);
-    let moved = |i: usize| scene.instances[i].to_world.translation;
+    let moved = |i: usize| scene.instances[i].to_world().translation;
     assert_eq!(moved(0), glam::Vec3A::new(-2.0, 1.0, 0.0));
     assert_eq!(moved(1), glam::Vec3A::new(1.0, 1.0, 0.0));
     assert_eq!(moved(2), glam::Vec3A::ZERO, "not in the group");

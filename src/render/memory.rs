@@ -29,7 +29,7 @@ pub const FALLBACK_BUDGET: u64 = 8 << 30;
 
 /// Bytes an instance holds: its transforms, and its box, rounding bound and place in
 /// the top tree.
-const INSTANCE_BYTES: u64 = size_of::<crate::scene::Instance>() as u64 + 96;
+const INSTANCE_BYTES: u64 = size_of::<crate::scene::Instance>() as u64 + 64;
 
 /// Bytes of a mesh's vertex attributes and their index triples.
 fn attribute_bytes(m: &crate::scene::MeshAttributes) -> u64 {

@@ -188,9 +188,9 @@ impl SceneBuilder {
     pub fn add_instance(&mut self, object: u32, to_world: glam::Affine3A) -> Option<u32> {
         assert!((object as usize) < self.scene.objects.len());
         let instance = Instance::new(object, to_world);
-        let invertible = instance.to_world.is_finite()
-            && instance.from_world.is_finite()
-            && instance.to_world.matrix3.determinant() != 0.0;
+        let invertible = instance.to_world().is_finite()
+            && instance.from_world().is_finite()
+            && instance.to_world().matrix3.determinant() != 0.0;
         if !invertible {
             return None;
         }

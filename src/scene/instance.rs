@@ -80,15 +80,34 @@ impl Object {
     }
 }
 
+/// An affine transform in twelve floats. [`Affine3A`] pads each of its four columns to
+/// sixteen bytes, and a scene holds two transforms an instance: unpacked where used,
+/// the same floats, so the same arithmetic.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Packed([glam::Vec3; 4]);
+
+impl Packed {
+    fn pack(a: &Affine3A) -> Packed {
+        let m = &a.matrix3;
+        Packed([m.x_axis, m.y_axis, m.z_axis, a.translation].map(glam::Vec3::from))
+    }
+
+    #[inline(always)]
+    fn unpack(&self) -> Affine3A {
+        let [x, y, z, w] = self.0.map(Vec3::from);
+        Affine3A::from_cols(x, y, z, w)
+    }
+}
+
 /// One placement of an object.
 #[derive(Clone, Copy, Debug)]
 pub struct Instance {
     /// Index into [`Scene::objects`].
     pub object: u32,
     /// Object space to world space.
-    pub to_world: Affine3A,
+    to_world: Packed,
     /// World space to object space (the inverse of `to_world`).
-    pub from_world: Affine3A,
+    from_world: Packed,
     /// Whether `to_world` mirrors (a negative determinant): its triangles are wound the
     /// other way, so they face out as they did.
     pub flip: bool,
@@ -99,22 +118,35 @@ impl Instance {
     pub fn new(object: u32, to_world: Affine3A) -> Instance {
         Instance {
             object,
-            to_world,
-            from_world: to_world.inverse(),
+            to_world: Packed::pack(&to_world),
+            from_world: Packed::pack(&to_world.inverse()),
             flip: to_world.matrix3.determinant() < 0.0,
         }
+    }
+
+    /// Object space to world space.
+    #[inline(always)]
+    pub fn to_world(&self) -> Affine3A {
+        self.to_world.unpack()
+    }
+
+    /// World space to object space (the inverse of [`Instance::to_world`], rounded).
+    #[inline(always)]
+    pub fn from_world(&self) -> Affine3A {
+        self.from_world.unpack()
     }
 
     /// A point of the object, in world space.
     #[inline(always)]
     pub fn place(&self, p: Vec3) -> Vec3 {
-        self.to_world.transform_point3a(p)
+        self.to_world().transform_point3a(p)
     }
 
     /// The corners of a triangle of the object, in world space, in the placed winding.
     #[inline(always)]
     pub fn place_corners(&self, v: [Vec3; 3]) -> [Vec3; 3] {
-        let [a, b, c] = v.map(|p| self.place(p));
+        let to_world = self.to_world();
+        let [a, b, c] = v.map(|p| to_world.transform_point3a(p));
         if self.flip { [a, c, b] } else { [a, b, c] }
     }
 
@@ -124,10 +156,11 @@ impl Instance {
         if self.flip { [t[0], t[2], t[1]] } else { t }
     }
 
-    /// A normal of the object, in world space (not normalised: interpolation does).
+    /// A normal of the object, in world space (not normalised: interpolation does):
+    /// through the inverse transpose, `from_world`'s matrix being that inverse.
     #[inline]
     pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
-        self.to_world.matrix3.inverse().transpose() * n
+        self.from_world().matrix3.transpose() * n
     }
 
     /// The world box around `bounds` (a box of the object) placed.

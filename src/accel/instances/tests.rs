@@ -189,3 +189,22 @@ proptest! {
         agree(&scene, &rays(ray_seed, 60))?;
     }
 }
+
+/// An instance costs its two transforms in twelve floats each and, in the top
+/// structure, its box in six, its rounding bound, its index and its share of the tree.
+#[test]
+fn an_instance_holds_under_170_bytes() {
+    assert_eq!(size_of::<Instance>(), 4 + 2 * 48 + 4);
+    let placed: Vec<(u32, Affine3A)> = (0..4096)
+        .map(|k| {
+            let at = [(k % 64) as f32 * 3.0, 0.0, (k / 64) as f32 * 3.0];
+            (0, transform([1.0; 3], [0.0, 1.0, 0.0], k as f32, at))
+        })
+        .collect();
+    let scene = scene_of(vec![object(1, 8)], &placed, 0);
+    let top = super::Instances::build(&scene.objects, &scene.instances);
+    let tree = crate::accel::Bvh::build(&scene.objects[0].shapes, crate::accel::Leaves::Indexed);
+    let per_instance = (top.memory_bytes() - tree.memory_bytes()) / placed.len();
+    println!("the top structure holds {per_instance} bytes an instance");
+    assert!(size_of::<Instance>() + per_instance < 170, "{per_instance}");
+}

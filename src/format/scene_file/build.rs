@@ -486,7 +486,7 @@ impl Builder {
         of: &Spanned<String>,
         t: &Transform,
     ) -> Result<()> {
-        let Some(mesh) = self.meshes.get(of.get_ref()) else {
+        if !self.meshes.contains_key(of.get_ref()) {
             return Err(source.error(
                 of,
                 format!(
@@ -495,63 +495,54 @@ impl Builder {
                     of.get_ref()
                 ),
             ));
-        };
-        let placements: Vec<glam::DMat4> = match &o.transforms {
-            None => vec![t.matrix()],
-            Some(list) => {
-                let rows_of: Vec<[[f64; 4]; 4]>;
-                let matrices: &[[[f64; 4]; 4]] = match list.get_ref() {
-                    Transforms::Listed(m) => {
-                        rows_of = m.iter().map(|m| m.map(|row| row.map(|n| n.0))).collect();
-                        &rows_of
-                    }
-                    Transforms::Named(name) => self.transforms.get(name).ok_or_else(|| {
-                        source.error(
-                            list,
-                            format!(
-                                "expected transforms as a list of 4 x 4 matrices, found the \
-                                 name \"{name}\", which no array handed over holds"
-                            ),
-                        )
-                    })?,
-                };
-                if matrices.len() > crate::util::limits::MAX_INSTANCES {
-                    return Err(source.error(
+        }
+        // The placements are checked here and built one at a time as they are placed:
+        // ten thousand of them are not held twice.
+        let named = match o.transforms.as_ref().map(|l| (l, l.get_ref())) {
+            Some((list, Transforms::Named(name))) => {
+                Some(self.transforms.remove(name).ok_or_else(|| {
+                    source.error(
                         list,
                         format!(
-                            "expected at most {} transforms, found {}",
-                            crate::util::limits::MAX_INSTANCES,
-                            matrices.len()
+                            "expected transforms as a list of 4 x 4 matrices, found the \
+                             name \"{name}\", which no array handed over holds"
                         ),
-                    ));
-                }
-                let mut out = Vec::with_capacity(matrices.len());
-                for (k, &rows) in matrices.iter().enumerate() {
-                    if !rows
-                        .iter()
-                        .flatten()
-                        .all(|v| v.is_finite() && v.abs() <= 1e30)
-                    {
-                        return Err(source.error(
-                            list,
-                            format!("expected finite numbers in transform {k}, found {rows:?}"),
-                        ));
-                    }
-                    if rows[3] != [0.0, 0.0, 0.0, 1.0] {
-                        return Err(source.error(
-                            list,
-                            format!(
-                                "expected the last row of transform {k} to be [0, 0, 0, 1] (an \
-                                 affine transform), found {:?}",
-                                rows[3]
-                            ),
-                        ));
-                    }
-                    out.push(t.matrix() * glam::DMat4::from_cols_array_2d(&rows).transpose());
-                }
-                out
+                    )
+                })?)
             }
+            _ => None,
         };
+        let matrices = match (&o.transforms, &named) {
+            (None, _) => Matrices::One,
+            (Some(_), Some(named)) => Matrices::Named(named),
+            (Some(list), None) => match list.get_ref() {
+                Transforms::Listed(m) => Matrices::Listed(m),
+                Transforms::Named(_) => unreachable!("named arrays are taken above"),
+            },
+        };
+        let checked = match &o.transforms {
+            Some(list) => check_transforms(source, list, &matrices),
+            None => Ok(()),
+        };
+        let result = checked.and_then(|()| self.place_instances(source, o, of, t, &matrices));
+        if let (Some(Transforms::Named(name)), Some(named)) =
+            (o.transforms.as_ref().map(Spanned::get_ref), named)
+        {
+            self.transforms.insert(name.clone(), named);
+        }
+        result
+    }
+
+    /// Places the mesh `of` names by each of `matrices` (each applied before `t`).
+    fn place_instances(
+        &mut self,
+        source: &Source,
+        o: &RawObject,
+        of: &Spanned<String>,
+        t: &Transform,
+        matrices: &Matrices,
+    ) -> Result<()> {
+        let mesh = &self.meshes[of.get_ref()];
         let placed = match &mesh.placed {
             Some(p) => p.clone(),
             None => {
@@ -586,7 +577,8 @@ impl Builder {
             }
             Placed::Copies(_) => 0,
         };
-        for m in placements {
+        for k in 0..matrices.len() {
+            let m = matrices.placement(k, t);
             match &placed {
                 Placed::Object(object, lights) => {
                     if self.scene.scene().instances.len() >= crate::util::limits::MAX_INSTANCES {
@@ -779,6 +771,83 @@ impl Builder {
         }
         Ok(())
     }
+}
+
+/// An instance object's placements: its own transform alone, or each of a list
+/// written in the file or handed over (Python's arrays), rows of 4 x 4 matrices.
+enum Matrices<'a> {
+    One,
+    Listed(&'a [[[super::values::Num; 4]; 4]]),
+    Named(&'a [[[f64; 4]; 4]]),
+}
+
+impl Matrices<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Matrices::One => 1,
+            Matrices::Listed(m) => m.len(),
+            Matrices::Named(m) => m.len(),
+        }
+    }
+
+    /// Matrix `k`'s rows.
+    fn rows(&self, k: usize) -> [[f64; 4]; 4] {
+        match self {
+            Matrices::One => glam::DMat4::IDENTITY.transpose().to_cols_array_2d(),
+            Matrices::Listed(m) => m[k].map(|row| row.map(|n| n.0)),
+            Matrices::Named(m) => m[k],
+        }
+    }
+
+    /// Placement `k`: its matrix, then the object's transform `t`.
+    fn placement(&self, k: usize, t: &Transform) -> glam::DMat4 {
+        match self {
+            Matrices::One => t.matrix(),
+            _ => t.matrix() * glam::DMat4::from_cols_array_2d(&self.rows(k)).transpose(),
+        }
+    }
+}
+
+/// Fails, naming the transform, unless every matrix of `list` is finite and affine.
+fn check_transforms(
+    source: &Source,
+    list: &Spanned<Transforms>,
+    matrices: &Matrices,
+) -> Result<()> {
+    if matrices.len() > crate::util::limits::MAX_INSTANCES {
+        return Err(source.error(
+            list,
+            format!(
+                "expected at most {} transforms, found {}",
+                crate::util::limits::MAX_INSTANCES,
+                matrices.len()
+            ),
+        ));
+    }
+    for k in 0..matrices.len() {
+        let rows = matrices.rows(k);
+        if !rows
+            .iter()
+            .flatten()
+            .all(|v| v.is_finite() && v.abs() <= 1e30)
+        {
+            return Err(source.error(
+                list,
+                format!("expected finite numbers in transform {k}, found {rows:?}"),
+            ));
+        }
+        if rows[3] != [0.0, 0.0, 0.0, 1.0] {
+            return Err(source.error(
+                list,
+                format!(
+                    "expected the last row of transform {k} to be [0, 0, 0, 1] (an affine \
+                     transform), found {:?}",
+                    rows[3]
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A mesh file's scene as its object asks: turned from +z up (`up_axis = "z"`), and
