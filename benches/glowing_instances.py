@@ -14,10 +14,11 @@ wall time and peak memory, and whether the images match bit for bit.
 import argparse
 import math
 import re
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from process import Failed, measured
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -83,19 +84,6 @@ def scene(n, lamp):
     return "\n".join(lines) + "\n"
 
 
-def measure(cmd):
-    """Wall seconds and peak resident megabytes of a whole process, and its output."""
-    out = subprocess.run(["/usr/bin/time", "-v"] + [str(c) for c in cmd],
-                         capture_output=True, text=True)
-    if out.returncode != 0:
-        sys.exit(f"{' '.join(map(str, cmd))} failed:\n{out.stderr[-2000:]}")
-    wall = re.search(r"Elapsed \(wall clock\) time.*: (?:(\d+):)?(\d+):([\d.]+)", out.stderr)
-    h, m, s = wall.groups()
-    seconds = int(h or 0) * 3600 + int(m) * 60 + float(s)
-    rss = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", out.stderr).group(1))
-    return seconds, rss / 1024, out.stdout
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--instances", type=int, default=400)
@@ -116,11 +104,11 @@ def main():
               f"  {'instances':>9} {'lights':>7}")
         images = []
         for k, prism in enumerate(args.prism):
-            info_s, info_mb, info = measure([prism, "info", path])
+            info_s, info_mb, info = measured([prism, "info", path])
             placed = re.search(r"instances\s+(\d+)", info)
             lights = re.search(r"lights\s+(\d+)", info)
             image = tmp / f"{k}.exr"
-            render_s, render_mb, _ = measure([prism, "render", path, image, "--spp",
+            render_s, render_mb, _ = measured([prism, "render", path, image, "--spp",
                                               str(args.spp), "--integrator", "path"])
             images.append(image.read_bytes())
             print(f"{prism[-28:]:<28} {info_s:>7.2f} {info_mb:>8.0f} {render_s:>9.2f} "
@@ -132,4 +120,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except Failed as e:
+        sys.exit(str(e))

@@ -12,8 +12,9 @@ use rayon::prelude::*;
 /// The relative slack of the top level's box test, as the BVH's.
 const BOX_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 
-/// A box in six floats ([`Aabb`] pads its corners to sixteen bytes each): a node of
-/// the top tree and an instance hold one each.
+/// A box in six floats ([`Aabb`] pads its corners to sixteen bytes each): each
+/// instance holds one. (The tree's nodes, half as many, keep theirs padded: two are
+/// read at every step of the top traversal.)
 #[derive(Clone, Copy, Debug)]
 struct PackedBox {
     min: glam::Vec3,
@@ -41,7 +42,7 @@ impl PackedBox {
 /// (`count` 0) has its left child next to it and its right child at `first`.
 #[derive(Clone, Copy, Debug)]
 struct TopNode {
-    bounds: PackedBox,
+    bounds: Aabb,
     first: u32,
     count: u32,
 }
@@ -115,7 +116,7 @@ impl<'s> Instances<'s> {
                 start,
                 count,
             } => self.nodes.push(TopNode {
-                bounds: PackedBox::pack(bounds),
+                bounds: *bounds,
                 first: *start,
                 count: *count,
             }),
@@ -124,7 +125,7 @@ impl<'s> Instances<'s> {
             } => {
                 let at = self.nodes.len();
                 self.nodes.push(TopNode {
-                    bounds: PackedBox::pack(bounds),
+                    bounds: *bounds,
                     first: 0,
                     count: 0,
                 });
@@ -167,6 +168,7 @@ impl<'s> Instances<'s> {
             world: ray,
             local,
             pad: if pad.is_finite() { pad } else { f32::MAX },
+            to_world: instance.to_world(),
             instance,
             index,
         }
@@ -202,8 +204,7 @@ impl<'s> Instances<'s> {
                 continue;
             }
             let children = [at + 1, node.first];
-            let hits =
-                children.map(|c| slab(&self.nodes[c as usize].bounds.get(), ray, inv, bound));
+            let hits = children.map(|c| slab(&self.nodes[c as usize].bounds, ray, inv, bound));
             // The farther child is pushed first, so the nearer is met first.
             let far_first = match hits {
                 [Some(a), Some(b)] if b.0 < a.0 => [0, 1],
@@ -231,7 +232,7 @@ impl<'s> Instances<'s> {
             len -= 1;
             let at = stack[len];
             let node = &self.nodes[at as usize];
-            if slab(&node.bounds.get(), ray, inv, t_max).is_none() {
+            if slab(&node.bounds, ray, inv, t_max).is_none() {
                 continue;
             }
             if node.count == 0 {

@@ -145,9 +145,7 @@ impl Instance {
     /// The corners of a triangle of the object, in world space, in the placed winding.
     #[inline(always)]
     pub fn place_corners(&self, v: [Vec3; 3]) -> [Vec3; 3] {
-        let to_world = self.to_world();
-        let [a, b, c] = v.map(|p| to_world.transform_point3a(p));
-        if self.flip { [a, c, b] } else { [a, b, c] }
+        place_corners(&self.to_world(), self.flip, v)
     }
 
     /// A per-corner index triple (of an attribute) in the placed winding.
@@ -391,6 +389,14 @@ impl Scene {
             b.union(i.world_bounds(&objects[i.object as usize]))
         })
     }
+}
+
+/// The corners `v` of a triangle placed by `to_world` ([`Instance::to_world`], unpacked
+/// once for many triangles), in the placed winding (reversed where `flip`).
+#[inline(always)]
+pub fn place_corners(to_world: &Affine3A, flip: bool, v: [Vec3; 3]) -> [Vec3; 3] {
+    let [a, b, c] = v.map(|p| to_world.transform_point3a(p));
+    if flip { [a, c, b] } else { [a, b, c] }
 }
 
 /// Shape `i` of `object` as `instance` places it.

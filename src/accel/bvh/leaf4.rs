@@ -10,12 +10,13 @@
 //!
 //! [`intersect_parallelogram`]: crate::scene::shape::intersect_parallelogram
 
-use glam::{BVec4A, Vec4};
+use glam::{Affine3A, BVec4A, Vec4};
 
 use crate::math::{Aabb, Ray, Vec3};
+use crate::scene::instance::place_corners;
 use crate::scene::shape::EDGE_SLACK;
 use crate::scene::shapes::OTHER;
-use crate::scene::{Instance, Shape, Shapes, Sphere, Stored};
+use crate::scene::{Shape, Shapes, Sphere, Stored};
 
 /// Shape indices must fit in a lane's `u32` with one value left for an empty lane.
 pub const MAX_SHAPES: usize = 1 << 30;
@@ -129,10 +130,11 @@ impl Leaf4 {
         Leaf4::of_corners(&v, shape)
     }
 
-    /// [`Leaf4::new`] for the triangles of an object placed by `instance`: their
-    /// corners placed in world space as the flattened twin holds them.
+    /// [`Leaf4::new`] for the triangles of an object placed by `to_world` (mirrored
+    /// where `flip`): their corners placed in world space as the flattened twin holds
+    /// them.
     #[inline(always)]
-    pub fn placed(shapes: &Shapes, indices: &[u32], instance: &Instance) -> Leaf4 {
+    pub fn placed(shapes: &Shapes, indices: &[u32], to_world: &Affine3A, flip: bool) -> Leaf4 {
         debug_assert!(indices.len() <= 4);
         let corners = shapes.corner_slice();
         let positions = shapes.positions();
@@ -144,8 +146,8 @@ impl Leaf4 {
             debug_assert!(c[0] != OTHER);
             shape[lane] = index;
             // SAFETY: a triangle's corners index `positions` (an invariant of `Shapes`).
-            v[lane] =
-                instance.place_corners(c.map(|k| unsafe { *positions.get_unchecked(k as usize) }));
+            let local = c.map(|k| unsafe { *positions.get_unchecked(k as usize) });
+            v[lane] = place_corners(to_world, flip, local);
         }
         Leaf4::of_corners(&v, shape)
     }

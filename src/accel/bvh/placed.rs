@@ -15,6 +15,7 @@ use crate::accel::Hit;
 use crate::accel::simd::SimdLevel;
 use crate::math::Ray;
 use crate::scene::{Instance, ShapeId};
+use glam::Affine3A;
 
 /// The ray of a world-space query, as one placed object meets it.
 pub struct PlacedRay<'a> {
@@ -27,6 +28,8 @@ pub struct PlacedRay<'a> {
     pub pad: f32,
     /// The instance and its index.
     pub instance: &'a Instance,
+    /// Its object-to-world transform, unpacked once for every leaf the ray meets.
+    pub to_world: Affine3A,
     pub index: u32,
 }
 
@@ -183,7 +186,7 @@ impl Bvh<'_> {
         debug_assert!(entry.count & STORED == 0);
         let first = entry.child as usize;
         for four in self.prims[first..first + entry.count as usize].chunks(4) {
-            let leaf = Leaf4::placed(self.shapes, four, ray.instance);
+            let leaf = Leaf4::placed(self.shapes, four, &ray.to_world, ray.instance.flip);
             let (mut mask, t) = leaf.intersect_flat(lanes, Hit::bound(best, t_max));
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
@@ -217,7 +220,7 @@ impl Bvh<'_> {
         debug_assert!(entry.count & STORED == 0);
         let first = entry.child as usize;
         for four in self.prims[first..first + entry.count as usize].chunks(4) {
-            let leaf = Leaf4::placed(self.shapes, four, ray.instance);
+            let leaf = Leaf4::placed(self.shapes, four, &ray.to_world, ray.instance.flip);
             let mut mask = leaf.intersect_flat(lanes, t_max).0;
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
