@@ -375,3 +375,49 @@ fn instances_of_a_glowing_mesh_are_lights() {
     assert_eq!(s.lights[1].position, Vec3::new(1.0, 1.0, -2.0));
     assert_eq!(s.lights[3].position, Vec3::new(9.0, 0.0, 0.0));
 }
+
+/// Placements handed over by name (Python's arrays) may serve several instance objects,
+/// glowing ones lit each; a name no array holds is an error naming it.
+#[test]
+fn named_transforms_place_every_instance_that_names_them() {
+    use crate::format::scene_file::from_value::{ArrayMesh, from_value};
+    let tri = ArrayMesh {
+        vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        faces: vec![[0, 1, 2]],
+        normals: None,
+        uvs: None,
+        colors: None,
+    };
+    let meshes = std::collections::HashMap::from([("tri".to_string(), tri)]);
+    let moved = |x: f64| {
+        [
+            [1.0, 0.0, 0.0, x],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    };
+    let transforms =
+        || std::collections::HashMap::from([("t".to_string(), vec![moved(2.0), moved(4.0)])]);
+    let value = serde_json::json!({
+        "object": [
+            {"type": "instance", "file": "tri", "transforms": "t",
+             "material": {"emission": [1, 1, 1]}},
+            {"type": "instance", "file": "tri", "transforms": "t", "translate": [0, 0, 3]},
+        ],
+    });
+    let dir = Folder::new();
+    let f = from_value(&value, dir.dir.path(), &meshes, transforms()).unwrap();
+    assert_eq!(f.scene.instances.len(), 4);
+    assert_eq!(
+        f.scene.instances[3].to_world().translation,
+        Vec3::new(4.0, 0.0, 3.0)
+    );
+    // The glowing pair is two lights; the others wear the default material.
+    assert_eq!(f.scene.lights.len(), 2);
+    let value = serde_json::json!({
+        "object": [{"type": "instance", "file": "tri", "transforms": "u"}],
+    });
+    let e = from_value(&value, dir.dir.path(), &meshes, transforms()).unwrap_err();
+    assert!(e.to_string().contains("found the name \"u\""), "{e}");
+}
