@@ -186,6 +186,10 @@ pub fn load_as(path: &Path, dialect: SceneDialect) -> Result<SceneFile> {
     for w in &mut file.warnings {
         *w = crate::error::bounded(std::mem::take(w));
     }
+    // A large file's parse (a PLY's text, a scene file's document of ten thousand
+    // transforms) freed millions of small allocations the allocator would keep: they
+    // go back before the render allocates its own.
+    crate::util::give_back_freed_memory();
     Ok(file)
 }
 
