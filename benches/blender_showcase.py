@@ -3,7 +3,7 @@ by Cycles and by Prism in the same Blender at equal samples and bounces; prints 
 F12 times and their ratio, and writes both images side by side:
 
     blender -b --factory-startup --python benches/blender_showcase.py -- \\
-        [--size 800x600] [--samples 64] [--light-sampling auto|all|one] \\
+        [--size 800x600] [--samples 64] [--light-sampling auto|all|one|tree] \\
         [--out showcase.png] [--blend scene.blend]
 
 Cycles runs on the CPU, denoising and adaptive sampling off; both use every core.
@@ -80,7 +80,7 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--size", default="800x600")
     parser.add_argument("--samples", type=int, default=64)
-    parser.add_argument("--light-sampling", default="auto", choices=("auto", "all", "one"))
+    parser.add_argument("--light-sampling", default="auto", choices=("auto", "all", "one", "tree"))
     parser.add_argument("--out")
     parser.add_argument("--blend")
     args = parser.parse_args(argv)

@@ -26,10 +26,13 @@ class PrismRenderSettings(bpy.types.PropertyGroup):
         name="Light Sampling",
         description="Shadow rays a path traces at each bounce",
         items=[
-            ("auto", "Auto", "A shadow ray toward every light up to 16 lights, one above"),
+            ("auto", "Auto", "A shadow ray toward every light up to 16 lights; above, one "
+             "light drawn from the light tree"),
             ("all", "All Lights", "A shadow ray toward every light: the least noise a sample"),
             ("one", "One Light", "One shadow ray, toward a light chosen by its contribution: "
-             "as fast with many lights as with one"),
+             "as many shadow rays with many lights as with one"),
+            ("tree", "Light Tree", "One light drawn from a tree over the lights by how much "
+             "each part may light the point: fastest with many lights"),
         ],
         default="auto",
     )

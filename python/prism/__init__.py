@@ -225,7 +225,8 @@ def render(
     ``whitted`` or ``path``), and the keywords ``spp`` (samples per pixel; ``dof_rays`` is its
     older name), ``max_depth``, ``min_weight``, ``light_sampling`` (path model:
     ``"all"`` traces a shadow ray toward every light at a vertex, ``"one"`` toward one
-    chosen by its contribution, ``"auto"`` all up to 16 lights), ``exposure`` and ``tonemap`` (the
+    chosen by its contribution, ``"tree"`` toward one light drawn from a tree over the
+    lights, ``"auto"`` all up to 16 lights and tree above), ``exposure`` and ``tonemap`` (the
     development of ``srgb=True``), ``accel`` and ``max_memory`` (bytes, or a size such
     as ``"4G"``: a render whose estimate is larger is refused; default half the
     machine's memory), ``environment`` (an equirectangular ``.hdr``, ``.exr`` or 8-bit

@@ -59,9 +59,10 @@ def test_one_shadow_ray_a_bounce_renders_the_same_light_with_other_noise():
     scene = prism.load_scene(SHOWCASE)
     options = dict(width=48, height=27, spp=16, integrator="path")
     every = prism.render(scene, **options, light_sampling="all")
-    one = prism.render(scene, **options, light_sampling="one")
-    assert not same_bits(every, one)
-    assert abs(one.mean() / every.mean() - 1) < 0.05
+    for way in ("one", "tree"):
+        one = prism.render(scene, **options, light_sampling=way)
+        assert not same_bits(every, one)
+        assert abs(one.mean() / every.mean() - 1) < 0.05, way
     assert same_bits(every, prism.render(scene, **options))  # two lights: auto is all
     with pytest.raises(ValueError, match="unknown light sampling"):
         prism.render(scene, **options, light_sampling="some")

@@ -22,6 +22,7 @@ use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
 use crate::options::LightSampling;
+use crate::scene::light::tree::{LightTree, Picked};
 use crate::scene::{Light, LightKind, Scene, ShapeId, Surface, SurfacePoint};
 use environment::Environment;
 
@@ -63,6 +64,8 @@ pub struct Path<'a> {
     /// Whether a vertex traces one shadow ray, toward a light sample chosen by its
     /// contribution, instead of one toward each ([`LightSampling`]).
     one_shadow_ray: bool,
+    /// Where a vertex draws its one light from a tree instead ([`LightSampling::Tree`]).
+    tree: Option<LightTree>,
 }
 
 /// How the light that both a light's samples and the BSDF's can find is shared between
@@ -142,6 +145,7 @@ impl<'a> Path<'a> {
             lanes: Path::lanes_apply(scene, surfaces),
             interiors: interior::interiors(surfaces),
             one_shadow_ray: false,
+            tree: None,
         }
         .light_sampling(LightSampling::default())
     }
@@ -149,11 +153,28 @@ impl<'a> Path<'a> {
     /// The same integrator tracing the shadow rays `how` says. One shadow ray a vertex
     /// is the path at a time's alone: the vectorised lanes trace one toward each light.
     pub fn light_sampling(mut self, how: LightSampling) -> Path<'a> {
-        self.one_shadow_ray = how.traces_one(self.scene.lights.len());
+        let lights = self.scene.lights.len();
+        self.one_shadow_ray = how.traces_one(lights);
         if self.one_shadow_ray {
             self.lanes = None;
         }
+        self.tree = how
+            .draws_from_tree(lights)
+            .then(|| LightTree::new(self.scene, self.surfaces, self.environment.is_some()));
         self
+    }
+
+    /// The odds that a vertex at `p` (normal `n`) draws light `k` to sample: 1 where
+    /// every light is sampled.
+    #[inline]
+    fn light_pmf(&self, p: Vec3, n: Vec3, k: u32) -> f32 {
+        self.tree.as_ref().map_or(1.0, |tree| tree.pmf(p, n, k))
+    }
+
+    /// The odds that a vertex draws the environment to sample: 1 where every light is.
+    #[inline]
+    fn environment_pmf(&self) -> f32 {
+        self.tree.as_ref().map_or(1.0, LightTree::environment_pmf)
     }
 
     /// The same integrator weighing the two strategies by `weighing`.
@@ -167,20 +188,20 @@ impl<'a> Path<'a> {
         &self.surfaces[self.scene.material_index(shape) as usize]
     }
 
-    /// The light whose triangle `shape` is, if any.
+    /// The light whose triangle `shape` is, if any, and its index.
     #[inline]
-    fn light_of(&self, shape: ShapeId) -> Option<&Light> {
+    fn light_of(&self, shape: ShapeId) -> Option<(u32, &Light)> {
         if shape.is_world() {
             let k = *self.light_of_shape.get(shape.shape as usize)?;
-            return self.scene.lights.get(k as usize);
+            return Some((k, self.scene.lights.get(k as usize)?));
         }
         let i = shape.instance as usize;
         let from = *self.placed_lights_from.get(i)? as usize;
         let to = *self.placed_lights_from.get(i + 1)? as usize;
         self.placed_lights[from..to]
             .iter()
-            .map(|&k| &self.scene.lights[k as usize])
-            .find(|light| light.emits_from(shape))
+            .map(|&k| (k, &self.scene.lights[k as usize]))
+            .find(|(_, light)| light.emits_from(shape))
     }
 
     /// Radiance arriving along camera ray `ray` whose closest hit is `hit`.
@@ -251,11 +272,11 @@ impl<'a> Path<'a> {
             ..
         } = path;
         let t_scene = hit.map_or(f32::INFINITY, |h| h.t);
-        if let Some((light, t, normal)) = self.shaped_light_hit(ray, t_scene, *depth == 0) {
+        if let Some((k, light, t, normal)) = self.shaped_light_hit(ray, t_scene, *depth == 0) {
             let le = light.color * light.intensity;
-            let w = last.map_or(1.0, |(p, pdf)| {
-                self.weighing
-                    .of(pdf, light.pdf_incident(p, ray.at(t), normal), false)
+            let w = last.map_or(1.0, |(p, n, pdf)| {
+                let light_pdf = self.light_pmf(p, n, k) * light.pdf_incident(p, ray.at(t), normal);
+                self.weighing.of(pdf, light_pdf, false)
             });
             *l += *beta * le * w;
             return false;
@@ -263,8 +284,9 @@ impl<'a> Path<'a> {
         let Some(hit) = hit else {
             if let Some(env) = &self.environment {
                 let le = env.radiance(self.scene, ray.dir);
-                let w = last.map_or(1.0, |(_, pdf)| {
-                    self.weighing.of(pdf, env.pdf(ray.dir), false)
+                let w = last.map_or(1.0, |(_, _, pdf)| {
+                    let env_pdf = self.environment_pmf() * env.pdf(ray.dir);
+                    self.weighing.of(pdf, env_pdf, false)
                 });
                 *l += *beta * le * w;
             }
@@ -298,11 +320,11 @@ impl<'a> Path<'a> {
             let light = self.light_of(hit.id());
             let le = s.emission
                 * self.scene.map(&s.emission_map, sp)
-                * light.map_or(1.0, |light| light.intensity);
+                * light.map_or(1.0, |(_, light)| light.intensity);
             let w = match (*last, light) {
-                (Some((p, pdf)), Some(light)) => {
-                    self.weighing
-                        .of(pdf, light.pdf_incident(p, sp.p, sp.ng), false)
+                (Some((p, n, pdf)), Some((k, light))) => {
+                    let light_pdf = self.light_pmf(p, n, k) * light.pdf_incident(p, sp.p, sp.ng);
+                    self.weighing.of(pdf, light_pdf, false)
                 }
                 _ => 1.0,
             };
@@ -337,7 +359,8 @@ impl<'a> Path<'a> {
             true,
         );
         if bsdf.has_smooth() {
-            *l += *beta * self.direct(&bsdf, sp, ng, sampler, count);
+            let last = *depth >= self.max_depth;
+            *l += *beta * self.direct(&bsdf, sp, ng, last, sampler, count);
         }
         self.scatter(path, &bsdf, sp.p, ng, sampler, count)
     }
@@ -368,7 +391,7 @@ impl<'a> Path<'a> {
         {
             return self.through_medium(path, &medium, p, ng, scattered.wi, sampler, count);
         }
-        path.last = (scattered.pdf > 0.0).then_some((p, scattered.pdf));
+        path.last = (scattered.pdf > 0.0).then_some((p, ng, scattered.pdf));
         path.ray = Ray::new(offset_origin(p, ng, scattered.wi), scattered.wi);
         self.bounced(path, sampler)
     }
@@ -391,15 +414,26 @@ impl<'a> Path<'a> {
     /// Light arriving at the hit straight from every light and the environment, each
     /// sampled once and weighed against the BSDF's own samples. Each sample is tested
     /// by a shadow ray, or with one shadow ray a vertex only the one [`OneOf`] chooses.
+    /// At the `last` vertex the path goes no further, so no BSDF sample can find the
+    /// light: the light's samples count in full.
     fn direct(
         &self,
         bsdf: &Bsdf,
         sp: &SurfacePoint,
         ng: Vec3,
+        last: bool,
         sampler: &mut PixelSampler,
         count: &mut RayCount,
     ) -> Vec3 {
         let from = sp.shadow_origin(ng);
+        let weighing = match self.weighing {
+            Weighing::PowerHeuristic if last => Weighing::LightsOnly,
+            weighing => weighing,
+        };
+        if let Some(tree) = &self.tree {
+            let to = (tree, weighing);
+            return self.direct_from_tree(to, bsdf, sp.p, from, ng, sampler, count);
+        }
         let mut one = self.one_shadow_ray.then(|| OneOf::new(sampler.next_f32()));
         let mut l = Vec3::ZERO;
         let mut gather = |c: Vec3, dir: Vec3, dist: f32| match &mut one {
@@ -412,7 +446,7 @@ impl<'a> Path<'a> {
                 continue;
             };
             gather(
-                self.unshadowed(bsdf, inc.dir, inc.li, inc.pdf),
+                self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, 1.0),
                 inc.dir,
                 inc.dist,
             );
@@ -420,13 +454,56 @@ impl<'a> Path<'a> {
         if let Some(env) = &self.environment {
             let u = sampler.next_2d();
             if let Some((dir, le, pdf)) = env.sample(self.scene, u) {
-                gather(self.unshadowed(bsdf, dir, le, pdf), dir, f32::INFINITY);
+                let c = self.unshadowed(bsdf, weighing, dir, le, pdf, 1.0);
+                gather(c, dir, f32::INFINITY);
             }
         }
         match one.and_then(OneOf::chosen) {
             Some((c, dir, dist)) => self.shadowed(c, from, ng, dir, dist, count),
             None => l,
         }
+    }
+
+    /// Light arriving at `p` (geometric normal `ng` on the path's side, shadow rays
+    /// leaving from `from`) from one light the tree draws, sampled once, over the odds
+    /// of the draw, and weighed against the BSDF's own samples by `weighing`.
+    #[allow(clippy::too_many_arguments)]
+    fn direct_from_tree(
+        &self,
+        (tree, weighing): (&LightTree, Weighing),
+        bsdf: &Bsdf,
+        p: Vec3,
+        from: Vec3,
+        ng: Vec3,
+        sampler: &mut PixelSampler,
+        count: &mut RayCount,
+    ) -> Vec3 {
+        let pick = sampler.next_f32();
+        let u = sampler.next_2d();
+        let Some((picked, pmf)) = tree.sample(p, ng, pick) else {
+            return Vec3::ZERO;
+        };
+        let (c, dir, dist) = match picked {
+            Picked::Light(k) => {
+                let light = &self.scene.lights[k as usize];
+                let Some(inc) = light.sample_incident(self.scene, self.surfaces, p, u) else {
+                    return Vec3::ZERO;
+                };
+                let c = self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, pmf);
+                (c, inc.dir, inc.dist)
+            }
+            Picked::Environment => {
+                let Some(env) = &self.environment else {
+                    return Vec3::ZERO;
+                };
+                let Some((dir, le, pdf)) = env.sample(self.scene, u) else {
+                    return Vec3::ZERO;
+                };
+                let c = self.unshadowed(bsdf, weighing, dir, le, pdf, pmf);
+                (c, dir, f32::INFINITY)
+            }
+        };
+        self.shadowed(c, from, ng, dir, dist, count)
     }
 
     /// `c`, a light sample's unshadowed contribution along `dir`, where nothing blocks
@@ -448,18 +525,28 @@ impl<'a> Path<'a> {
     }
 
     /// What one light sample adds where nothing blocks it: `f cos Li / pdf`, weighed
-    /// by the power heuristic unless the light has one direction (`pdf` 0), where
-    /// `li` is its irradiance.
+    /// by `weighing` unless the light has one direction (`pdf` 0), where `li` is its
+    /// irradiance; over `pmf`, the odds the light was drawn with (1 where every light
+    /// is sampled).
     #[inline]
-    fn unshadowed(&self, bsdf: &Bsdf, dir: Vec3, li: Vec3, pdf: f32) -> Vec3 {
+    fn unshadowed(
+        &self,
+        bsdf: &Bsdf,
+        weighing: Weighing,
+        dir: Vec3,
+        li: Vec3,
+        pdf: f32,
+        pmf: f32,
+    ) -> Vec3 {
         let (f, bsdf_pdf, cos) = bsdf.eval_pdf(dir);
         if f == Vec3::ZERO || li == Vec3::ZERO {
             return Vec3::ZERO;
         }
         if pdf > 0.0 {
-            f * li * (cos * self.weighing.of(pdf, bsdf_pdf, true) / pdf)
+            let pdf = pmf * pdf;
+            f * li * (cos * weighing.of(pdf, bsdf_pdf, true) / pdf)
         } else {
-            f * li * cos
+            f * li * (cos / pmf)
         }
     }
 
@@ -517,7 +604,7 @@ impl<'a> Path<'a> {
         ray: &Ray,
         t_max: f32,
         skip_hidden: bool,
-    ) -> Option<(&Light, f32, Vec3)> {
+    ) -> Option<(u32, &Light, f32, Vec3)> {
         let mut best = None;
         let mut t_best = t_max;
         for &k in &self.shaped_lights {
@@ -527,7 +614,7 @@ impl<'a> Path<'a> {
             }
             if let Some((t, normal)) = light.hit(ray, t_best) {
                 t_best = t;
-                best = Some((light, t, normal));
+                best = Some((k, light, t, normal));
             }
         }
         best
@@ -591,10 +678,10 @@ struct PathState {
     l: Vec3,
     /// Throughput: what the path's next radiance is weighed by.
     beta: Vec3,
-    /// Where the last scattering was and the density its direction was drawn with;
-    /// `None` for the camera and after a mirror or refraction (nothing else could have
-    /// found what the ray meets, so it counts in full).
-    last: Option<(Vec3, f32)>,
+    /// Where the last scattering was, the geometric normal there and the density its
+    /// direction was drawn with; `None` for the camera and after a mirror or refraction
+    /// (nothing else could have found what the ray meets, so it counts in full).
+    last: Option<(Vec3, Vec3, f32)>,
     /// The colour channel the path carries alone once it crossed a dispersive surface.
     channel: Option<usize>,
     /// Scatterings so far.

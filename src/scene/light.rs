@@ -6,6 +6,7 @@ use crate::math::{Vec3, cross};
 
 pub mod sampling;
 pub mod stratified;
+pub mod tree;
 
 pub use sampling::Incident;
 pub use stratified::{LightSample, Strata};

@@ -30,6 +30,8 @@ class Registration(unittest.TestCase):
         self.assertNotIn("light_sampling", properties.job_settings(scene))
         settings.light_sampling = "one"
         self.assertEqual(properties.job_settings(scene)["light_sampling"], "one")
+        settings.light_sampling = "tree"
+        self.assertEqual(properties.job_settings(scene)["light_sampling"], "tree")
         settings.integrator = "whitted"
         self.assertNotIn("light_sampling", properties.job_settings(scene))
 

@@ -114,9 +114,10 @@ pub struct JobArgs {
     /// Whitted model: rays whose weight falls below this are not traced (default 1/255).
     #[arg(long, value_name = "W")]
     pub min_weight: Option<f32>,
-    /// Path model: shadow rays a vertex traces, toward every light (all) or one chosen
-    /// by its contribution (one); default auto: all up to 16 lights, one above.
-    #[arg(long, value_name = "HOW", value_parser = names_parser::<LightSampling, 3>(LightSampling::ALL.map(LightSampling::name)))]
+    /// Path model: shadow rays a vertex traces, toward every light (all), one chosen
+    /// by its contribution (one) or one light drawn from a tree over the lights
+    /// (tree); default auto: all up to 16 lights, tree above.
+    #[arg(long, value_name = "HOW", value_parser = names_parser::<LightSampling, 4>(LightSampling::ALL.map(LightSampling::name)))]
     pub light_sampling: Option<LightSampling>,
     /// Exposure in stops for 8- and 16-bit outputs (+1 doubles the light).
     #[arg(long, value_name = "EV", allow_hyphen_values = true, value_parser = prism::film::develop::parse_exposure)]

@@ -481,7 +481,7 @@ impl Path<'_> {
                     (-sp.ng, -sp.n)
                 };
                 if entering && s.emission != Vec3::ZERO {
-                    let light = self.light_of(hit.id());
+                    let light = self.light_of(hit.id()).map(|(_, light)| light);
                     let le = s.emission
                         * self.scene.map(&s.emission_map, &sp)
                         * light.map_or(1.0, |light| light.intensity);
@@ -508,8 +508,17 @@ impl Path<'_> {
             let bsdf = Lambert::new(&wo, &ns, &ng, &diffuse);
             let lit = alive & bsdf.smooth;
             if lit != 0 {
-                let direct =
-                    self.direct_lanes(prepared, &bsdf, lit, &p, &ng, &from, samplers, count);
+                let direct = self.direct_lanes(
+                    prepared,
+                    &bsdf,
+                    lit,
+                    &p,
+                    &ng,
+                    &from,
+                    depth >= self.max_depth,
+                    samplers,
+                    count,
+                );
                 for i in each(lit) {
                     l.set(i, l.get(i) + beta.get(i) * direct.get(i));
                 }
@@ -571,7 +580,7 @@ impl Path<'_> {
     }
 
     /// [`Path::direct`] for the lanes in `lit`: light from every light, one sample
-    /// each, weighed against the BSDF's own samples.
+    /// each, weighed against the BSDF's own samples unless the vertex is the `last`.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn direct_lanes(
@@ -582,6 +591,7 @@ impl Path<'_> {
         p: &V3,
         ng: &V3,
         from: &V3,
+        last: bool,
         samplers: &mut [PixelSampler],
         count: &mut RayCount,
     ) -> V3 {
@@ -627,7 +637,12 @@ impl Path<'_> {
                 let li = le.at(i);
                 let fl = [f[0] * li[0], f[1] * li[1], f[2] * li[2]];
                 let k = if pdf > 0.0 {
-                    cos * power_heuristic(pdf, bsdf_pdf) / pdf
+                    let w = if last {
+                        1.0
+                    } else {
+                        power_heuristic(pdf, bsdf_pdf)
+                    };
+                    cos * w / pdf
                 } else {
                     cos
                 };

@@ -50,7 +50,8 @@ impl Path<'_> {
             (-sp.ng, -sp.n)
         };
         let exit = Bsdf::Phong(PhongBsdf::new(&Terms::diffuse(Vec3::ONE), n, n, ng));
-        path.l += path.beta * self.direct(&exit, &sp, ng, sampler, count);
+        let last = path.depth >= self.max_depth;
+        path.l += path.beta * self.direct(&exit, &sp, ng, last, sampler, count);
         self.scatter(path, &exit, sp.p, ng, sampler, count)
     }
 

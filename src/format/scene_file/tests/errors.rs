@@ -79,7 +79,7 @@ fn every_error_names_file_line_and_column() {
         ),
         (
             "[render]\nlight_sampling = \"some\"\n",
-            "DIR/scene.toml:2:18: unknown light sampling `some`: expected auto, all or one",
+            "DIR/scene.toml:2:18: unknown light sampling `some`: expected auto, all, one or tree",
         ),
         (
             "[camera]\nfrom = [0, 0, 0]\nat = [0, 0, 0]\n",
