@@ -356,8 +356,9 @@ fn bad_options_and_outputs_exit_2_without_output() {
 }
 
 /// The path model's samples depend on (seed, pixel, sample) alone: the same EXR bytes
-/// on one thread and three, a region equal to its window of the full frame, and
-/// another seed another image.
+/// on one thread and three (a shadow ray toward every light, or toward one the light
+/// tree draws), a region equal to its window of the full frame, and another seed
+/// another image.
 #[test]
 fn a_path_traced_image_is_the_same_on_any_thread_count_and_in_any_window() {
     let dir = tempfile::tempdir().unwrap();
@@ -388,6 +389,19 @@ fn a_path_traced_image_is_the_same_on_any_thread_count_and_in_any_window() {
         fs::read(render("t3.exr", &["--threads", "3"])).unwrap()
     );
     assert_ne!(one, fs::read(render("s1.exr", &["--seed", "1"])).unwrap());
+    // A light drawn from the tree too.
+    let tree = ["--light-sampling", "tree"];
+    let one = fs::read(render(
+        "tree1.exr",
+        &[&tree[..], &["--threads", "1"]].concat(),
+    ))
+    .unwrap();
+    let three = fs::read(render(
+        "tree3.exr",
+        &[&tree[..], &["--threads", "3"]].concat(),
+    ))
+    .unwrap();
+    assert_eq!(one, three);
     let full = load_rgb(&render("full.png", &[]));
     let part = load_rgb(&render("part.png", &["--region", "10,5,20,12"]));
     for y in 0..12 {

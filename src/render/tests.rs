@@ -890,6 +890,7 @@ mod instance_tests {
         for (integrator, sampling) in [
             (IntegratorKind::Path, LightSampling::All),
             (IntegratorKind::Path, LightSampling::One),
+            (IntegratorKind::Path, LightSampling::Tree),
             (IntegratorKind::Whitted, LightSampling::All),
         ] {
             let placed = render_with(&scene, integrator, sampling);
