@@ -123,6 +123,16 @@ fn offset_origin(p: [f32; 3], n: [f32; 3], toward: [f32; 3]) -> [f32; 3] {
     [p[0] + n[0] * e, p[1] + n[1] * e, p[2] + n[2] * e]
 }
 
+/// [`power_heuristic`] worked out whole and then chosen: the same bits, without a
+/// branch.
+#[inline(always)]
+fn power_heuristic_selected(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    let w = a2 / (a2 + b2);
+    let w = if w.is_finite() { w } else { 0.0 };
+    if a2.is_infinite() { 1.0 } else { w }
+}
+
 /// The bits of the lanes for which `f(lane)` holds.
 #[inline(always)]
 fn lanes_where(f: impl Fn(usize) -> bool) -> u32 {
@@ -285,14 +295,15 @@ impl Lambert {
 
     /// [`super::Bsdf::eval_pdf`] of lane `i` toward `wi`: `f`, its density and the
     /// cosine, zero below either normal.
+    /// Worked out whole and then chosen, without a branch, so a loop over the lanes
+    /// stays in vector registers.
     #[inline(always)]
     fn eval_pdf(&self, i: usize, ng: [f32; 3], wi: [f32; 3]) -> ([f32; 3], f32, f32) {
         let cos_i = dot(self.n.at(i), wi);
-        if cos_i <= 0.0 || dot(wi, ng) <= 0.0 {
-            return ([0.0; 3], 0.0, 0.0);
-        }
+        let below = (cos_i <= 0.0) | (dot(wi, ng) <= 0.0);
         let f = self.diffuse.at(i).map(|c| c * FRAC_1_PI);
-        (f, cos_i * FRAC_1_PI, cos_i)
+        let pick = |v: f32| if below { 0.0 } else { v };
+        (f.map(pick), pick(cos_i * FRAC_1_PI), pick(cos_i))
     }
 }
 
@@ -632,25 +643,23 @@ impl Path<'_> {
                 let dir = to.map(|c| c / dist);
                 let cos_l = -dot(normal.at(i), dir);
                 let pdf = d2 / (cos_l * area);
-                let sampled = d2 > 0.0 && d2.is_finite() && cos_l > 0.0 && pdf.is_finite();
+                // Bitwise `&`, not `&&`: no branch, so the loop stays in vector registers.
+                let sampled = (d2 > 0.0) & d2.is_finite() & (cos_l > 0.0) & pdf.is_finite();
                 let (f, bsdf_pdf, cos) = bsdf.eval_pdf(i, ng.at(i), dir);
                 let li = le.at(i);
                 let fl = [f[0] * li[0], f[1] * li[1], f[2] * li[2]];
-                let k = if pdf > 0.0 {
-                    let w = if last {
-                        1.0
-                    } else {
-                        power_heuristic(pdf, bsdf_pdf)
-                    };
-                    cos * w / pdf
+                let w = if last {
+                    1.0
                 } else {
-                    cos
+                    power_heuristic_selected(pdf, bsdf_pdf)
                 };
+                let k = if pdf > 0.0 { cos * w / pdf } else { cos };
                 let c = fl.map(|v| v * k);
-                let nonzero = f != [0.0; 3] && li != [0.0; 3];
+                let some = |v: [f32; 3]| (v[0] != 0.0) | (v[1] != 0.0) | (v[2] != 0.0);
+                let nonzero = some(f) & some(li);
                 // A NaN is traced, as the path at a time traces it.
                 let brightest = max_element(c);
-                traced[i] = sampled && nonzero && (brightest > 0.0 || brightest.is_nan());
+                traced[i] = sampled & nonzero & ((brightest > 0.0) | brightest.is_nan());
                 contribution.put(i, c);
                 let o = offset_origin(from.at(i), ng.at(i), dir);
                 ray_origin.put(i, o);
