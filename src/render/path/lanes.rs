@@ -199,24 +199,25 @@ impl MeshLight {
     #[inline(always)]
     fn points(&self, a: &Lanes, b: &Lanes, y: &mut V3, normal: &mut V3, le: &mut V3) {
         debug_assert!(self.few);
-        let mut below = [0usize; LANES];
+        // Each lane's triangle, counted in 32 bits (a few triangles): twice the lanes
+        // a vector register holds in 64.
+        let mut below = [0u32; LANES];
         for &c in &self.cdf {
             for i in 0..LANES {
-                below[i] += usize::from(c <= a[i]);
+                below[i] += u32::from(c <= a[i]);
             }
         }
-        let last = self.triangles.len() - 1;
+        let last = self.triangles.len() as u32 - 1;
+        let mut pick = [0u32; LANES];
+        for i in 0..LANES {
+            pick[i] = below[i].min(last);
+        }
         let mut lo = [0.0f32; LANES];
         let mut hi = [0.0f32; LANES];
-        for (j, &c) in self.cdf.iter().enumerate() {
+        for (j, &c) in (0u32..).zip(&self.cdf) {
             for i in 0..LANES {
-                let k = below[i].min(last);
-                if k == j + 1 {
-                    lo[i] = c;
-                }
-                if k == j {
-                    hi[i] = c;
-                }
+                lo[i] = if pick[i] == j + 1 { c } else { lo[i] };
+                hi[i] = if pick[i] == j { c } else { hi[i] };
             }
         }
         let mut su = [0.0f32; LANES];
@@ -226,18 +227,20 @@ impl MeshLight {
             let within = ((a[i] - lo[i]) / d).clamp(0.0, 1.0);
             su[i] = within.sqrt();
         }
-        for (j, tri) in self.triangles.iter().enumerate() {
+        // Every lane's point on every triangle, each lane keeping its own triangle's:
+        // chosen, not branched to, so the loop stays in vector registers.
+        for (j, tri) in (0u32..).zip(&self.triangles) {
             let [v0, v1, v2] = tri.v.map(|v| v.to_array());
             let (n, l) = (tri.normal.to_array(), tri.le.to_array());
             for i in 0..LANES {
-                if below[i].min(last) != j {
-                    continue;
-                }
+                let here = pick[i] == j;
                 let (s, t) = (su[i], b[i]);
                 let (w0, w1, w2) = (1.0 - s, s * (1.0 - t), s * t);
-                y.put(i, [0, 1, 2].map(|k| v0[k] * w0 + v1[k] * w1 + v2[k] * w2));
-                normal.put(i, n);
-                le.put(i, l);
+                let point = [0, 1, 2].map(|k| v0[k] * w0 + v1[k] * w1 + v2[k] * w2);
+                let keep = |v: [f32; 3], mine: [f32; 3]| if here { mine } else { v };
+                y.put(i, keep(y.at(i), point));
+                normal.put(i, keep(normal.at(i), n));
+                le.put(i, keep(le.at(i), l));
             }
         }
     }
