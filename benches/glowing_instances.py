@@ -84,6 +84,18 @@ def scene(n, lamp):
     return "\n".join(lines) + "\n"
 
 
+def write_lamps(folder, n):
+    """The lamp (an icosphere of 1,280 triangles) and the scene of `n` of them, written
+    into `folder`: the scene's path and the lamp's triangle count."""
+    verts, faces = icosphere(3)
+    lamp = folder / "lamp.obj"
+    lamp.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in verts)
+                    + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces))
+    path = folder / "lamps.toml"
+    path.write_text(scene(n, lamp))
+    return path, len(faces)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--instances", type=int, default=400)
@@ -92,13 +104,8 @@ def main():
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        verts, faces = icosphere(3)
-        lamp = tmp / "lamp.obj"
-        lamp.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in verts)
-                        + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces))
-        path = tmp / "lamps.toml"
-        path.write_text(scene(args.instances, lamp))
-        print(f"{args.instances} lamps of {len(faces)} glowing triangles, 480 x 270, "
+        path, triangles = write_lamps(tmp, args.instances)
+        print(f"{args.instances} lamps of {triangles} glowing triangles, 480 x 270, "
               f"{args.spp} spp, path model")
         print(f"{'prism':<28} {'info s':>7} {'info MB':>8} {'render s':>9} {'peak MB':>8}"
               f"  {'instances':>9} {'lights':>7}")

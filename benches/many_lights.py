@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from cycles_materials import read_exr
-from glowing_instances import icosphere, scene
+from glowing_instances import write_lamps
 from process import Failed, measured
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -51,16 +51,11 @@ def main():
     size = tuple(int(v) for v in args.size.split("x"))
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        verts, faces = icosphere(3)
-        lamp = tmp / "lamp.obj"
-        lamp.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in verts)
-                        + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces))
-        path = tmp / "lamps.toml"
-        path.write_text(scene(args.instances, lamp))
+        path, triangles = write_lamps(tmp, args.instances)
         ref_s, ref = render(args.prism, path, tmp / "ref.exr", args.reference_spp, "tree",
                             size, 99)
         mean = float(ref.mean())
-        print(f"{args.instances} lamps ({args.instances} lights of {len(faces)} glowing "
+        print(f"{args.instances} lamps ({args.instances} lights of {triangles} glowing "
               f"triangles), {size[0]} x {size[1]}, path model; reference: tree at "
               f"{args.reference_spp} spp ({ref_s:.1f} s), mean radiance {mean:.4f}")
         print(f"{'way':<6} {'spp':>5} {'wall s':>8} {'rel. RMSE':>10} {'time x MSE':>11}"

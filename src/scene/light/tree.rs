@@ -23,8 +23,9 @@ use std::f32::consts::{FRAC_PI_2, PI};
 /// Buckets along an axis where a node's split is chosen (pbrt's count).
 const BUCKETS: usize = 12;
 /// Below this depth nodes split where the cost is least; from it on, in halves by count,
-/// so that no light's way down is longer than a [`Trail`] holds however the lights lie.
-const SAH_DEPTH: u32 = 32;
+/// so that no light's way down (at most 30 + 32 turns for 2^32 lights) is longer than a
+/// [`Trail`] holds however the lights lie, and its top two bits stay clear.
+const SAH_DEPTH: u32 = 30;
 /// Importance is kept below this, so that two children's sum stays finite.
 const MAX_IMPORTANCE: f32 = f32::MAX / 4.0;
 /// The angle beyond a spot light's outer cone where its bounds stop: a margin far above
@@ -34,8 +35,10 @@ const SPOT_MARGIN: f32 = 0.02;
 /// A light's way down from the root: bit `d` set where it lies below the second child at
 /// depth `d`.
 type Trail = u64;
-/// The trail of a light the tree does not hold.
+/// The trail of a light neither the tree holds nor is drawn beside it.
 const NOT_IN_TREE: Trail = Trail::MAX;
+/// The trail of a light drawn beside the tree.
+const APART: Trail = Trail::MAX - 1;
 
 /// A cone of directions: its axis and the cosine of its half-angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -357,6 +360,16 @@ struct Node {
     leaf: bool,
 }
 
+/// A node as a walk meets it ([`LightTree::step`]).
+enum Step {
+    Leaf(u32),
+    Inner {
+        ci: [f32; 2],
+        sum: f32,
+        second: usize,
+    },
+}
+
 /// What a sample chose.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Picked {
@@ -370,7 +383,7 @@ pub enum Picked {
 #[derive(Clone, Debug, Default)]
 pub struct LightTree {
     nodes: Vec<Node>,
-    /// By light: its way down, or [`NOT_IN_TREE`].
+    /// By light: its way down, [`APART`] or [`NOT_IN_TREE`].
     trails: Vec<Trail>,
     /// Lights drawn beside the tree, uniformly.
     apart: Vec<u32>,
@@ -384,16 +397,20 @@ impl LightTree {
     pub fn new(scene: &Scene, surfaces: &[Surface], environment: bool) -> LightTree {
         let mut apart = Vec::new();
         let mut bounded = Vec::new();
+        let mut trails = vec![NOT_IN_TREE; scene.lights.len()];
         for (k, light) in scene.lights.iter().enumerate() {
             match LightBounds::of(light, scene, surfaces) {
                 Some(b) => bounded.push((k as u32, b)),
-                None if is_apart(light) => apart.push(k as u32),
+                None if is_apart(light) => {
+                    apart.push(k as u32);
+                    trails[k] = APART;
+                }
                 None => {}
             }
         }
         let mut tree = LightTree {
             nodes: Vec::with_capacity(2 * bounded.len()),
-            trails: vec![NOT_IN_TREE; scene.lights.len()],
+            trails,
             apart,
             environment,
         };
@@ -476,22 +493,10 @@ impl LightTree {
         let mut pmf = 1.0 - p_apart;
         let mut at = 0usize;
         loop {
-            let node = &self.nodes[at];
-            if node.leaf {
-                if at > 0 || node.bounds.importance(p, n) > 0.0 {
-                    return Some((Picked::Light(node.child_or_light), pmf));
-                }
-                return None;
-            }
-            let second = node.child_or_light as usize;
-            let ci = [
-                self.nodes[at + 1].bounds.importance(p, n),
-                self.nodes[second].bounds.importance(p, n),
-            ];
-            let sum = ci[0] + ci[1];
-            if sum <= 0.0 {
-                return None;
-            }
+            let (ci, sum, second) = match self.step(at, p, n)? {
+                Step::Leaf(light) => return Some((Picked::Light(light), pmf)),
+                Step::Inner { ci, sum, second } => (ci, sum, second),
+            };
             let p0 = ci[0] / sum;
             if u < p0 {
                 pmf *= ci[0] / sum;
@@ -508,43 +513,43 @@ impl LightTree {
     /// The probability with which [`LightTree::sample`] from `p` with normal `n` draws
     /// the scene's light `light`.
     pub fn pmf(&self, p: Vec3, n: Vec3, light: u32) -> f32 {
-        let trail = self
-            .trails
-            .get(light as usize)
-            .copied()
-            .unwrap_or(NOT_IN_TREE);
-        if trail == NOT_IN_TREE {
-            return if self.apart.contains(&light) {
-                self.p_apart() / self.apart_count() as f32
-            } else {
-                0.0
-            };
-        }
+        let mut trail = match self.trails.get(light as usize) {
+            None | Some(&NOT_IN_TREE) => return 0.0,
+            Some(&APART) => return self.p_apart() / self.apart_count() as f32,
+            Some(&trail) => trail,
+        };
         let mut pmf = 1.0 - self.p_apart();
-        let mut trail = trail;
         let mut at = 0usize;
         loop {
-            let node = &self.nodes[at];
-            if node.leaf {
-                if at == 0 && node.bounds.importance(p, n) <= 0.0 {
-                    return 0.0;
-                }
-                return pmf;
-            }
-            let second = node.child_or_light as usize;
-            let ci = [
-                self.nodes[at + 1].bounds.importance(p, n),
-                self.nodes[second].bounds.importance(p, n),
-            ];
-            let sum = ci[0] + ci[1];
-            if sum <= 0.0 {
-                return 0.0;
-            }
+            let (ci, sum, second) = match self.step(at, p, n) {
+                None => return 0.0,
+                Some(Step::Leaf(_)) => return pmf,
+                Some(Step::Inner { ci, sum, second }) => (ci, sum, second),
+            };
             let bit = (trail & 1) as usize;
             pmf *= ci[bit] / sum;
             trail >>= 1;
             at = if bit == 0 { at + 1 } else { second };
         }
+    }
+
+    /// Node `at` as a walk from `p` (normal `n`) meets it: a leaf's light, or an inner
+    /// node's children's importances, their sum and the second child's index; `None`
+    /// where no light below it can reach `p` (the root's own bounds, at a lone leaf).
+    #[inline]
+    fn step(&self, at: usize, p: Vec3, n: Vec3) -> Option<Step> {
+        let node = &self.nodes[at];
+        if node.leaf {
+            let reaches = at > 0 || node.bounds.importance(p, n) > 0.0;
+            return reaches.then_some(Step::Leaf(node.child_or_light));
+        }
+        let second = node.child_or_light as usize;
+        let ci = [
+            self.nodes[at + 1].bounds.importance(p, n),
+            self.nodes[second].bounds.importance(p, n),
+        ];
+        let sum = ci[0] + ci[1];
+        (sum > 0.0).then_some(Step::Inner { ci, sum, second })
     }
 
     /// The probability with which [`LightTree::sample`] draws the environment.
