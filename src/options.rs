@@ -274,8 +274,9 @@ pub enum LightSampling {
     One,
     /// One light a vertex, drawn from a tree over the lights by how much each part of
     /// the tree may light the point (pbrt-v4's BVH light sampler), and one shadow ray
-    /// toward its sample: work that grows with the depth of the tree, not the number
-    /// of lights; noisier a sample than `one`, where nearby lights differ little.
+    /// toward its sample (besides one toward each of a few suns and the sky): work
+    /// that grows with the depth of the tree, not the number of lights; noisier a
+    /// sample than `one`, where nearby lights differ little.
     Tree,
 }
 

@@ -466,7 +466,8 @@ impl<'a> Path<'a> {
 
     /// Light arriving at `p` (geometric normal `ng` on the path's side, shadow rays
     /// leaving from `from`) from one light the tree draws, sampled once, over the odds
-    /// of the draw, and weighed against the BSDF's own samples by `weighing`.
+    /// of the draw, and from each light beside the tree where those are few; weighed
+    /// against the BSDF's own samples by `weighing`.
     #[allow(clippy::too_many_arguments)]
     fn direct_from_tree(
         &self,
@@ -478,32 +479,50 @@ impl<'a> Path<'a> {
         sampler: &mut PixelSampler,
         count: &mut RayCount,
     ) -> Vec3 {
+        let mut l = Vec3::ZERO;
+        if tree.samples_apart_each() {
+            for &k in tree.apart() {
+                let u = sampler.next_2d();
+                let light = &self.scene.lights[k as usize];
+                if let Some(inc) = light.sample_incident(self.scene, self.surfaces, p, u) {
+                    let c = self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, 1.0);
+                    l += self.shadowed(c, from, ng, inc.dir, inc.dist, count);
+                }
+            }
+            if let Some(env) = &self.environment {
+                let u = sampler.next_2d();
+                if let Some((dir, le, pdf)) = env.sample(self.scene, u) {
+                    let c = self.unshadowed(bsdf, weighing, dir, le, pdf, 1.0);
+                    l += self.shadowed(c, from, ng, dir, f32::INFINITY, count);
+                }
+            }
+        }
         let pick = sampler.next_f32();
         let u = sampler.next_2d();
         let Some((picked, pmf)) = tree.sample(p, ng, pick) else {
-            return Vec3::ZERO;
+            return l;
         };
         let (c, dir, dist) = match picked {
             Picked::Light(k) => {
                 let light = &self.scene.lights[k as usize];
                 let Some(inc) = light.sample_incident(self.scene, self.surfaces, p, u) else {
-                    return Vec3::ZERO;
+                    return l;
                 };
                 let c = self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, pmf);
                 (c, inc.dir, inc.dist)
             }
             Picked::Environment => {
                 let Some(env) = &self.environment else {
-                    return Vec3::ZERO;
+                    return l;
                 };
                 let Some((dir, le, pdf)) = env.sample(self.scene, u) else {
-                    return Vec3::ZERO;
+                    return l;
                 };
                 let c = self.unshadowed(bsdf, weighing, dir, le, pdf, pmf);
                 (c, dir, f32::INFINITY)
             }
         };
-        self.shadowed(c, from, ng, dir, dist, count)
+        l + self.shadowed(c, from, ng, dir, dist, count)
     }
 
     /// `c`, a light sample's unshadowed contribution along `dir`, where nothing blocks

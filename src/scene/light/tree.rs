@@ -13,7 +13,11 @@
 //!
 //! Lights whose light does not fall with distance the way the bounds assume (directional
 //! lights, point and spot lights without inverse-square falloff) and the environment
-//! are drawn beside the tree, uniformly, as pbrt draws its infinite lights.
+//! stand beside the tree. A few of them (a sun and a sky) are each sampled at every
+//! vertex, beside the one light the tree draws: drawn instead, each would take as many
+//! draws as the whole tree, and a scene of lamps under a sky would spend half its
+//! samples on the sky. Many of them are drawn uniformly, each as likely as the whole
+//! tree, as pbrt draws its infinite lights.
 
 use super::{Falloff, Light, LightKind};
 use crate::math::{Aabb, Vec3, cross, normalize};
@@ -28,6 +32,9 @@ const BUCKETS: usize = 12;
 const SAH_DEPTH: u32 = 30;
 /// Importance is kept below this, so that two children's sum stays finite.
 const MAX_IMPORTANCE: f32 = f32::MAX / 4.0;
+/// Lights beside the tree (the environment among them) up to this many are each sampled
+/// at every vertex rather than drawn.
+const EACH_APART_UP_TO: usize = 4;
 /// The angle beyond a spot light's outer cone where its bounds stop: a margin far above
 /// the rounding of the angles the importance compares, so no lit point reads zero.
 const SPOT_MARGIN: f32 = 0.02;
@@ -425,15 +432,36 @@ impl LightTree {
         self.apart.len() + usize::from(self.environment)
     }
 
+    /// Whether the lights beside the tree (and the environment) are each sampled at
+    /// every vertex, so that a draw picks among the tree's lights alone.
+    pub fn samples_apart_each(&self) -> bool {
+        (1..=EACH_APART_UP_TO).contains(&self.apart_count())
+    }
+
+    /// The lights beside the tree, in the scene's order.
+    pub fn apart(&self) -> &[u32] {
+        &self.apart
+    }
+
     /// The odds of drawing beside the tree: each thing drawn there counts as much as
-    /// the whole tree.
+    /// the whole tree; none where those are each sampled.
     fn p_apart(&self) -> f32 {
         let apart = self.apart_count();
         let tree = usize::from(!self.nodes.is_empty());
-        if apart == 0 {
+        if apart == 0 || self.samples_apart_each() {
             0.0
         } else {
             apart as f32 / (apart + tree) as f32
+        }
+    }
+
+    /// The odds of one light beside the tree (or the environment): 1 where each is
+    /// sampled.
+    fn pmf_apart(&self) -> f32 {
+        if self.samples_apart_each() {
+            1.0
+        } else {
+            self.p_apart() / self.apart_count() as f32
         }
     }
 
@@ -511,11 +539,11 @@ impl LightTree {
     }
 
     /// The probability with which [`LightTree::sample`] from `p` with normal `n` draws
-    /// the scene's light `light`.
+    /// the scene's light `light` (1 for a light beside the tree sampled at every vertex).
     pub fn pmf(&self, p: Vec3, n: Vec3, light: u32) -> f32 {
         let mut trail = match self.trails.get(light as usize) {
             None | Some(&NOT_IN_TREE) => return 0.0,
-            Some(&APART) => return self.p_apart() / self.apart_count() as f32,
+            Some(&APART) => return self.pmf_apart(),
             Some(&trail) => trail,
         };
         let mut pmf = 1.0 - self.p_apart();
@@ -552,10 +580,11 @@ impl LightTree {
         (sum > 0.0).then_some(Step::Inner { ci, sum, second })
     }
 
-    /// The probability with which [`LightTree::sample`] draws the environment.
+    /// The probability with which [`LightTree::sample`] draws the environment (1 where
+    /// it is sampled at every vertex).
     pub fn environment_pmf(&self) -> f32 {
         if self.environment {
-            self.p_apart() / self.apart_count() as f32
+            self.pmf_apart()
         } else {
             0.0
         }

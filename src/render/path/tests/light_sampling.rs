@@ -116,7 +116,9 @@ fn one_shadow_ray_a_vertex_converges_to_a_shadow_ray_toward_every_light() {
                 // The camera ray and a shadow ray toward each light with light to give
                 // (the environment's samples below the floor give none).
                 assert!(all_rays >= 20_000 * 6, "{all_rays}");
-                assert!(one_rays <= u64::from(n) * 2, "{way}: {one_rays}");
+                // The tree's draw, and the environment beside the tree sampled too.
+                let most = if way == LightSampling::Tree { 3 } else { 2 };
+                assert!(one_rays <= u64::from(n) * most, "{way}: {one_rays}");
             }
         }
     }
