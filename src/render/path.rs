@@ -479,50 +479,39 @@ impl<'a> Path<'a> {
         sampler: &mut PixelSampler,
         count: &mut RayCount,
     ) -> Vec3 {
+        // A light's (or the environment's) sample drawn with odds `pmf`: what it adds
+        // unshadowed, its direction and distance.
+        let sample = |picked: Picked, pmf: f32, u: (f32, f32)| match picked {
+            Picked::Light(k) => {
+                let light = &self.scene.lights[k as usize];
+                let inc = light.sample_incident(self.scene, self.surfaces, p, u)?;
+                let c = self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, pmf);
+                Some((c, inc.dir, inc.dist))
+            }
+            Picked::Environment => {
+                let (dir, le, pdf) = self.environment.as_ref()?.sample(self.scene, u)?;
+                let c = self.unshadowed(bsdf, weighing, dir, le, pdf, pmf);
+                Some((c, dir, f32::INFINITY))
+            }
+        };
         let mut l = Vec3::ZERO;
         if tree.samples_apart_each() {
-            for &k in tree.apart() {
-                let u = sampler.next_2d();
-                let light = &self.scene.lights[k as usize];
-                if let Some(inc) = light.sample_incident(self.scene, self.surfaces, p, u) {
-                    let c = self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, 1.0);
-                    l += self.shadowed(c, from, ng, inc.dir, inc.dist, count);
-                }
-            }
-            if let Some(env) = &self.environment {
-                let u = sampler.next_2d();
-                if let Some((dir, le, pdf)) = env.sample(self.scene, u) {
-                    let c = self.unshadowed(bsdf, weighing, dir, le, pdf, 1.0);
-                    l += self.shadowed(c, from, ng, dir, f32::INFINITY, count);
+            let apart = tree.apart().iter().map(|&k| Picked::Light(k));
+            let sky = self.environment.is_some().then_some(Picked::Environment);
+            for picked in apart.chain(sky) {
+                if let Some((c, dir, dist)) = sample(picked, 1.0, sampler.next_2d()) {
+                    l += self.shadowed(c, from, ng, dir, dist, count);
                 }
             }
         }
         let pick = sampler.next_f32();
         let u = sampler.next_2d();
-        let Some((picked, pmf)) = tree.sample(p, ng, pick) else {
-            return l;
-        };
-        let (c, dir, dist) = match picked {
-            Picked::Light(k) => {
-                let light = &self.scene.lights[k as usize];
-                let Some(inc) = light.sample_incident(self.scene, self.surfaces, p, u) else {
-                    return l;
-                };
-                let c = self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, pmf);
-                (c, inc.dir, inc.dist)
-            }
-            Picked::Environment => {
-                let Some(env) = &self.environment else {
-                    return l;
-                };
-                let Some((dir, le, pdf)) = env.sample(self.scene, u) else {
-                    return l;
-                };
-                let c = self.unshadowed(bsdf, weighing, dir, le, pdf, pmf);
-                (c, dir, f32::INFINITY)
-            }
-        };
-        l + self.shadowed(c, from, ng, dir, dist, count)
+        if let Some((picked, pmf)) = tree.sample(p, ng, pick)
+            && let Some((c, dir, dist)) = sample(picked, pmf, u)
+        {
+            l += self.shadowed(c, from, ng, dir, dist, count);
+        }
+        l
     }
 
     /// `c`, a light sample's unshadowed contribution along `dir`, where nothing blocks
