@@ -54,6 +54,10 @@ pub fn normalize(v: Vec3) -> Vec3 {
 /// offset is well above that and far below any feature of a real scene.
 pub const SURFACE_EPSILON: f32 = 2e-5;
 
+/// The largest float below 1: where a number drawn in [0, 1) is clamped after arithmetic
+/// that may round it up to 1.
+pub const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
 /// Distance a secondary ray's origin is moved off a surface at `p`.
 #[inline]
 pub fn surface_epsilon(p: Vec3) -> f32 {

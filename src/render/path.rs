@@ -14,6 +14,7 @@ mod lanes;
 mod subsurface;
 #[cfg(test)]
 mod tests;
+mod tree;
 mod wave;
 
 pub use super::bsdf::{Bsdf, Highlight, PhongBsdf, Sampled, Terms};
@@ -22,7 +23,7 @@ use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
 use crate::options::LightSampling;
-use crate::scene::light::tree::{LightTree, Picked};
+use crate::scene::light::tree::LightTree;
 use crate::scene::{Light, LightKind, Scene, ShapeId, Surface, SurfacePoint};
 use environment::Environment;
 
@@ -162,19 +163,6 @@ impl<'a> Path<'a> {
             .draws_from_tree(lights)
             .then(|| LightTree::new(self.scene, self.surfaces, self.environment.is_some()));
         self
-    }
-
-    /// The odds that a vertex at `p` (normal `n`) draws light `k` to sample: 1 where
-    /// every light is sampled.
-    #[inline]
-    fn light_pmf(&self, p: Vec3, n: Vec3, k: u32) -> f32 {
-        self.tree.as_ref().map_or(1.0, |tree| tree.pmf(p, n, k))
-    }
-
-    /// The odds that a vertex draws the environment to sample: 1 where every light is.
-    #[inline]
-    fn environment_pmf(&self) -> f32 {
-        self.tree.as_ref().map_or(1.0, LightTree::environment_pmf)
     }
 
     /// The same integrator weighing the two strategies by `weighing`.
@@ -464,56 +452,6 @@ impl<'a> Path<'a> {
         }
     }
 
-    /// Light arriving at `p` (geometric normal `ng` on the path's side, shadow rays
-    /// leaving from `from`) from one light the tree draws, sampled once, over the odds
-    /// of the draw, and from each light beside the tree where those are few; weighed
-    /// against the BSDF's own samples by `weighing`.
-    #[allow(clippy::too_many_arguments)]
-    fn direct_from_tree(
-        &self,
-        (tree, weighing): (&LightTree, Weighing),
-        bsdf: &Bsdf,
-        p: Vec3,
-        from: Vec3,
-        ng: Vec3,
-        sampler: &mut PixelSampler,
-        count: &mut RayCount,
-    ) -> Vec3 {
-        // A light's (or the environment's) sample drawn with odds `pmf`: what it adds
-        // unshadowed, its direction and distance.
-        let sample = |picked: Picked, pmf: f32, u: (f32, f32)| match picked {
-            Picked::Light(k) => {
-                let light = &self.scene.lights[k as usize];
-                let inc = light.sample_incident(self.scene, self.surfaces, p, u)?;
-                let c = self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, pmf);
-                Some((c, inc.dir, inc.dist))
-            }
-            Picked::Environment => {
-                let (dir, le, pdf) = self.environment.as_ref()?.sample(self.scene, u)?;
-                let c = self.unshadowed(bsdf, weighing, dir, le, pdf, pmf);
-                Some((c, dir, f32::INFINITY))
-            }
-        };
-        let mut l = Vec3::ZERO;
-        if tree.samples_apart_each() {
-            let apart = tree.apart().iter().map(|&k| Picked::Light(k));
-            let sky = self.environment.is_some().then_some(Picked::Environment);
-            for picked in apart.chain(sky) {
-                if let Some((c, dir, dist)) = sample(picked, 1.0, sampler.next_2d()) {
-                    l += self.shadowed(c, from, ng, dir, dist, count);
-                }
-            }
-        }
-        let pick = sampler.next_f32();
-        let u = sampler.next_2d();
-        if let Some((picked, pmf)) = tree.sample(p, ng, pick)
-            && let Some((c, dir, dist)) = sample(picked, pmf, u)
-        {
-            l += self.shadowed(c, from, ng, dir, dist, count);
-        }
-        l
-    }
-
     /// `c`, a light sample's unshadowed contribution along `dir`, where nothing blocks
     /// the `dist` from `from` to the light.
     #[inline]
@@ -668,7 +606,7 @@ impl OneOf {
         } else {
             self.u = (self.u - p) / (1.0 - p);
         }
-        self.u = self.u.min(1.0 - f32::EPSILON / 2.0);
+        self.u = self.u.min(crate::math::ONE_BELOW);
     }
 
     /// The chosen sample's contribution over the odds of its choice, its direction and

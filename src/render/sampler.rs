@@ -8,6 +8,7 @@
 //! while pairs, pixels and seeds stay independent; later dimensions and single numbers
 //! come from PCG.
 
+use crate::math::ONE_BELOW;
 use rand_core::Rng;
 use rand_pcg::Pcg32;
 
@@ -126,9 +127,6 @@ impl PixelSampler {
 /// Mixed with a sample's index, so that sample streams differ from the pixel stream
 /// [`PixelSampler::new`] gives.
 const SAMPLE_KEY: u64 = 0x5a3c_96e1_0f2d_4b87;
-
-/// The largest f32 below 1: strata computed in f32 can round up to 1.
-const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// Point `index` of the two-dimensional Sobol sequence (its first two dimensions: a
 /// (0, 2)-sequence), the index shuffled and each coordinate Owen-scrambled by `seed`.

@@ -198,5 +198,5 @@ fn pick(cdf: &[f32], x: f32) -> (usize, f32) {
     let k = cdf.partition_point(|&c| c <= x).min(cdf.len() - 1);
     let lo = if k == 0 { 0.0 } else { cdf[k - 1] };
     let within = (x - lo) / (cdf[k] - lo).max(f32::MIN_POSITIVE);
-    (k, within.clamp(0.0, 1.0 - f32::EPSILON / 2.0))
+    (k, within.clamp(0.0, crate::math::ONE_BELOW))
 }

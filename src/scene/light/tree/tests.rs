@@ -9,7 +9,7 @@
 
 use super::*;
 use crate::math::normalize;
-use crate::scene::{ConeEdge, Material, ShapeId, Triangle};
+use crate::scene::{ConeEdge, Material, Shape, ShapeId, Triangle};
 use rand_core::Rng;
 use rand_pcg::Pcg32;
 
