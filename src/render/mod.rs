@@ -23,7 +23,7 @@ pub use observer::{CancelOn, Observer, Progress, Rows};
 use passes::SamplePass;
 pub use passes::{Progressive, SampleSums, sample_totals};
 pub use path::Path;
-pub use sampler::PixelSampler;
+pub use sampler::{PixelSampler, PixelStreams};
 use settings::Plan;
 pub use settings::{DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, RenderSettings, check_threads};
 pub use whitted::{Casters, Whitted};
@@ -680,25 +680,19 @@ impl<'a> Renderer<'a> {
         acc: &mut WeightedColor,
         count: &mut RayCount,
     ) {
-        let seed = self.plan.seed;
+        let streams = PixelStreams::new(self.plan.seed, x, y);
         let mut first = samples.start;
         while first < samples.end {
             let n = (samples.end - first).min(PACKET_RAYS as u32) as usize;
             if n == 1 {
-                let mut sampler = PixelSampler::for_sample(seed, x, y, first);
+                let mut sampler = streams.sample(first);
                 let ray = rays.through(x, y, sampler.next_2d(), sampler.next_2d());
                 integrator.trace_camera_ray(ray, &mut sampler, acc, count);
                 break;
             }
             // Streams past the last sample are never drawn from: an idle one costs
             // nothing to make.
-            let mut samplers: [PixelSampler; PACKET_RAYS] = std::array::from_fn(|k| {
-                if k < n {
-                    PixelSampler::for_sample(seed, x, y, first + k as u32)
-                } else {
-                    PixelSampler::idle()
-                }
-            });
+            let mut samplers: [PixelSampler; PACKET_RAYS] = streams.samples(first, n);
             let mut batch = [NO_RAY; PACKET_RAYS];
             for (ray, sampler) in batch.iter_mut().zip(&mut samplers).take(n) {
                 let jitter = sampler.next_2d();

@@ -8,16 +8,21 @@
 //! while pairs, pixels and seeds stay independent; later dimensions and single numbers
 //! come from PCG.
 
+#[cfg(target_arch = "x86_64")]
+use crate::accel::SimdLevel;
 use crate::math::ONE_BELOW;
 use rand_core::Rng;
 use rand_pcg::Pcg32;
 
 /// The random stream of one supersampled pixel of one frame.
+#[derive(Clone)]
 pub struct PixelSampler {
     rng: Pcg32,
-    /// The sample's place among the pixel's samples, the key of its pixel, and the
-    /// next pair of dimensions, when pairs come from scrambled Sobol points.
-    sobol: Option<(u32, u32, u32)>,
+    /// The sample's scrambled Sobol points, drawn all at once when the stream is made
+    /// (in vector lanes: one pair at a time they cost a tenth of a path's time).
+    sobol: [(f32, f32); SOBOL_PAIRS as usize],
+    /// The next of `sobol` to give; `SOBOL_PAIRS` when the stream has none left.
+    next_pair: u32,
 }
 
 /// Pairs of dimensions a sample's stream draws from Sobol points: the pixel position,
@@ -30,34 +35,28 @@ impl PixelSampler {
     /// draws exactly the numbers the full frame draws there.
     pub fn new(seed: u64, x: u32, y: u32) -> PixelSampler {
         let pixel = (u64::from(y) << 32) | u64::from(x);
-        PixelSampler {
-            rng: Pcg32::new(splitmix64(seed ^ splitmix64(pixel)), 0xda3e_39cb_94b9_5bdb),
-            sobol: None,
-        }
+        PixelSampler::from_pcg(splitmix64(seed ^ splitmix64(pixel)))
     }
 
     /// The stream of sample `index` of the pixel: its numbers depend on the seed, the
     /// pixel and the index alone, so a pixel's samples may be taken in any order and
     /// split into passes without changing one of them (the path model's samples).
     pub fn for_sample(seed: u64, x: u32, y: u32, index: u32) -> PixelSampler {
-        let pixel = (u64::from(y) << 32) | u64::from(x);
-        let sample = splitmix64(SAMPLE_KEY ^ u64::from(index));
-        let pixel_key = splitmix64(seed ^ splitmix64(pixel ^ SAMPLE_KEY));
-        PixelSampler {
-            rng: Pcg32::new(
-                splitmix64(seed ^ splitmix64(pixel) ^ sample),
-                0xda3e_39cb_94b9_5bdb,
-            ),
-            sobol: Some((index, (pixel_key ^ (pixel_key >> 32)) as u32, 0)),
-        }
+        PixelStreams::new(seed, x, y).sample(index)
     }
 
     /// A stream that stands in a packet's unused places: made without hashing.
     #[inline]
     pub fn idle() -> PixelSampler {
+        PixelSampler::from_pcg(0)
+    }
+
+    #[inline]
+    fn from_pcg(state: u64) -> PixelSampler {
         PixelSampler {
-            rng: Pcg32::new(0, 0xda3e_39cb_94b9_5bdb),
-            sobol: None,
+            rng: Pcg32::new(state, 0xda3e_39cb_94b9_5bdb),
+            sobol: [(0.0, 0.0); SOBOL_PAIRS as usize],
+            next_pair: SOBOL_PAIRS,
         }
     }
 
@@ -65,11 +64,8 @@ impl PixelSampler {
     /// there are any, then two from PCG.
     #[inline]
     pub fn next_2d(&mut self) -> (f32, f32) {
-        if let Some((index, key, pair)) = &mut self.sobol
-            && *pair < SOBOL_PAIRS
-        {
-            let point = sobol_2d(*index, mix32(*key ^ pair.wrapping_mul(0x9e37_79b9)));
-            *pair += 1;
+        if let Some(&point) = self.sobol.get(self.next_pair as usize) {
+            self.next_pair += 1;
             return point;
         }
         let a = self.next_f32();
@@ -128,68 +124,127 @@ impl PixelSampler {
 /// [`PixelSampler::new`] gives.
 const SAMPLE_KEY: u64 = 0x5a3c_96e1_0f2d_4b87;
 
-/// Point `index` of the two-dimensional Sobol sequence (its first two dimensions: a
-/// (0, 2)-sequence), the index shuffled and each coordinate Owen-scrambled by `seed`.
-/// Written on bit-reversed words, where the scramble works, to reverse as few as can be.
-#[inline]
-fn sobol_2d(index: u32, seed: u32) -> (f32, f32) {
-    let (s0, s1, s2) = (seed, mix32(seed ^ 0x68e3_1da4), mix32(seed ^ 0xb529_7a4d));
-    // The shuffled index, reversed: Owen-scrambled like a fraction.
-    let r = laine_karras(index.reverse_bits(), s0);
-    // First dimension: the index's bits reversed (van der Corput), scrambled.
-    let x = laine_karras(r.reverse_bits(), s1).reverse_bits();
-    // Second: the XOR of reversed direction numbers over the index's bits, scrambled.
-    let y = laine_karras(sobol_second_reversed(r.reverse_bits()), s2).reverse_bits();
-    (unit(x), unit(y))
+/// What the streams of one pixel's samples share: the pixel's PCG key and the
+/// scrambles of its Sobol pairs. A packet of a pixel's samples hashes them once.
+pub struct PixelStreams {
+    /// Mixed with a sample's index into the seed of its PCG stream.
+    pcg_key: u64,
+    /// Per pair: the seed of the index shuffle, and of each coordinate's scramble.
+    shuffle: [u32; SOBOL_PAIRS as usize],
+    scramble_x: [u32; SOBOL_PAIRS as usize],
+    scramble_y: [u32; SOBOL_PAIRS as usize],
+}
+
+impl PixelStreams {
+    /// The streams of pixel (`x`, `y`) of the frame drawn with `seed`.
+    pub fn new(seed: u64, x: u32, y: u32) -> PixelStreams {
+        let pixel = (u64::from(y) << 32) | u64::from(x);
+        let pixel_key = splitmix64(seed ^ splitmix64(pixel ^ SAMPLE_KEY));
+        let key = (pixel_key ^ (pixel_key >> 32)) as u32;
+        let shuffle: [u32; SOBOL_PAIRS as usize] =
+            std::array::from_fn(|pair| mix32(key ^ (pair as u32).wrapping_mul(0x9e37_79b9)));
+        PixelStreams {
+            pcg_key: seed ^ splitmix64(pixel),
+            shuffle,
+            scramble_x: shuffle.map(|s| mix32(s ^ 0x68e3_1da4)),
+            scramble_y: shuffle.map(|s| mix32(s ^ 0xb529_7a4d)),
+        }
+    }
+
+    /// The stream of sample `index` ([`PixelSampler::for_sample`]).
+    pub fn sample(&self, index: u32) -> PixelSampler {
+        #[cfg(target_arch = "x86_64")]
+        if SimdLevel::current() == SimdLevel::Avx2 {
+            // SAFETY: the processor has AVX2: `SimdLevel::current` checked.
+            return unsafe { self.sample_avx2(index) };
+        }
+        self.sample_in(index)
+    }
+
+    /// The streams of samples `first..first + n` (at most `N`), idle past them.
+    pub fn samples<const N: usize>(&self, first: u32, n: usize) -> [PixelSampler; N] {
+        #[cfg(target_arch = "x86_64")]
+        if SimdLevel::current() == SimdLevel::Avx2 {
+            // SAFETY: as in `sample`.
+            return unsafe { self.samples_avx2(first, n) };
+        }
+        self.samples_in(first, n)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sample_avx2(&self, index: u32) -> PixelSampler {
+        self.sample_in(index)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn samples_avx2<const N: usize>(&self, first: u32, n: usize) -> [PixelSampler; N] {
+        self.samples_in(first, n)
+    }
+
+    #[inline(always)]
+    fn samples_in<const N: usize>(&self, first: u32, n: usize) -> [PixelSampler; N] {
+        std::array::from_fn(|k| {
+            if k < n {
+                self.sample_in(first + k as u32)
+            } else {
+                PixelSampler::idle()
+            }
+        })
+    }
+
+    #[inline(always)]
+    fn sample_in(&self, index: u32) -> PixelSampler {
+        let sample = splitmix64(SAMPLE_KEY ^ u64::from(index));
+        let mut stream = PixelSampler::from_pcg(splitmix64(self.pcg_key ^ sample));
+        stream.sobol = self.sobol_points(index);
+        stream.next_pair = 0;
+        stream
+    }
+
+    /// Point `index` of the two-dimensional Sobol sequence (its first two dimensions:
+    /// a (0, 2)-sequence) for every pair, the index shuffled and each coordinate
+    /// Owen-scrambled by the pair's seeds. Written on bit-reversed words, where the
+    /// scramble works, and without tables, so that the pairs fill vector lanes.
+    #[inline(always)]
+    fn sobol_points(&self, index: u32) -> [(f32, f32); SOBOL_PAIRS as usize] {
+        let reversed = index.reverse_bits();
+        let mut x = [0u32; SOBOL_PAIRS as usize];
+        let mut y = [0u32; SOBOL_PAIRS as usize];
+        for pair in 0..SOBOL_PAIRS as usize {
+            // The shuffled index (Owen-scrambled like a fraction, on its reversed bits).
+            let shuffled = laine_karras(reversed, self.shuffle[pair]).reverse_bits();
+            // First dimension: the index's bits reversed (van der Corput), scrambled.
+            x[pair] = laine_karras(shuffled, self.scramble_x[pair]).reverse_bits();
+            // Second: the XOR of reversed direction numbers over its bits, scrambled.
+            let second = sobol_second_reversed(shuffled);
+            y[pair] = laine_karras(second, self.scramble_y[pair]).reverse_bits();
+        }
+        std::array::from_fn(|pair| (unit(x[pair]), unit(y[pair])))
+    }
 }
 
 /// The second dimension of the Sobol sequence with its bits reversed: direction
-/// numbers `v_k = v_(k-1) ^ (v_(k-1) >> 1)` from `v_0 = 1/2`, reversed (`w_k = w_(k-1)
-/// ^ (w_(k-1) << 1)` from 1), XORed over the set bits of `i`, a byte at a time.
-#[inline]
+/// numbers `v_k = v_(k-1) ^ (v_(k-1) >> 1)` from `v_0 = 1/2`, reversed: `w_k = w_(k-1)
+/// ^ (w_(k-1) << 1)` from 1, so bit `j` of `w_k` is binomial(k, j) mod 2, set exactly
+/// where the bits of `j` are among those of `k` (Lucas). Bit `j` of the XOR of `w_k`
+/// over the set bits `k` of `i` is then the parity of the bits of `i` at the supersets
+/// of `j`: five shift-and-XOR steps, one per bit of a bit position.
+#[inline(always)]
 fn sobol_second_reversed(i: u32) -> u32 {
-    let t = &SOBOL_SECOND_REVERSED;
-    t[0][(i & 0xff) as usize]
-        ^ t[1][((i >> 8) & 0xff) as usize]
-        ^ t[2][((i >> 16) & 0xff) as usize]
-        ^ t[3][(i >> 24) as usize]
+    let mut y = i;
+    y ^= (y >> 1) & 0x5555_5555;
+    y ^= (y >> 2) & 0x3333_3333;
+    y ^= (y >> 4) & 0x0f0f_0f0f;
+    y ^= (y >> 8) & 0x00ff_00ff;
+    y ^ ((y >> 16) & 0x0000_ffff)
 }
-
-/// For each byte of an index, the XOR of the reversed direction numbers of its set
-/// bits: four lookups instead of a loop over 32 bits.
-const SOBOL_SECOND_REVERSED: [[u32; 256]; 4] = {
-    let mut w = [0u32; 32];
-    w[0] = 1;
-    let mut k = 1;
-    while k < 32 {
-        w[k] = w[k - 1] ^ (w[k - 1] << 1);
-        k += 1;
-    }
-    let mut t = [[0u32; 256]; 4];
-    let mut byte = 0;
-    while byte < 4 {
-        let mut v = 0;
-        while v < 256 {
-            let mut r = 0u32;
-            let mut bit = 0;
-            while bit < 8 {
-                if v & (1 << bit) != 0 {
-                    r ^= w[byte * 8 + bit];
-                }
-                bit += 1;
-            }
-            t[byte][v] = r;
-            v += 1;
-        }
-        byte += 1;
-    }
-    t
-};
 
 /// Laine and Karras's permutation with Burley's constants: on a bit-reversed fraction,
 /// each bit flipped by a hash of the bits below it, i.e. Owen's nested uniform
 /// scramble of the fraction.
-#[inline]
+#[inline(always)]
 fn laine_karras(mut v: u32, seed: u32) -> u32 {
     v = v.wrapping_add(seed);
     v ^= v.wrapping_mul(0x6c50_b47c);
@@ -200,7 +255,7 @@ fn laine_karras(mut v: u32, seed: u32) -> u32 {
 }
 
 /// A 32-bit fraction's top 24 bits as a float in [0, 1).
-#[inline]
+#[inline(always)]
 fn unit(x: u32) -> f32 {
     (x >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
 }
@@ -295,6 +350,52 @@ mod tests {
         for k in 0..32 {
             assert_eq!(sobol_second_reversed(1 << k).reverse_bits(), v, "bit {k}");
             v ^= v >> 1;
+        }
+    }
+
+    /// One pair as the sampler once drew it, a pair at a time with a table of direction
+    /// numbers per byte of the index: the reference the lanes must equal bit for bit.
+    fn sobol_2d_one_at_a_time(index: u32, seed: u32) -> (f32, f32) {
+        let mut w = [0u32; 32];
+        w[0] = 1;
+        for k in 1..32 {
+            w[k] = w[k - 1] ^ (w[k - 1] << 1);
+        }
+        let second = |i: u32| (0..32).filter(|k| i >> k & 1 == 1).fold(0, |y, k| y ^ w[k]);
+        let (s0, s1, s2) = (seed, mix32(seed ^ 0x68e3_1da4), mix32(seed ^ 0xb529_7a4d));
+        let r = laine_karras(index.reverse_bits(), s0);
+        let x = laine_karras(r.reverse_bits(), s1).reverse_bits();
+        let y = laine_karras(second(r.reverse_bits()), s2).reverse_bits();
+        (unit(x), unit(y))
+    }
+
+    #[test]
+    fn the_sobol_lanes_draw_the_pairs_one_at_a_time_drew() {
+        let mut rng = Pcg32::new(9, 1);
+        for case in 0..2_000 {
+            let (seed, x, y) = (rng.next_u64(), rng.next_u32() % 5000, rng.next_u32() % 5000);
+            let index = if case % 2 == 0 { case } else { rng.next_u32() };
+            let pixel = (u64::from(y) << 32) | u64::from(x);
+            let pixel_key = splitmix64(seed ^ splitmix64(pixel ^ SAMPLE_KEY));
+            let key = (pixel_key ^ (pixel_key >> 32)) as u32;
+            let streams = PixelStreams::new(seed, x, y);
+            let mut one = PixelSampler::for_sample(seed, x, y, index);
+            let mut scalar = streams.sample_in(index);
+            let [mut packed, idle] = streams.samples::<2>(index, 1);
+            assert_eq!(idle.next_pair, SOBOL_PAIRS);
+            for pair in 0..SOBOL_PAIRS {
+                let want =
+                    sobol_2d_one_at_a_time(index, mix32(key ^ pair.wrapping_mul(0x9e37_79b9)));
+                let bits = |(u, v): (f32, f32)| (u.to_bits(), v.to_bits());
+                let want = bits(want);
+                assert_eq!(bits(one.next_2d()), want, "case {case}, pair {pair}");
+                assert_eq!(bits(scalar.next_2d()), want, "case {case}, pair {pair}");
+                assert_eq!(bits(packed.next_2d()), want, "case {case}, pair {pair}");
+            }
+            // And on from the same PCG stream.
+            let after = one.next_f32();
+            assert_eq!(after, scalar.next_f32());
+            assert_eq!(after, packed.next_f32());
         }
     }
 
