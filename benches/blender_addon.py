@@ -4,7 +4,8 @@ under 0.2 s):
 
     blender -b --factory-startup --python benches/blender_addon.py
 
-Prints one line a figure. PRISM_PYTHON_PATH defaults to python/ (maturin develop).
+Prints one line a figure. PRISM_PYTHON_PATH defaults to python/, which must hold a
+release build (the script says how to make one).
 """
 
 import os
@@ -122,6 +123,7 @@ def result_writes():
           f"{min(timings) * 1000:.0f} ms best, {max(timings) * 1000:.0f} ms worst of {len(timings)}")
 
 
+support.release_prism()
 instances()
 mesh_export()
 result_writes()

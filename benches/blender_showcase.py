@@ -7,6 +7,8 @@ F12 times and their ratio, and writes both images side by side:
         [--out showcase.png] [--blend scene.blend]
 
 Cycles runs on the CPU, denoising and adaptive sampling off; both use every core.
+Prism must be a release build (PRISM_PYTHON_PATH, default python/): the script says how
+to make one when it finds the test suite's debug build.
 """
 
 import argparse
@@ -84,6 +86,7 @@ def main():
     parser.add_argument("--out")
     parser.add_argument("--blend")
     args = parser.parse_args(argv)
+    support.release_prism()
     width, height = map(int, args.size.split("x"))
     scene = build(width, height)
     scene.prism.max_bounces = 12

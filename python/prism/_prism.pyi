@@ -8,6 +8,8 @@ _Vec3 = Tuple[float, float, float]
 _Callback = Optional[Callable[[int, int], Any]]
 
 __version__: str
+# "release", or "debug" for `maturin develop`'s build.
+BUILD: str
 
 class Scene:
     """A scene read from a file: .objx (2014), .obj (Wavefront) or .toml (Prism)."""

@@ -408,3 +408,8 @@ def test_ctrl_c_stops_a_progressive_render_promptly(ctrl_c):
         for _ in passes:
             pass
     assert time.monotonic() - fired[0] < 2.0
+
+
+def test_the_extension_names_its_build():
+    # The Blender benchmarks refuse to time anything but a release build.
+    assert prism._prism.BUILD in ("debug", "release")

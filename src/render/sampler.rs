@@ -183,15 +183,15 @@ impl PixelStreams {
         self.samples_in(first, n)
     }
 
+    // The streams drawn in a loop, not in `array::from_fn`'s closure: that would be
+    // compiled without the caller's target features.
     #[inline(always)]
     fn samples_in<const N: usize>(&self, first: u32, n: usize) -> [PixelSampler; N] {
-        std::array::from_fn(|k| {
-            if k < n {
-                self.sample_in(first + k as u32)
-            } else {
-                PixelSampler::idle()
-            }
-        })
+        let mut streams: [PixelSampler; N] = std::array::from_fn(|_| PixelSampler::idle());
+        for (k, stream) in streams.iter_mut().enumerate().take(n) {
+            *stream = self.sample_in(first + k as u32);
+        }
+        streams
     }
 
     #[inline(always)]
@@ -221,7 +221,11 @@ impl PixelStreams {
             let second = sobol_second_reversed(shuffled);
             y[pair] = laine_karras(second, self.scramble_y[pair]).reverse_bits();
         }
-        std::array::from_fn(|pair| (unit(x[pair]), unit(y[pair])))
+        let mut points = [(0.0, 0.0); SOBOL_PAIRS as usize];
+        for (point, (x, y)) in points.iter_mut().zip(x.into_iter().zip(y)) {
+            *point = (unit(x), unit(y));
+        }
+        points
     }
 }
 

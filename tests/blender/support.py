@@ -28,6 +28,21 @@ def prism():
     return module
 
 
+def release_prism():
+    """The prism package, refusing a debug build: a benchmark of one would understate
+    Prism (the test suite's `maturin develop` build renders about a fifth slower)."""
+    module = prism()
+    build = getattr(module._prism, "BUILD", "unknown")
+    if build != "release":
+        raise SystemExit(
+            f"prism at {os.path.dirname(module.__file__)} is not a release build "
+            f"({build}); benchmark a release one: VIRTUAL_ENV=target/py-venv "
+            "target/py-venv/bin/maturin develop --release --manifest-path "
+            "python/Cargo.toml (or set PRISM_PYTHON_PATH to an unpacked wheel of "
+            "`python3 blender/package.py`)")
+    return module
+
+
 def empty_scene(width=64, height=64):
     """An empty scene (no world light) of `width` x `height` pixels, linear output."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
