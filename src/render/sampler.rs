@@ -15,7 +15,6 @@ use rand_core::Rng;
 use rand_pcg::Pcg32;
 
 /// The random stream of one supersampled pixel of one frame.
-#[derive(Clone)]
 pub struct PixelSampler {
     rng: Pcg32,
     /// The sample's scrambled Sobol points, drawn all at once when the stream is made
