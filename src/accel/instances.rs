@@ -6,15 +6,14 @@ use super::Hit;
 use super::bvh::{Bvh, Leaves, PlacedRay, build};
 use crate::math::{Aabb, Ray, Vec3};
 use crate::scene::{Instance, Object, ShapeId};
-use glam::Mat3A;
+use glam::{Affine3A, Mat3A};
 use rayon::prelude::*;
 
 /// The relative slack of the top level's box test, as the BVH's.
 const BOX_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// A box in six floats ([`Aabb`] pads its corners to sixteen bytes each): each
-/// instance holds one. (The tree's nodes, half as many, keep theirs padded: two are
-/// read at every step of the top traversal.)
+/// instance and each node of the top tree holds one.
 #[derive(Clone, Copy, Debug)]
 struct PackedBox {
     min: glam::Vec3,
@@ -42,12 +41,14 @@ impl PackedBox {
 /// (`count` 0) has its left child next to it and its right child at `first`.
 #[derive(Clone, Copy, Debug)]
 struct TopNode {
-    bounds: Aabb,
+    bounds: PackedBox,
     first: u32,
     count: u32,
 }
 
-/// What the rounding bound of one instance needs, computed once.
+/// What the rounding bound of one instance needs, worked out as a ray meets it (from
+/// its transform, the transform's inverse and its box: held, it would be twelve bytes
+/// an instance).
 #[derive(Clone, Copy, Debug)]
 struct Rounding {
     /// The largest row sum of |A⁻¹|: how much a world error grows in object space.
@@ -63,8 +64,7 @@ struct Rounding {
 pub struct Instances<'s> {
     instances: &'s [Instance],
     objects: Vec<Bvh<'s>>,
-    rounding: Vec<Rounding>,
-    /// Each instance's world box, grown by its rounding.
+    /// Each instance's world box, grown by the rounding of its placed corners.
     boxes: Vec<PackedBox>,
     nodes: Vec<TopNode>,
     order: Vec<u32>,
@@ -80,18 +80,12 @@ impl<'s> Instances<'s> {
         let object_bounds: Vec<Aabb> = objects.par_iter().map(Object::bounds).collect();
         let boxes: Vec<Aabb> = instances
             .par_iter()
-            .map(|i| pad_world(i.world_bounds(&object_bounds[i.object as usize])))
-            .collect();
-        let rounding = instances
-            .par_iter()
-            .zip(boxes.par_iter())
-            .map(|(i, b)| rounding_of(i, b))
+            .map(|i| pad_world(i.world_bounds(&object_bounds[i.object() as usize])))
             .collect();
         let boxes = boxes.iter().map(PackedBox::pack).collect();
         let mut top = Instances {
             instances,
             objects: trees,
-            rounding,
             boxes,
             nodes: Vec::new(),
             order: Vec::new(),
@@ -116,7 +110,7 @@ impl<'s> Instances<'s> {
                 start,
                 count,
             } => self.nodes.push(TopNode {
-                bounds: *bounds,
+                bounds: PackedBox::pack(bounds),
                 first: *start,
                 count: *count,
             }),
@@ -125,7 +119,7 @@ impl<'s> Instances<'s> {
             } => {
                 let at = self.nodes.len();
                 self.nodes.push(TopNode {
-                    bounds: *bounds,
+                    bounds: PackedBox::pack(bounds),
                     first: 0,
                     count: 0,
                 });
@@ -139,7 +133,6 @@ impl<'s> Instances<'s> {
     /// Bytes held beyond the instances and objects themselves.
     pub fn memory_bytes(&self) -> usize {
         self.objects.iter().map(Bvh::memory_bytes).sum::<usize>()
-            + self.rounding.capacity() * size_of::<Rounding>()
             + self.boxes.capacity() * size_of::<PackedBox>()
             + self.nodes.capacity() * size_of::<TopNode>()
             + self.order.capacity() * size_of::<u32>()
@@ -150,8 +143,9 @@ impl<'s> Instances<'s> {
     #[inline]
     fn placed<'a>(&'a self, ray: &'a Ray, index: u32, t_far: f32) -> PlacedRay<'a> {
         let instance = &self.instances[index as usize];
-        let r = self.rounding[index as usize];
-        let from_world = instance.from_world();
+        let to_world = instance.to_world();
+        let from_world = to_world.inverse();
+        let r = rounding_of(&to_world, &from_world, &self.boxes[index as usize].get());
         let local = Ray {
             origin: from_world.transform_point3a(ray.origin),
             dir: from_world.transform_vector3a(ray.dir),
@@ -168,7 +162,7 @@ impl<'s> Instances<'s> {
             world: ray,
             local,
             pad: if pad.is_finite() { pad } else { f32::MAX },
-            to_world: instance.to_world(),
+            to_world,
             instance,
             index,
         }
@@ -198,13 +192,14 @@ impl<'s> Instances<'s> {
                         continue;
                     };
                     let placed = self.placed(ray, i, t_far);
-                    let object = self.instances[i as usize].object as usize;
+                    let object = self.instances[i as usize].object() as usize;
                     self.objects[object].closest_placed(&placed, t_max, best);
                 }
                 continue;
             }
             let children = [at + 1, node.first];
-            let hits = children.map(|c| slab(&self.nodes[c as usize].bounds, ray, inv, bound));
+            let hits =
+                children.map(|c| slab(&self.nodes[c as usize].bounds.get(), ray, inv, bound));
             // The farther child is pushed first, so the nearer is met first.
             let far_first = match hits {
                 [Some(a), Some(b)] if b.0 < a.0 => [0, 1],
@@ -232,7 +227,7 @@ impl<'s> Instances<'s> {
             len -= 1;
             let at = stack[len];
             let node = &self.nodes[at as usize];
-            if slab(&node.bounds, ray, inv, t_max).is_none() {
+            if slab(&node.bounds.get(), ray, inv, t_max).is_none() {
                 continue;
             }
             if node.count == 0 {
@@ -246,7 +241,7 @@ impl<'s> Instances<'s> {
                     continue;
                 };
                 let placed = self.placed(ray, i, t_far);
-                let object = self.instances[i as usize].object as usize;
+                let object = self.instances[i as usize].object() as usize;
                 if self.objects[object].occluded_placed(&placed, t_max, blocks) {
                     return true;
                 }
@@ -295,10 +290,12 @@ fn pad_world(b: Aabb) -> Aabb {
     }
 }
 
-/// The rounding bound of instance `i`, whose padded world box is `world`.
-fn rounding_of(i: &Instance, world: &Aabb) -> Rounding {
-    let inverse_norm = row_sum_norm(&i.from_world().matrix3);
-    let condition = row_sum_norm(&i.to_world().matrix3) * inverse_norm;
+/// The rounding bound of the instance placed by `to_world` (whose inverse is
+/// `from_world`), its padded world box `world`.
+#[inline]
+fn rounding_of(to_world: &Affine3A, from_world: &Affine3A, world: &Aabb) -> Rounding {
+    let inverse_norm = row_sum_norm(&from_world.matrix3);
+    let condition = row_sum_norm(&to_world.matrix3) * inverse_norm;
     let magnitude = world.min.abs().max(world.max.abs()).max_element();
     Rounding {
         inverse_norm,

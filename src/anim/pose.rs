@@ -267,7 +267,7 @@ impl<'s> State<'s> {
                 .copied()
                 .unwrap_or(DAffine3::IDENTITY);
             let base = &self.base.instances[i as usize];
-            let b = base.world_bounds(&self.base.objects[base.object as usize].bounds());
+            let b = base.world_bounds(&self.base.objects[base.object() as usize].bounds());
             if !b.is_empty() {
                 for corner in [b.min, b.max] {
                     grow(x.transform_point3(dvec(corner)), 0.0);
@@ -310,7 +310,7 @@ impl<'s> State<'s> {
             let base = &self.base.instances[i as usize];
             let to_world = glam::DMat4::from(*x) * glam::DMat4::from(base.to_world().as_daffine3());
             posed.instances[i as usize] =
-                Instance::new(base.object, glam::Affine3A::from_mat4(to_world.as_mat4()));
+                Instance::new(base.object(), glam::Affine3A::from_mat4(to_world.as_mat4()));
         }
     }
 

@@ -236,10 +236,9 @@ impl SceneBuilder {
             .map(|o| o.material_of.iter().filter(|m| emits(m)).count() as u64)
             .collect();
         let own = scene.material_of.iter().filter(|m| emits(m)).count() as u64;
-        scene
-            .instances
-            .iter()
-            .fold(own, |n, i| n.saturating_add(per_object[i.object as usize]))
+        scene.instances.iter().fold(own, |n, i| {
+            n.saturating_add(per_object[i.object() as usize])
+        })
     }
 
     /// Every emissive material's triangles as one area light of `samples` shadow rays,
@@ -273,7 +272,7 @@ impl SceneBuilder {
             })
             .collect();
         for (k, instance) in scene.instances.iter().enumerate() {
-            for &(m, shape) in &object_emitters[instance.object as usize] {
+            for &(m, shape) in &object_emitters[instance.object() as usize] {
                 emissive[m as usize].push(ShapeId {
                     instance: k as u32,
                     shape,

@@ -99,29 +99,49 @@ impl Packed {
     }
 }
 
-/// One placement of an object.
+/// One placement of an object: its index and the transform, and no more. The inverse
+/// is worked out where it is needed (a ray entering the instance's box, a vertex
+/// normal), from the same floats by the same arithmetic, so every use sees the same
+/// bits; held, it would be half an instance's bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct Instance {
-    /// Index into [`Scene::objects`].
-    pub object: u32,
+    /// Index into [`Scene::objects`] in the low 31 bits; the top bit set where
+    /// `to_world` mirrors.
+    object_flip: u32,
     /// Object space to world space.
     to_world: Packed,
-    /// World space to object space (the inverse of `to_world`).
-    from_world: Packed,
-    /// Whether `to_world` mirrors (a negative determinant): its triangles are wound the
-    /// other way, so they face out as they did.
-    pub flip: bool,
 }
+
+/// The bit of [`Instance::object_flip`] that says the transform mirrors.
+const FLIP: u32 = 1 << 31;
 
 impl Instance {
     /// `object` placed by `to_world`, which must be invertible and finite.
     pub fn new(object: u32, to_world: Affine3A) -> Instance {
+        // A scene holds fewer objects than it has bytes for, so far fewer than 2^31.
+        debug_assert!(object < FLIP);
+        let flip = if to_world.matrix3.determinant() < 0.0 {
+            FLIP
+        } else {
+            0
+        };
         Instance {
-            object,
+            object_flip: object & !FLIP | flip,
             to_world: Packed::pack(&to_world),
-            from_world: Packed::pack(&to_world.inverse()),
-            flip: to_world.matrix3.determinant() < 0.0,
         }
+    }
+
+    /// Index into [`Scene::objects`] of the object placed.
+    #[inline(always)]
+    pub fn object(&self) -> u32 {
+        self.object_flip & !FLIP
+    }
+
+    /// Whether the transform mirrors (a negative determinant): its triangles are wound
+    /// the other way, so they face out as they did.
+    #[inline(always)]
+    pub fn flip(&self) -> bool {
+        self.object_flip & FLIP != 0
     }
 
     /// Object space to world space.
@@ -133,7 +153,7 @@ impl Instance {
     /// World space to object space (the inverse of [`Instance::to_world`], rounded).
     #[inline(always)]
     pub fn from_world(&self) -> Affine3A {
-        self.from_world.unpack()
+        self.to_world().inverse()
     }
 
     /// A point of the object, in world space.
@@ -145,20 +165,28 @@ impl Instance {
     /// The corners of a triangle of the object, in world space, in the placed winding.
     #[inline(always)]
     pub fn place_corners(&self, v: [Vec3; 3]) -> [Vec3; 3] {
-        place_corners(&self.to_world(), self.flip, v)
+        place_corners(&self.to_world(), self.flip(), v)
     }
 
     /// A per-corner index triple (of an attribute) in the placed winding.
     #[inline]
     pub fn wind(&self, t: [u32; 3]) -> [u32; 3] {
-        if self.flip { [t[0], t[2], t[1]] } else { t }
+        if self.flip() { [t[0], t[2], t[1]] } else { t }
     }
 
     /// A normal of the object, in world space (not normalised: interpolation does):
-    /// through the inverse transpose, `from_world`'s matrix being that inverse.
+    /// through [`Instance::normal_matrix`].
     #[inline]
     pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
-        self.from_world().matrix3.transpose() * n
+        self.normal_matrix() * n
+    }
+
+    /// What takes the object's normals into world space: the inverse transpose,
+    /// `from_world`'s matrix being that inverse. Worked out once for a triangle's or a
+    /// mesh's normals.
+    #[inline]
+    pub fn normal_matrix(&self) -> glam::Mat3A {
+        self.from_world().matrix3.transpose()
     }
 
     /// The world box around `bounds` (a box of the object) placed.
@@ -194,11 +222,10 @@ impl Instance {
         MeshAttributes {
             first_shape,
             len: mesh.len,
-            normals: mesh
-                .normals
-                .iter()
-                .map(|&n| self.normal_to_world(n))
-                .collect(),
+            normals: {
+                let m = self.normal_matrix();
+                mesh.normals.iter().map(|&n| m * n).collect()
+            },
             normal_indices: wind(&mesh.normal_indices),
             texcoords: mesh.texcoords.clone(),
             texcoord_indices: wind(&mesh.texcoord_indices),
@@ -228,7 +255,10 @@ impl MeshView<'_> {
         let t = self.triple(&self.mesh.normal_indices)?;
         let n = t.map(|k| self.mesh.normals[k as usize]);
         Some(match self.placed {
-            Some(i) => n.map(|n| i.normal_to_world(n)),
+            Some(i) => {
+                let m = i.normal_matrix();
+                n.map(|n| m * n)
+            }
             None => n,
         })
     }
@@ -265,7 +295,7 @@ impl Scene {
         let instance = &self.instances[id.instance as usize];
         placed_shape(
             instance,
-            &self.objects[instance.object as usize],
+            &self.objects[instance.object() as usize],
             id.shape as usize,
         )
     }
@@ -276,7 +306,7 @@ impl Scene {
             return self.shapes.try_get(id.shape as usize);
         }
         let instance = self.instances.get(id.instance as usize)?;
-        let object = self.objects.get(instance.object as usize)?;
+        let object = self.objects.get(instance.object() as usize)?;
         ((id.shape as usize) < object.shapes.len())
             .then(|| placed_shape(instance, object, id.shape as usize))
     }
@@ -287,7 +317,7 @@ impl Scene {
         if id.is_world() {
             self.material_of[id.shape as usize]
         } else {
-            let object = self.instances[id.instance as usize].object;
+            let object = self.instances[id.instance as usize].object();
             self.objects[object as usize].material_of[id.shape as usize]
         }
     }
@@ -304,7 +334,7 @@ impl Scene {
             });
         }
         let instance = &self.instances[id.instance as usize];
-        let (mesh, tri) = self.objects[instance.object as usize].mesh_of(id.shape)?;
+        let (mesh, tri) = self.objects[instance.object() as usize].mesh_of(id.shape)?;
         Some(MeshView {
             mesh,
             tri,
@@ -316,7 +346,7 @@ impl Scene {
     pub fn placed_triangles(&self) -> u64 {
         self.instances
             .iter()
-            .map(|i| self.objects[i.object as usize].shapes.len() as u64)
+            .map(|i| self.objects[i.object() as usize].shapes.len() as u64)
             .sum()
     }
 
@@ -332,7 +362,7 @@ impl Scene {
         let mut first_of_instance = Vec::with_capacity(self.instances.len());
         for instance in &self.instances {
             first_of_instance.push(flat.shapes.len() as u32);
-            let object = &self.objects[instance.object as usize];
+            let object = &self.objects[instance.object() as usize];
             let first = flat.shapes.len() as u32;
             for (i, &material) in object.material_of.iter().enumerate() {
                 flat.push_shape(placed_shape(instance, object, i), material);
@@ -361,14 +391,14 @@ impl Scene {
         let placed: u64 = self
             .instances
             .iter()
-            .map(|i| self.objects[i.object as usize].shapes.positions().len() as u64)
+            .map(|i| self.objects[i.object() as usize].shapes.positions().len() as u64)
             .sum();
         if placed <= EXACT_BOUNDS_VERTICES {
             return self
                 .instances
                 .par_iter()
                 .map(|i| {
-                    let object = &self.objects[i.object as usize];
+                    let object = &self.objects[i.object() as usize];
                     object
                         .shapes
                         .positions()
@@ -386,7 +416,7 @@ impl Scene {
     pub fn instance_boxes(&self) -> Aabb {
         let objects: Vec<Aabb> = self.objects.iter().map(Object::bounds).collect();
         self.instances.iter().fold(Aabb::EMPTY, |b, i| {
-            b.union(i.world_bounds(&objects[i.object as usize]))
+            b.union(i.world_bounds(&objects[i.object() as usize]))
         })
     }
 }

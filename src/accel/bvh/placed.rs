@@ -186,7 +186,7 @@ impl Bvh<'_> {
         debug_assert!(entry.count & STORED == 0);
         let first = entry.child as usize;
         for four in self.prims[first..first + entry.count as usize].chunks(4) {
-            let leaf = Leaf4::placed(self.shapes, four, &ray.to_world, ray.instance.flip);
+            let leaf = Leaf4::placed(self.shapes, four, &ray.to_world, ray.instance.flip());
             let (mut mask, t) = leaf.intersect_flat(lanes, Hit::bound(best, t_max));
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
@@ -220,7 +220,7 @@ impl Bvh<'_> {
         debug_assert!(entry.count & STORED == 0);
         let first = entry.child as usize;
         for four in self.prims[first..first + entry.count as usize].chunks(4) {
-            let leaf = Leaf4::placed(self.shapes, four, &ray.to_world, ray.instance.flip);
+            let leaf = Leaf4::placed(self.shapes, four, &ray.to_world, ray.instance.flip());
             let mut mask = leaf.intersect_flat(lanes, t_max).0;
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;

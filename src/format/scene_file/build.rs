@@ -398,7 +398,7 @@ impl Builder {
     /// a copy.
     fn instance_emitters(&mut self, instance: u32, samples: u32) {
         let scene = self.scene.scene();
-        let object = &scene.objects[scene.instances[instance as usize].object as usize];
+        let object = &scene.objects[scene.instances[instance as usize].object() as usize];
         let material_of = &object.material_of;
         let mut runs = Vec::new();
         let mut i = 0;
