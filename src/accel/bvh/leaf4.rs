@@ -13,7 +13,6 @@
 use glam::{Affine3A, BVec4A, Vec4};
 
 use crate::math::{Aabb, Ray, Vec3};
-use crate::scene::instance::place_corners;
 use crate::scene::shape::EDGE_SLACK;
 use crate::scene::shapes::OTHER;
 use crate::scene::{Shape, Shapes, Sphere, Stored};
@@ -139,17 +138,40 @@ impl Leaf4 {
         let corners = shapes.corner_slice();
         let positions = shapes.positions();
         let mut shape = [EMPTY_LANE; 4];
-        let mut v = [[Vec3::ZERO; 3]; 4];
+        // Each corner's object-space coordinates, axis by axis, a lane a triangle.
+        let mut local = [[[0.0f32; 4]; 3]; 3];
         for (lane, &index) in indices.iter().enumerate() {
             // SAFETY: as in `new`; objects hold triangles only.
             let c = unsafe { *corners.get_unchecked(index as usize) };
             debug_assert!(c[0] != OTHER);
             shape[lane] = index;
-            // SAFETY: a triangle's corners index `positions` (an invariant of `Shapes`).
-            let local = c.map(|k| unsafe { *positions.get_unchecked(k as usize) });
-            v[lane] = place_corners(to_world, flip, local);
+            for (corner, &k) in local.iter_mut().zip(&c) {
+                // SAFETY: a triangle's corners index `positions` (an invariant of `Shapes`).
+                let p = unsafe { *positions.get_unchecked(k as usize) };
+                for axis in 0..3 {
+                    corner[axis][lane] = p[axis];
+                }
+            }
         }
-        Leaf4::of_corners(&v, shape)
+        // The four triangles' corners placed together, each lane and axis by the
+        // operations of `Affine3A::transform_point3a` (`place_corners`) in their order,
+        // `((x_axis x + y_axis y) + z_axis z) + translation`: the same bits, without
+        // gathering placed points back into lanes.
+        let (m, t) = (&to_world.matrix3, to_world.translation);
+        let [a, b, c] = local.map(|[x, y, z]| {
+            let [x, y, z] = [x, y, z].map(Vec4::from_array);
+            [0, 1, 2]
+                .map(|axis| x * m.x_axis[axis] + y * m.y_axis[axis] + z * m.z_axis[axis] + t[axis])
+        });
+        let [b, c] = if flip { [c, b] } else { [b, c] };
+        Leaf4 {
+            e1: [0, 1, 2].map(|axis| b[axis] - a[axis]),
+            e2: [0, 1, 2].map(|axis| c[axis] - a[axis]),
+            p: a,
+            max_sum: Vec4::ONE,
+            radius: Vec4::ZERO,
+            shape,
+        }
     }
 
     /// Lanes of the triangles with corners `v`, edges subtracted as the scalar test
@@ -520,6 +542,52 @@ mod tests {
                     simd.map(f32::to_bits),
                     "ray {k} lane {lane}"
                 );
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// A placed leaf's lanes are the triangles `place_corners` places, corner for
+        /// corner and bit for bit, for one to four triangles, mirrored or not: the
+        /// flattened twin's triangles.
+        #[test]
+        fn placed_lanes_are_the_corners_place_corners_places(
+            corners in proptest::collection::vec(
+                proptest::array::uniform3(proptest::array::uniform3(-50.0f32..50.0)), 1..=4),
+            columns in proptest::array::uniform4(proptest::array::uniform3(-4.0f32..4.0)),
+        ) {
+            let to_world = glam::Affine3A::from_cols_array(&[
+                columns[0][0], columns[0][1], columns[0][2],
+                columns[1][0], columns[1][1], columns[1][2],
+                columns[2][0], columns[2][1], columns[2][2],
+                columns[3][0] * 25.0, columns[3][1] * 25.0, columns[3][2] * 25.0,
+            ]);
+            let mut shapes = Shapes::new();
+            for v in &corners {
+                shapes.push(Shape::Triangle(Triangle { v: v.map(Vec3::from_array) }));
+            }
+            let indices: Vec<u32> = (0..corners.len() as u32).collect();
+            for flip in [false, true] {
+                let leaf = Leaf4::placed(&shapes, &indices, &to_world, flip);
+                let mut v = [[Vec3::ZERO; 3]; 4];
+                for (lane, c) in corners.iter().enumerate() {
+                    v[lane] = crate::scene::instance::place_corners(
+                        &to_world, flip, c.map(Vec3::from_array));
+                }
+                let mut shape = [EMPTY_LANE; 4];
+                shape[..indices.len()].copy_from_slice(&indices);
+                let expected = Leaf4::of_corners(&v, shape);
+                let bits = |l: &Leaf4| {
+                    [l.p, l.e1, l.e2].map(|axes| axes.map(|a| a.to_array().map(f32::to_bits)))
+                };
+                for lane in 0..indices.len() {
+                    proptest::prop_assert_eq!(
+                        bits(&leaf).map(|axes| axes.map(|a| a[lane])),
+                        bits(&expected).map(|axes| axes.map(|a| a[lane])),
+                        "lane {} flip {}", lane, flip
+                    );
+                }
+                proptest::prop_assert_eq!(leaf.shape, expected.shape);
             }
         }
     }
