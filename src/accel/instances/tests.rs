@@ -190,8 +190,8 @@ proptest! {
     }
 }
 
-/// An instance costs its two transforms in twelve floats each and, in the top
-/// structure, its box in six, its rounding bound, its index and its share of the tree.
+/// An instance costs its transform in twelve floats and, in the top structure, its box
+/// in six, its index and its share of the tree (whose nodes hold six floats a box too).
 #[test]
 fn an_instance_holds_under_100_bytes() {
     // Its object and mirror bit, and its transform in twelve floats.
