@@ -164,14 +164,7 @@ impl Leaf4 {
                 .map(|axis| x * m.x_axis[axis] + y * m.y_axis[axis] + z * m.z_axis[axis] + t[axis])
         });
         let [b, c] = if flip { [c, b] } else { [b, c] };
-        Leaf4 {
-            e1: [0, 1, 2].map(|axis| b[axis] - a[axis]),
-            e2: [0, 1, 2].map(|axis| c[axis] - a[axis]),
-            p: a,
-            max_sum: Vec4::ONE,
-            radius: Vec4::ZERO,
-            shape,
-        }
+        Leaf4::of_corner_lanes([a, b, c], shape)
     }
 
     /// Lanes of the triangles with corners `v`, edges subtracted as the scalar test
@@ -186,7 +179,14 @@ impl Leaf4 {
                 v[3][corner][axis],
             )
         };
-        let [a, b, c] = [0, 1, 2].map(|corner| [0, 1, 2].map(|axis| column(corner, axis)));
+        let corners = [0, 1, 2].map(|corner| [0, 1, 2].map(|axis| column(corner, axis)));
+        Leaf4::of_corner_lanes(corners, shape)
+    }
+
+    /// Lanes of the triangles whose corners are `[a, b, c]`, each axis by axis a lane
+    /// a triangle.
+    #[inline(always)]
+    fn of_corner_lanes([a, b, c]: [[Vec4; 3]; 3], shape: [u32; 4]) -> Leaf4 {
         Leaf4 {
             e1: [0, 1, 2].map(|axis| b[axis] - a[axis]),
             e2: [0, 1, 2].map(|axis| c[axis] - a[axis]),
