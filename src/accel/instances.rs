@@ -78,11 +78,13 @@ impl<'s> Instances<'s> {
             .map(|o| Bvh::build(&o.shapes, Leaves::Indexed))
             .collect();
         let object_bounds: Vec<Aabb> = objects.par_iter().map(Object::bounds).collect();
-        let boxes: Vec<Aabb> = instances
+        let boxes: Vec<PackedBox> = instances
             .par_iter()
-            .map(|i| pad_world(i.world_bounds(&object_bounds[i.object() as usize])))
+            .map(|i| {
+                let world = i.world_bounds(&object_bounds[i.object() as usize]);
+                PackedBox::pack(&pad_world(world))
+            })
             .collect();
-        let boxes = boxes.iter().map(PackedBox::pack).collect();
         let mut top = Instances {
             instances,
             objects: trees,

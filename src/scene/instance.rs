@@ -4,7 +4,7 @@
 //!
 //! A placed triangle is the triangle whose corners are [`Instance::place`]d, wound the
 //! other way by a mirroring transform; its vertex normals go through
-//! [`Instance::normal_to_world`]. [`Scene::flattened`] copies every instance out with those
+//! [`Instance::normal_matrix`]. [`Scene::flattened`] copies every instance out with those
 //! same functions, so a scene of instances renders bit for bit as its flattened twin.
 
 use super::{LightKind, MeshAttributes, Scene, Shape, Shapes, Stored, Triangle};
@@ -174,16 +174,9 @@ impl Instance {
         if self.flip() { [t[0], t[2], t[1]] } else { t }
     }
 
-    /// A normal of the object, in world space (not normalised: interpolation does):
-    /// through [`Instance::normal_matrix`].
-    #[inline]
-    pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
-        self.normal_matrix() * n
-    }
-
-    /// What takes the object's normals into world space: the inverse transpose,
-    /// `from_world`'s matrix being that inverse. Worked out once for a triangle's or a
-    /// mesh's normals.
+    /// What takes the object's normals into world space (not normalised: interpolation
+    /// does): the inverse transpose, `from_world`'s matrix being that inverse. Worked
+    /// out once for a triangle's or a mesh's normals.
     #[inline]
     pub fn normal_matrix(&self) -> glam::Mat3A {
         self.from_world().matrix3.transpose()
