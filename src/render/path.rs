@@ -23,6 +23,7 @@ use super::{Integrator, PixelSampler, RayCount, WeightedColor, slot};
 use crate::accel::{Accel, Hit};
 use crate::math::{Ray, Vec3, offset_origin, surface_epsilon};
 use crate::options::LightSampling;
+use crate::scene::light::sampling::{FlatEmitter, Incident};
 use crate::scene::light::tree::LightTree;
 use crate::scene::{Light, LightKind, Scene, ShapeId, Surface, SurfacePoint};
 use environment::Environment;
@@ -51,6 +52,9 @@ pub struct Path<'a> {
     /// Lights with an extent that are not geometry (quads, disks, spheres): a ray may
     /// meet them.
     shaped_lights: Vec<u32>,
+    /// Each flat light's frame and area, by light (`None` for the others): worked out
+    /// once, not at every sample and every ray that may meet it.
+    flats: Vec<Option<FlatEmitter<'a>>>,
     /// Whether any surface cuts out: shadow rays then walk through the cut-outs.
     cuts_out: bool,
     /// What rays that leave the scene see, and how it is sampled.
@@ -140,6 +144,7 @@ impl<'a> Path<'a> {
             placed_lights_from,
             placed_lights,
             shaped_lights,
+            flats: scene.lights.iter().map(Light::flat).collect(),
             cuts_out: surfaces.iter().any(|s| s.alpha_map.is_some()),
             environment: Environment::of(scene),
             weighing: Weighing::PowerHeuristic,
@@ -174,6 +179,15 @@ impl<'a> Path<'a> {
     #[inline]
     fn surface(&self, shape: ShapeId) -> &Surface {
         &self.surfaces[self.scene.material_index(shape) as usize]
+    }
+
+    /// [`Light::sample_incident`] of light `k`, a flat one's from its frame kept.
+    #[inline]
+    fn sample_incident(&self, k: usize, p: Vec3, u: (f32, f32)) -> Option<Incident> {
+        match &self.flats[k] {
+            Some(flat) => flat.sample_incident(self.scene, self.surfaces, p, u),
+            None => self.scene.lights[k].sample_incident(self.scene, self.surfaces, p, u),
+        }
     }
 
     /// The light whose triangle `shape` is, if any, and its index.
@@ -428,9 +442,9 @@ impl<'a> Path<'a> {
             Some(one) => one.offer(c, dir, dist),
             None => l += self.shadowed(c, from, ng, dir, dist, count),
         };
-        for light in &self.scene.lights {
+        for k in 0..self.scene.lights.len() {
             let u = sampler.next_2d();
-            let Some(inc) = light.sample_incident(self.scene, self.surfaces, sp.p, u) else {
+            let Some(inc) = self.sample_incident(k, sp.p, u) else {
                 continue;
             };
             gather(
@@ -558,7 +572,11 @@ impl<'a> Path<'a> {
             if skip_hidden && !light.camera_visible {
                 continue;
             }
-            if let Some((t, normal)) = light.hit(ray, t_best) {
+            let hit = match &self.flats[k as usize] {
+                Some(flat) => flat.hit(ray, t_best),
+                None => light.hit(ray, t_best),
+            };
+            if let Some((t, normal)) = hit {
                 t_best = t;
                 best = Some((k, light, t, normal));
             }

@@ -40,8 +40,7 @@ impl Path<'_> {
         // unshadowed, its direction and distance.
         let sample = |picked: Picked, pmf: f32, u: (f32, f32)| match picked {
             Picked::Light(k) => {
-                let light = &self.scene.lights[k as usize];
-                let inc = light.sample_incident(self.scene, self.surfaces, p, u)?;
+                let inc = self.sample_incident(k as usize, p, u)?;
                 let c = self.unshadowed(bsdf, weighing, inc.dir, inc.li, inc.pdf, pmf);
                 Some((c, inc.dir, inc.dist))
             }

@@ -53,7 +53,10 @@ pub struct MeshTriangle {
     pub le: Vec3,
 }
 
-/// A flat light (quad, disk, emissive mesh) ready to draw points from.
+/// A flat light (quad, disk, emissive mesh) ready to draw points from and to meet
+/// rays: its frame and area worked out once, by the arithmetic of [`Light::flat`], so
+/// a renderer that keeps one gets the bits of one made at every sample.
+#[derive(Clone, Copy)]
 pub struct FlatEmitter<'a> {
     light: &'a Light,
     /// The emitting area, in squared world units.
@@ -105,6 +108,52 @@ impl FlatEmitter<'_> {
             _ => None,
         }
     }
+
+    /// [`Light::sample_incident`] of this flat light.
+    #[inline]
+    pub fn sample_incident(
+        &self,
+        scene: &Scene,
+        surfaces: &[Surface],
+        p: Vec3,
+        (a, b): (f32, f32),
+    ) -> Option<Incident> {
+        let at = match self.light.kind {
+            LightKind::Disk { .. } => concentric_disk((a, b)),
+            _ => (a, b),
+        };
+        let y = self.point(scene, surfaces, at)?;
+        planar_sample(p, y.y, y.normal, self.area, y.le)
+    }
+
+    /// [`Light::hit`] of this flat light; `None` for an emissive mesh, whose
+    /// triangles the intersector meets.
+    #[inline]
+    pub fn hit(&self, ray: &Ray, t_max: f32) -> Option<(f32, Vec3)> {
+        let light = self.light;
+        let normal = self.normal;
+        let t = match &light.kind {
+            LightKind::Quad { u, v } => {
+                let t = plane_hit(ray, light.position, normal)?;
+                let q = ray.at(t) - light.position;
+                let s = cross(q, *v).dot(normal) / self.area;
+                let r = cross(*u, q).dot(normal) / self.area;
+                if s.abs() > 0.5 || r.abs() > 0.5 {
+                    return None;
+                }
+                t
+            }
+            LightKind::Disk { radius, .. } => {
+                let t = plane_hit(ray, light.position, normal)?;
+                if (ray.at(t) - light.position).length_squared() > radius * radius {
+                    return None;
+                }
+                t
+            }
+            _ => return None,
+        };
+        (t > 0.0 && t < t_max && t.is_finite()).then_some((t, normal))
+    }
 }
 
 impl Light {
@@ -129,15 +178,8 @@ impl Light {
                     pdf: 0.0,
                 })
             }
-            LightKind::Quad { .. } | LightKind::Mesh { .. } => {
-                let flat = self.flat()?;
-                let y = flat.point(scene, surfaces, (a, b))?;
-                planar_sample(p, y.y, y.normal, flat.area, y.le)
-            }
-            LightKind::Disk { .. } => {
-                let flat = self.flat()?;
-                let y = flat.point(scene, surfaces, concentric_disk((a, b)))?;
-                planar_sample(p, y.y, y.normal, flat.area, y.le)
+            LightKind::Quad { .. } | LightKind::Mesh { .. } | LightKind::Disk { .. } => {
+                self.flat()?.sample_incident(scene, surfaces, p, (a, b))
             }
             LightKind::Sphere { radius } => {
                 let cone = SphereCone::new(self.position, *radius, p)?;
@@ -277,27 +319,7 @@ impl Light {
     /// Mesh lights are the scene's own triangles, and the other kinds have no extent.
     pub fn hit(&self, ray: &Ray, t_max: f32) -> Option<(f32, Vec3)> {
         let (t, normal) = match &self.kind {
-            LightKind::Quad { u, v } => {
-                let n = cross(*u, *v);
-                let area = n.length();
-                let normal = n / area;
-                let t = plane_hit(ray, self.position, normal)?;
-                let q = ray.at(t) - self.position;
-                let s = cross(q, *v).dot(normal) / area;
-                let r = cross(*u, q).dot(normal) / area;
-                if s.abs() > 0.5 || r.abs() > 0.5 {
-                    return None;
-                }
-                (t, normal)
-            }
-            LightKind::Disk { normal, radius } => {
-                let normal = normal.normalize_or(Vec3::Y);
-                let t = plane_hit(ray, self.position, normal)?;
-                if (ray.at(t) - self.position).length_squared() > radius * radius {
-                    return None;
-                }
-                (t, normal)
-            }
+            LightKind::Quad { .. } | LightKind::Disk { .. } => return self.flat()?.hit(ray, t_max),
             LightKind::Sphere { radius } => {
                 let oc = ray.origin - self.position;
                 let b = oc.dot(ray.dir);
