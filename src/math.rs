@@ -100,7 +100,7 @@ pub fn concentric_disk((u, v): (f32, f32)) -> (f32, f32) {
 
 /// Sine and cosine of `x` within an eighth turn (|x| <= pi/4) by their Taylor series
 /// to within 2e-9: plain multiplications and additions, so the same bits on every
-/// machine, and a tenth of [`sin_cos`]'s cost where samplers draw many directions.
+/// machine, and a tenth of `sin_cos`'s cost where samplers draw many directions.
 #[inline]
 pub fn sin_cos_eighth(x: f32) -> (f32, f32) {
     let x2 = x * x;

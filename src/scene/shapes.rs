@@ -3,7 +3,7 @@
 //! and spheres and rectangles, rare and few, are kept whole beside them.
 //!
 //! A shape is still one number, its index; [`Shapes::get`] gives it back as a [`Shape`]
-//! value. Intersectors that want the raw layout read [`Shapes::corners`] and
+//! value. Intersectors that want the raw layout read `Shapes::corners` and
 //! [`Shapes::positions`].
 
 use super::shape::{Shape, Triangle};

@@ -28,7 +28,7 @@ pub struct SurfacePoint {
 impl SurfacePoint {
     /// Where shadow rays toward the side `side` (the geometric normal turned toward
     /// the incoming ray) start: on a smooth mesh, lifted off the flat triangle toward
-    /// the surface its vertex normals describe ([`terminator_point`]).
+    /// the surface its vertex normals describe (`terminator_point`).
     #[inline]
     pub fn shadow_origin(&self, side: Vec3) -> Vec3 {
         match self.smooth {

@@ -1,5 +1,5 @@
 //! What every stage may read, at the bottom of the flow: the bounds on inputs
-//! ([`limits`]), the one opener of files ([`file`]), text as files are decoded and
+//! ([`limits`]), the one opener of files ([`file`](mod@file)), text as files are decoded and
 //! messages quote it ([`text`]), and linear images with their codecs ([`image`],
 //! [`hdr`]: the readers of textures and the writers of renders share them), and memory
 //! given back between stages.
