@@ -29,12 +29,17 @@ pub struct PixelSampler {
 /// pays most.
 const SOBOL_PAIRS: u32 = 8;
 
+/// Pixel (`x`, `y`) as the one word its streams are keyed by.
+#[inline]
+fn pixel_word(x: u32, y: u32) -> u64 {
+    (u64::from(y) << 32) | u64::from(x)
+}
+
 impl PixelSampler {
     /// Pixel coordinates are those of the full supersampled frame, so a region render
     /// draws exactly the numbers the full frame draws there.
     pub fn new(seed: u64, x: u32, y: u32) -> PixelSampler {
-        let pixel = (u64::from(y) << 32) | u64::from(x);
-        PixelSampler::from_pcg(splitmix64(seed ^ splitmix64(pixel)))
+        PixelSampler::from_pcg(splitmix64(seed ^ splitmix64(pixel_word(x, y))))
     }
 
     /// The stream of sample `index` of the pixel: its numbers depend on the seed, the
@@ -137,7 +142,7 @@ pub struct PixelStreams {
 impl PixelStreams {
     /// The streams of pixel (`x`, `y`) of the frame drawn with `seed`.
     pub fn new(seed: u64, x: u32, y: u32) -> PixelStreams {
-        let pixel = (u64::from(y) << 32) | u64::from(x);
+        let pixel = pixel_word(x, y);
         let pixel_key = splitmix64(seed ^ splitmix64(pixel ^ SAMPLE_KEY));
         let key = (pixel_key ^ (pixel_key >> 32)) as u32;
         let shuffle: [u32; SOBOL_PAIRS as usize] =
