@@ -135,6 +135,10 @@ impl FlatEmitter<'_> {
         let t = match &light.kind {
             LightKind::Quad { u, v } => {
                 let t = plane_hit(ray, light.position, normal)?;
+                // Beyond the bound (or not ahead), the quad's point need not be found.
+                if !(t > 0.0 && t < t_max) {
+                    return None;
+                }
                 let q = ray.at(t) - light.position;
                 let s = cross(q, *v).dot(normal) / self.area;
                 let r = cross(*u, q).dot(normal) / self.area;
@@ -333,6 +337,9 @@ impl Light {
                     return None;
                 }
                 let t = -b - disc.sqrt();
+                if !(t > 0.0 && t < t_max) {
+                    return None;
+                }
                 (t, normalize(ray.at(t) - self.position))
             }
             _ => return None,
