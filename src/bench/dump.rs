@@ -84,8 +84,9 @@ impl std::fmt::Display for DumpSummary {
     }
 }
 
-/// Writes the rays [`run`](super::run) casts, for another ray tracer to cast them too: the files of
-/// [`write_ray_dump`] for the primary rays (row by row, `width` rays a row), and
+/// Writes the rays [`run`](super::run) casts, for another ray tracer to cast them too:
+/// the files of [`write_ray_dump`] for the primary rays (row by row, `width` rays a
+/// row), and
 ///
 /// - `shadow.f32`: per shadow ray its origin, unit direction and the end of its
 ///   segment (7 floats), one for each primary hit in ray order, from the light to the
@@ -94,8 +95,9 @@ impl std::fmt::Display for DumpSummary {
 /// - `meta.json`: [`DumpSummary::to_json`], which gives the image width and height
 ///   (for grouping rays into tiles) and the counts.
 ///
-/// The camera and intersector are chosen by `options` as for [`run`](super::run) (its width, its
-/// intersector; the threads only speed the writing). `dir` is created if missing.
+/// The camera and intersector are chosen by `options` as for [`run`](super::run) (its
+/// width, its intersector; the threads only speed the writing). `dir` is created if
+/// missing.
 /// Every shape must be a triangle.
 pub fn write_bench_dump(
     dir: &Path,
