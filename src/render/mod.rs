@@ -14,6 +14,7 @@ pub mod path;
 pub mod sampler;
 mod settings;
 pub mod shadows;
+mod spread;
 pub mod whitted;
 
 pub use crate::options::{IntegratorKind, Region};
@@ -471,15 +472,17 @@ impl<'a> Renderer<'a> {
             }
             let mut count = RayCount::default();
             if integrator.spreads_samples() {
-                for (k, out) in strip.iter_mut().enumerate() {
-                    if observer.cancelled() {
-                        return;
-                    }
-                    let x = x_lo + (k % row_len) as u32;
-                    let y = y0 + (k / row_len) as u32;
-                    *out = self
-                        .spread_pixel(integrator, accel, &rays, x, y, &mut count)
-                        .to_array();
+                let mut sums = vec![WeightedColor::default(); strip.len()];
+                let (origin, samples) = ((x_lo, y0), 0..plan.spp);
+                self.add_strip_samples(
+                    integrator, accel, &rays, origin, row_len, samples, &mut sums, &mut count,
+                    observer,
+                );
+                if observer.cancelled() {
+                    return;
+                }
+                for (out, sum) in strip.iter_mut().zip(&sums) {
+                    *out = sum.mean().to_array();
                 }
             } else if rays.spp() == 1 {
                 self.strip_in_packets(
@@ -642,74 +645,6 @@ impl<'a> Renderer<'a> {
             count,
         );
         acc.mean()
-    }
-
-    /// Colour of supersampled pixel `(x, y)` as the mean of `spp` samples spread over
-    /// its area.
-    #[inline]
-    fn spread_pixel<I: Integrator>(
-        &self,
-        integrator: &I,
-        accel: &Accel,
-        rays: &CameraRays,
-        x: u32,
-        y: u32,
-        count: &mut RayCount,
-    ) -> Vec3 {
-        let mut acc = WeightedColor::default();
-        let samples = 0..self.plan.spp;
-        self.add_samples(integrator, accel, rays, (x, y), samples, &mut acc, count);
-        acc.mean()
-    }
-
-    /// Adds samples `samples` of supersampled pixel `(x, y)` to `acc`, in order, sample
-    /// `i` drawing from its own stream: the pixel position, then the lens point, then
-    /// what the model draws. The camera rays of up to [`PACKET_RAYS`] samples are drawn
-    /// first and traced as one packet (rays through one pixel are the most coherent
-    /// there are); each sample's stream is its own, so drawing them ahead of the
-    /// shading changes no number.
-    #[inline]
-    #[allow(clippy::too_many_arguments)]
-    fn add_samples<I: Integrator>(
-        &self,
-        integrator: &I,
-        accel: &Accel,
-        rays: &CameraRays,
-        (x, y): (u32, u32),
-        samples: std::ops::Range<u32>,
-        acc: &mut WeightedColor,
-        count: &mut RayCount,
-    ) {
-        let streams = PixelStreams::new(self.plan.seed, x, y);
-        let mut first = samples.start;
-        while first < samples.end {
-            let n = (samples.end - first).min(PACKET_RAYS as u32) as usize;
-            if n == 1 {
-                let mut sampler = streams.sample(first);
-                let ray = rays.through(x, y, sampler.next_2d(), sampler.next_2d());
-                integrator.trace_camera_ray(ray, &mut sampler, acc, count);
-                break;
-            }
-            // Streams past the last sample are never drawn from: an idle one costs
-            // nothing to make.
-            let mut samplers: [PixelSampler; PACKET_RAYS] = streams.samples(first, n);
-            let mut batch = [NO_RAY; PACKET_RAYS];
-            for (ray, sampler) in batch.iter_mut().zip(&mut samplers).take(n) {
-                let jitter = sampler.next_2d();
-                let lens = sampler.next_2d();
-                *ray = rays.through(x, y, jitter, lens);
-            }
-            let mut hits = [None; PACKET_RAYS];
-            accel.closest_packet(&batch[..n], f32::INFINITY, &mut hits[..n]);
-            integrator.trace_camera_packet(
-                &batch[..n],
-                &hits[..n],
-                &mut samplers[..n],
-                std::slice::from_mut(acc),
-                count,
-            );
-            first += n as u32;
-        }
     }
 
     /// A strip of supersampled rows (starting at pixel `origin`, `row_len` pixels

@@ -183,18 +183,20 @@ impl Renderer<'_> {
             .with_max_len(1)
             .for_each(|(i, strip)| {
                 let mut count = RayCount::default();
-                for (k, sum) in strip.iter_mut().enumerate() {
-                    // Checked pixel by pixel, as a whole render's spread pixels are.
-                    if observer.cancelled() {
-                        return;
-                    }
-                    let x = x_lo + (k % columns) as u32;
-                    let y = y_lo + (i * TILE_ROWS + k / columns) as u32;
-                    let mut acc = sum_of(*sum);
-                    let (samples, pixel) = (from..to, (x, y));
-                    self.add_samples(
-                        integrator, accel, rays, pixel, samples, &mut acc, &mut count,
-                    );
+                let mut accs: Vec<WeightedColor> = strip.iter().map(|&s| sum_of(s)).collect();
+                let origin = (x_lo, y_lo + (i * TILE_ROWS) as u32);
+                self.add_strip_samples(
+                    integrator,
+                    accel,
+                    rays,
+                    origin,
+                    columns,
+                    from..to,
+                    &mut accs,
+                    &mut count,
+                    observer,
+                );
+                for (sum, acc) in strip.iter_mut().zip(accs) {
                     *sum = stored(acc);
                 }
                 total_rays.fetch_add(count.rays, Ordering::Relaxed);
@@ -235,7 +237,7 @@ impl SampleSums {
     }
 
     /// The means of the strip of rows from supersampled row `y0` (whole rows of the
-    /// sums), what [`Renderer::spread_pixel`] gives for the samples summed.
+    /// sums), the means of the samples summed.
     pub(super) fn means_into(&self, y0: u32, strip: &mut [[f32; 3]]) {
         let first = (y0 - self.origin.1) as usize * self.columns;
         for (out, &sum) in strip.iter_mut().zip(&self.pixels[first..]) {

@@ -177,6 +177,12 @@ impl<'a> Path<'a> {
     }
 
     #[inline]
+    /// Whether the paths of a packet step through the scene in vector lanes.
+    #[cfg(test)]
+    pub(crate) fn steps_in_lanes(&self) -> bool {
+        self.lanes.is_some()
+    }
+
     fn surface(&self, shape: ShapeId) -> &Surface {
         &self.surfaces[self.scene.material_index(shape) as usize]
     }

@@ -165,14 +165,14 @@ impl PixelStreams {
         self.sample_in(index)
     }
 
-    /// The streams of samples `first..first + n` (at most `N`), idle past them.
-    pub fn samples<const N: usize>(&self, first: u32, n: usize) -> [PixelSampler; N] {
+    /// The streams of samples `first..first + out.len()`, into `out`.
+    pub fn samples_into(&self, first: u32, out: &mut [PixelSampler]) {
         #[cfg(target_arch = "x86_64")]
         if SimdLevel::current() == SimdLevel::Avx2 {
             // SAFETY: as in `sample`.
-            return unsafe { self.samples_avx2(first, n) };
+            return unsafe { self.samples_into_avx2(first, out) };
         }
-        self.samples_in(first, n)
+        self.samples_into_in(first, out);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -183,19 +183,17 @@ impl PixelStreams {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn samples_avx2<const N: usize>(&self, first: u32, n: usize) -> [PixelSampler; N] {
-        self.samples_in(first, n)
+    unsafe fn samples_into_avx2(&self, first: u32, out: &mut [PixelSampler]) {
+        self.samples_into_in(first, out);
     }
 
-    // The streams drawn in a loop, not in `array::from_fn`'s closure: that would be
-    // compiled without the caller's target features.
+    // The streams drawn in a loop, not in a closure: that would be compiled without
+    // the caller's target features.
     #[inline(always)]
-    fn samples_in<const N: usize>(&self, first: u32, n: usize) -> [PixelSampler; N] {
-        let mut streams: [PixelSampler; N] = std::array::from_fn(|_| PixelSampler::idle());
-        for (k, stream) in streams.iter_mut().enumerate().take(n) {
+    fn samples_into_in(&self, first: u32, out: &mut [PixelSampler]) {
+        for (k, stream) in out.iter_mut().enumerate() {
             *stream = self.sample_in(first + k as u32);
         }
-        streams
     }
 
     #[inline(always)]
@@ -389,7 +387,9 @@ mod tests {
             let streams = PixelStreams::new(seed, x, y);
             let mut one = PixelSampler::for_sample(seed, x, y, index);
             let mut scalar = streams.sample_in(index);
-            let [mut packed, idle] = streams.samples::<2>(index, 1);
+            let mut packed = [PixelSampler::idle(), PixelSampler::idle()];
+            streams.samples_into(index, &mut packed[..1]);
+            let [mut packed, idle] = packed;
             assert_eq!(idle.next_pair, SOBOL_PAIRS);
             for pair in 0..SOBOL_PAIRS {
                 let want =

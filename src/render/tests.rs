@@ -2,7 +2,7 @@
 //! traced alone, progress, and the one-tap resample without anti-aliasing.
 
 /// `scene` with a unit sphere at the origin wearing its first material.
-fn with_unit_ball(mut scene: crate::scene::Scene) -> crate::scene::Scene {
+pub(super) fn with_unit_ball(mut scene: crate::scene::Scene) -> crate::scene::Scene {
     let ball = crate::scene::Sphere {
         center: crate::math::Vec3::ZERO,
         radius: 1.0,
@@ -12,7 +12,7 @@ fn with_unit_ball(mut scene: crate::scene::Scene) -> crate::scene::Scene {
 }
 
 /// Adds a floor of material `material` one unit below the origin, 8 units square.
-fn add_floor(scene: &mut crate::scene::Scene, material: u32) {
+pub(super) fn add_floor(scene: &mut crate::scene::Scene, material: u32) {
     use crate::math::Vec3;
     let floor = crate::scene::Shape::Rectangle(crate::scene::Rectangle {
         v: [
@@ -23,6 +23,28 @@ fn add_floor(scene: &mut crate::scene::Scene, material: u32) {
         ],
     });
     scene.push_shape(floor, material);
+}
+
+/// Supersampled pixel `(x, y)` of `renderer`'s path render made the slow way: each of
+/// its samples traced alone, a path at a time, from its own stream, added in order.
+pub(super) fn traced_alone(
+    renderer: &crate::render::Renderer,
+    path: &crate::render::Path,
+    rays: &crate::render::CameraRays,
+    (x, y): (u32, u32),
+    count: &mut crate::render::RayCount,
+) -> crate::math::Vec3 {
+    use crate::render::Integrator;
+    let streams = crate::render::PixelStreams::new(renderer.plan.seed, x, y);
+    let mut acc = crate::render::WeightedColor::default();
+    for i in 0..renderer.plan.spp {
+        let mut sampler = streams.sample(i);
+        let jitter = sampler.next_2d();
+        let lens = sampler.next_2d();
+        let ray = rays.through(x, y, jitter, lens);
+        path.trace_camera_ray(ray, &mut sampler, &mut acc, count);
+    }
+    acc.mean()
 }
 
 mod cancel_tests {
@@ -436,7 +458,7 @@ mod band_tests {
                                 renderer.pixel(&whitted, &accel, &rays, x, y, &mut count)
                             }
                             IntegratorKind::Path => {
-                                renderer.spread_pixel(&path, &accel, &rays, x, y, &mut count)
+                                super::traced_alone(&renderer, &path, &rays, (x, y), &mut count)
                             }
                         };
                         traced.push(p.to_array());
