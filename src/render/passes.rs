@@ -3,6 +3,7 @@
 //! the Python API refine a path-traced image this way; passes that end on the job's
 //! samples give a whole render's image bit for bit.
 
+use super::spread::PixelSum;
 use super::{
     CameraRays, Integrator, RayCount, RenderStats, Renderer, TILE_ROWS, WeightedColor,
     memory_estimate,
@@ -183,7 +184,6 @@ impl Renderer<'_> {
             .with_max_len(1)
             .for_each(|(i, strip)| {
                 let mut count = RayCount::default();
-                let mut accs: Vec<WeightedColor> = strip.iter().map(|&s| sum_of(s)).collect();
                 let origin = (x_lo, y_lo + (i * TILE_ROWS) as u32);
                 self.add_strip_samples(
                     integrator,
@@ -192,13 +192,10 @@ impl Renderer<'_> {
                     origin,
                     columns,
                     from..to,
-                    &mut accs,
+                    strip,
                     &mut count,
                     observer,
                 );
-                for (sum, acc) in strip.iter_mut().zip(accs) {
-                    *sum = stored(acc);
-                }
                 total_rays.fetch_add(count.rays, Ordering::Relaxed);
                 if !observer.cancelled() {
                     observer.progress((strip.len() / columns) as u64);
@@ -252,6 +249,15 @@ fn sum_of([r, g, b, weight]: [f32; 4]) -> WeightedColor {
     WeightedColor {
         sum: Vec3::new(r, g, b),
         weight,
+    }
+}
+
+impl PixelSum for [f32; 4] {
+    #[inline]
+    fn add_sample(&mut self, sample: &WeightedColor) {
+        let mut acc = sum_of(*self);
+        acc.add_sample(sample);
+        *self = stored(acc);
     }
 }
 

@@ -18,6 +18,21 @@ use crate::accel::{Accel, PACKET_RAYS};
 use crate::math::Ray;
 use std::ops::Range;
 
+/// Where a pixel's samples are summed: a running [`WeightedColor`], or a sample
+/// pass's stored sum (its floats as they were).
+pub(super) trait PixelSum {
+    /// Adds the sum of a sample traced alone.
+    fn add_sample(&mut self, sample: &WeightedColor);
+}
+
+impl PixelSum for WeightedColor {
+    #[inline]
+    fn add_sample(&mut self, sample: &WeightedColor) {
+        self.sum += sample.sum;
+        self.weight += sample.weight;
+    }
+}
+
 /// A packet being filled: each place's camera ray, its sample's stream, and the pixel
 /// (its index in the strip) its radiance is added to.
 struct Packet {
@@ -31,9 +46,9 @@ impl Renderer<'_> {
     /// Adds samples `samples` of every pixel of a strip (whole rows of `row_len`
     /// supersampled pixels from `origin`) to the pixel's sum in `sums` (row after
     /// row), in packets across pixels as the module says. Stops at the next pixel once
-    /// `observer` cancels.
+    /// `observer` cancels, the samples of the packet in hand not added.
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn add_strip_samples<I: Integrator>(
+    pub(super) fn add_strip_samples<I: Integrator, S: PixelSum>(
         &self,
         integrator: &I,
         accel: &Accel,
@@ -41,7 +56,7 @@ impl Renderer<'_> {
         origin: (u32, u32),
         row_len: usize,
         samples: Range<u32>,
-        sums: &mut [WeightedColor],
+        sums: &mut [S],
         count: &mut RayCount,
         observer: &dyn Observer,
     ) {
@@ -88,40 +103,39 @@ impl Renderer<'_> {
     }
 }
 
-/// Traces `packet`'s camera rays, adds each path's radiance to its pixel's sum in
-/// packet order, and empties it. A lone ray is traced alone.
+/// Traces `packet`'s camera rays (a lone ray alone), adds each path's radiance to its
+/// pixel's sum in packet order, and empties it.
 #[inline]
-fn trace<I: Integrator>(
+fn trace<I: Integrator, S: PixelSum>(
     integrator: &I,
     accel: &Accel,
     packet: &mut Packet,
-    sums: &mut [WeightedColor],
+    sums: &mut [S],
     count: &mut RayCount,
 ) {
     let n = std::mem::take(&mut packet.len);
-    if n == 1 {
-        let sum = &mut sums[packet.pixel[0]];
-        integrator.trace_camera_ray(packet.rays[0], &mut packet.samplers[0], sum, count);
-        return;
-    }
-    if n == 0 {
-        return;
-    }
-    let mut hits = [None; PACKET_RAYS];
-    accel.closest_packet(&packet.rays[..n], f32::INFINITY, &mut hits[..n]);
     // Each path's own sum, then added to its pixel's: 0 + l is l (a -0 becomes +0,
     // which adds to a pixel's sum as -0 would, as a sum that starts at +0 is never -0).
     let mut own = [WeightedColor::default(); PACKET_RAYS];
-    integrator.trace_camera_packet(
-        &packet.rays[..n],
-        &hits[..n],
-        &mut packet.samplers[..n],
-        &mut own[..n],
-        count,
-    );
+    match n {
+        0 => return,
+        1 => {
+            integrator.trace_camera_ray(packet.rays[0], &mut packet.samplers[0], &mut own[0], count)
+        }
+        _ => {
+            let mut hits = [None; PACKET_RAYS];
+            accel.closest_packet(&packet.rays[..n], f32::INFINITY, &mut hits[..n]);
+            integrator.trace_camera_packet(
+                &packet.rays[..n],
+                &hits[..n],
+                &mut packet.samplers[..n],
+                &mut own[..n],
+                count,
+            );
+        }
+    }
     for (&k, own) in packet.pixel[..n].iter().zip(&own) {
-        sums[k].sum += own.sum;
-        sums[k].weight += own.weight;
+        sums[k].add_sample(own);
     }
 }
 
