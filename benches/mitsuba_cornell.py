@@ -44,7 +44,8 @@ Subcommands:
       interleaved after one warm-up run each (shown as `first`; Dr.Jit keeps compiled
       kernels on disk in ~/.drjit, so only a first-ever llvm run pays the whole
       compilation), minimum and median; ratios Mitsuba time / Prism time against the
-      targets (>= 1x llvm_ad_rgb, >= 3x scalar_rgb). Then time to equal error: the
+      targets (>= 1.5x llvm_ad_rgb, the speed issue's bar; >= 3x scalar_rgb). Then
+      time to equal error: the
       spp at which Prism's RMSE (fitted as c * spp^k from renders at --fit-spps,
       the reference's own noise taken out) equals Mitsuba llvm_ad_rgb's at --spp,
       Prism timed there, against Mitsuba's time (target >= 1x). Needs a reference for
@@ -132,7 +133,8 @@ LLVM_GLOBS = [
     "/usr/local/lib/libLLVM*.so*",
 ]
 
-TARGET_EQUAL_SPP = 1.0
+# The speed issue's bar at equal samples (its goal is 2x); an earlier issue's was 1x.
+TARGET_EQUAL_SPP = 1.5
 TARGET_EQUAL_ERROR = 1.0
 TARGET_SCALAR = 3.0
 
