@@ -25,6 +25,47 @@ pub(super) fn add_floor(scene: &mut crate::scene::Scene, material: u32) {
     scene.push_shape(floor, material);
 }
 
+/// A glass ball on a floor under a quad light, seen through a lens: every sample of
+/// a pixel differs (position, lens point, light point, bounces).
+pub(super) fn scene_and_camera(
+    width: u32,
+    height: u32,
+) -> (crate::scene::Scene, crate::scene::Camera) {
+    use crate::math::Vec3;
+    use crate::scene::{Camera, Light, LightKind, Material, Scene, Surface};
+    let glass = Surface {
+        transmission: Vec3::splat(0.8),
+        ior: 1.5,
+        fresnel: true,
+        ..Surface::default()
+    };
+    let mut scene = with_unit_ball(Scene {
+        materials: vec![Material::default_white(), Material::default_white()],
+        surfaces: vec![glass, Surface::default()],
+        lights: vec![Light {
+            kind: LightKind::Quad {
+                u: Vec3::new(1.5, 0.0, 0.0),
+                v: Vec3::new(0.0, 0.0, 1.5),
+            },
+            intensity: 8.0,
+            ..Light::point(Vec3::new(-1.0, 3.0, 1.0), Vec3::ONE)
+        }],
+        ..Scene::default()
+    });
+    add_floor(&mut scene, 1);
+    let mut camera = Camera::look_at(
+        Vec3::new(0.5, 1.0, 4.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        50.0,
+        width,
+        height,
+    );
+    camera.aperture = 0.1;
+    camera.focal_length = 3.0;
+    (scene, camera)
+}
+
 /// Supersampled pixel `(x, y)` of `renderer`'s path render made the slow way: each of
 /// its samples traced alone, a path at a time, from its own stream, added in order.
 pub(super) fn traced_alone(
@@ -482,44 +523,7 @@ mod sample_pass_tests {
     use crate::film::Image;
     use crate::options::Filter;
     use crate::render::*;
-    use crate::scene::{Light, LightKind, Material, Surface};
     use std::sync::atomic::AtomicBool;
-
-    /// A glass ball on a floor under a quad light, seen through a lens: every sample of
-    /// a pixel differs (position, lens point, light point, bounces).
-    fn scene_and_camera(width: u32, height: u32) -> (Scene, Camera) {
-        let glass = Surface {
-            transmission: Vec3::splat(0.8),
-            ior: 1.5,
-            fresnel: true,
-            ..Surface::default()
-        };
-        let mut scene = super::with_unit_ball(Scene {
-            materials: vec![Material::default_white(), Material::default_white()],
-            surfaces: vec![glass, Surface::default()],
-            lights: vec![Light {
-                kind: LightKind::Quad {
-                    u: Vec3::new(1.5, 0.0, 0.0),
-                    v: Vec3::new(0.0, 0.0, 1.5),
-                },
-                intensity: 8.0,
-                ..Light::point(Vec3::new(-1.0, 3.0, 1.0), Vec3::ONE)
-            }],
-            ..Scene::default()
-        });
-        super::add_floor(&mut scene, 1);
-        let mut camera = Camera::look_at(
-            Vec3::new(0.5, 1.0, 4.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            50.0,
-            width,
-            height,
-        );
-        camera.aperture = 0.1;
-        camera.focal_length = 3.0;
-        (scene, camera)
-    }
 
     fn path(
         spp: u32,
@@ -549,7 +553,7 @@ mod sample_pass_tests {
     /// (bands that share supersampled rows) and a region, on two threads and on one.
     #[test]
     fn sample_passes_add_up_to_one_render_bit_for_bit() {
-        let (scene, camera) = scene_and_camera(24, 18);
+        let (scene, camera) = super::scene_and_camera(24, 18);
         let region = Region {
             x: 3,
             y: 2,
@@ -601,7 +605,7 @@ mod sample_pass_tests {
     #[test]
     fn a_sample_pass_reports_its_rows_to_the_observer() {
         // Taller than a band of output rows, so that two bands share supersampled rows.
-        let (scene, camera) = scene_and_camera(24, 40);
+        let (scene, camera) = super::scene_and_camera(24, 40);
         let renderer =
             Renderer::new(&scene, &camera, path(4, 2, Filter::Lanczos, None, 2)).unwrap();
         let accel = renderer.build_accel().unwrap();
@@ -647,7 +651,7 @@ mod sample_pass_tests {
     /// their samples.
     #[test]
     fn torn_sums_and_passes_out_of_order_are_refused() {
-        let (scene, camera) = scene_and_camera(24, 18);
+        let (scene, camera) = super::scene_and_camera(24, 18);
         let renderer = Renderer::new(&scene, &camera, path(8, 1, Filter::Area, None, 2)).unwrap();
         let accel = renderer.build_accel().unwrap();
         let mut sums = renderer.sample_sums().unwrap();
@@ -705,7 +709,7 @@ mod sample_pass_tests {
     /// front end is told before the first pass are those the passes then take.
     #[test]
     fn a_progressive_render_doubles_its_samples_or_renders_once() {
-        let (scene, camera) = scene_and_camera(24, 18);
+        let (scene, camera) = super::scene_and_camera(24, 18);
         let whole = |settings: &RenderSettings| {
             let r = Renderer::new(&scene, &camera, settings.clone()).unwrap();
             r.render(&()).unwrap().0
@@ -746,7 +750,7 @@ mod sample_pass_tests {
     /// makes; a cancelled observer stops them with `Interrupted`.
     #[test]
     fn passes_with_a_given_intersector_match_and_stop_when_cancelled() {
-        let (scene, camera) = scene_and_camera(24, 18);
+        let (scene, camera) = super::scene_and_camera(24, 18);
         let renderer = Renderer::new(&scene, &camera, path(2, 1, Filter::Area, None, 2)).unwrap();
         let accel = renderer.build_accel().unwrap();
         let aovs = [Aov::Albedo, Aov::Normal];

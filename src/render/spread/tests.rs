@@ -5,7 +5,7 @@ use crate::film::Image;
 use crate::math::Vec3;
 use crate::options::Filter;
 use crate::render::*;
-use crate::scene::{Light, LightKind, Material, Scene, Shape, ShapeId, Surface, Triangle};
+use crate::scene::{Light, Material, Scene, Shape, ShapeId, Surface, Triangle};
 
 /// A unit ball on a floor, lit by a glowing triangle above them: every surface
 /// Lambertian and the light a mesh, so the paths go in lanes.
@@ -40,44 +40,14 @@ fn lambertian_scene() -> Scene {
     scene
 }
 
-/// A glass ball on a floor under a quad light: the paths step together as a wave,
-/// each with its own BSDF.
+/// A glass ball on a floor under a quad light, seen through a lens: the paths step
+/// together as a wave, each with its own BSDF.
 fn glass_scene() -> Scene {
-    let glass = Surface {
-        transmission: Vec3::splat(0.8),
-        ior: 1.5,
-        fresnel: true,
-        ..Surface::default()
-    };
-    let mut scene = super::super::tests::with_unit_ball(Scene {
-        materials: vec![Material::default_white(); 2],
-        surfaces: vec![glass, Surface::default()],
-        lights: vec![Light {
-            kind: LightKind::Quad {
-                u: Vec3::new(1.5, 0.0, 0.0),
-                v: Vec3::new(0.0, 0.0, 1.5),
-            },
-            intensity: 8.0,
-            ..Light::point(Vec3::new(-1.0, 3.0, 1.0), Vec3::ONE)
-        }],
-        ..Scene::default()
-    });
-    super::super::tests::add_floor(&mut scene, 1);
-    scene
+    super::super::tests::scene_and_camera(1, 1).0
 }
 
 fn camera(width: u32, height: u32) -> Camera {
-    let mut camera = Camera::look_at(
-        Vec3::new(0.5, 1.0, 4.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        50.0,
-        width,
-        height,
-    );
-    camera.aperture = 0.1;
-    camera.focal_length = 3.0;
-    camera
+    super::super::tests::scene_and_camera(width, height).1
 }
 
 fn settings(spp: u32, region: Option<Region>) -> RenderSettings {
