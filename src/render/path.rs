@@ -61,7 +61,7 @@ pub struct Path<'a> {
     environment: Option<Environment>,
     /// How light that two strategies can find is weighed between them.
     weighing: Weighing,
-    /// Whether a pixel's samples may be traced side by side ([`Path::lanes_apply`]).
+    /// Whether a packet's samples may be traced side by side ([`Path::lanes_apply`]).
     lanes: Option<lanes::LaneScene>,
     /// The scattering medium inside each surface, by material (empty where none has
     /// one).
