@@ -60,7 +60,7 @@ impl Renderer<'_> {
         count: &mut RayCount,
         observer: &dyn Observer,
     ) {
-        let rows = sums.len() / row_len;
+        let rows = sums.len() / row_len.max(1);
         let mut packet = Packet {
             rays: [NO_RAY; PACKET_RAYS],
             samplers: std::array::from_fn(|_| PixelSampler::idle()),
