@@ -1,0 +1,95 @@
+//! The traversal's pending children, nearest on top.
+
+use super::{Node8, STACK, WIDTH};
+use std::mem::MaybeUninit;
+
+/// A pending child: where it is, and how far along the ray its box starts.
+#[derive(Clone, Copy)]
+pub(super) struct Entry {
+    pub(super) child: u32,
+    pub(super) count: u32,
+    pub(super) t: f32,
+}
+
+/// The traversal stack. Its slots are left uninitialised: clearing a few kilobytes
+/// per ray cost more than a tenth of the traversal time.
+pub(super) struct Stack {
+    items: [MaybeUninit<Entry>; STACK],
+    pub(super) len: usize,
+}
+
+impl Stack {
+    #[inline]
+    pub(super) fn new(root: Entry) -> Stack {
+        let mut stack = Stack {
+            items: [const { MaybeUninit::uninit() }; STACK],
+            len: 0,
+        };
+        stack.push(root);
+        stack
+    }
+
+    #[inline]
+    pub(super) fn pop(&mut self) -> Option<Entry> {
+        self.len = self.len.checked_sub(1)?;
+        // SAFETY: slots below `len` were written by `push` or `push_sorted`.
+        Some(unsafe { self.items.get_unchecked(self.len).assume_init() })
+    }
+
+    #[inline]
+    pub(super) fn push(&mut self, e: Entry) {
+        debug_assert!(self.len < STACK);
+        // SAFETY: a tree of at most MAX_DEPTH levels has at most seven entries a
+        // level waiting beside the one entered, which STACK holds.
+        unsafe { *self.items.get_unchecked_mut(self.len) = MaybeUninit::new(e) };
+        self.len += 1;
+    }
+
+    /// Pushes the children of `node` in `mask` (bit `i` for child `i`), entered at
+    /// `t[i]`, so the nearest is popped first.
+    #[inline(always)]
+    pub(super) fn push_children(&mut self, node: &Node8, mut mask: u32, t: &[f32; WIDTH]) {
+        let base = self.len;
+        while mask != 0 {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            self.push_sorted(node.entry(lane, t[lane]), base);
+        }
+    }
+
+    /// Pushes the children of `node` in `mask` (at least two) as [`Stack::push_children`]
+    /// does, and takes the nearest back off.
+    #[inline(always)]
+    pub(super) fn push_children_but_nearest(
+        &mut self,
+        node: &Node8,
+        mask: u32,
+        t: &[f32; WIDTH],
+    ) -> Entry {
+        self.push_children(node, mask, t);
+        self.len -= 1;
+        // SAFETY: the slot just written by `push_children`.
+        unsafe { self.items.get_unchecked(self.len).assume_init() }
+    }
+
+    /// Pushes `e` among the entries above `base`, kept farthest first, so the nearest
+    /// is popped next.
+    #[inline]
+    pub(super) fn push_sorted(&mut self, e: Entry, base: usize) {
+        let mut i = self.len;
+        while i > base {
+            // SAFETY: base <= i - 1 < len, a written slot.
+            let below = unsafe { self.items[i - 1].assume_init() };
+            if below.t >= e.t {
+                break;
+            }
+            // SAFETY: i <= len < STACK, as in `push`.
+            unsafe { *self.items.get_unchecked_mut(i) = MaybeUninit::new(below) };
+            i -= 1;
+        }
+        debug_assert!(self.len < STACK);
+        // SAFETY: as above.
+        unsafe { *self.items.get_unchecked_mut(i) = MaybeUninit::new(e) };
+        self.len += 1;
+    }
+}
