@@ -73,6 +73,18 @@ pub fn offset_origin(p: Vec3, n: Vec3, toward: Vec3) -> Vec3 {
     p + n * surface_epsilon(p)
 }
 
+/// The cofactor matrix of `m`: `det(m) m⁻ᵀ` where `m` is invertible. It takes a
+/// triangle's normal (the cross product of its edges) to the normal of the triangle
+/// `m` places, so it serves where the inverse does not exist: a transform that
+/// flattens a solid onto a plane still has a plane's normal.
+pub fn cofactor(m: glam::DMat3) -> glam::DMat3 {
+    glam::DMat3::from_cols(
+        m.y_axis.cross(m.z_axis),
+        m.z_axis.cross(m.x_axis),
+        m.x_axis.cross(m.y_axis),
+    )
+}
+
 /// Mirror direction of `d` about the plane with normal `n` (either orientation).
 #[inline]
 pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
@@ -311,6 +323,38 @@ mod tests {
                 "cos {x}"
             );
         }
+    }
+
+    /// The cofactor matrix takes a triangle's edge cross product to its placed
+    /// triangle's, for invertible transforms (where it is det · m⁻ᵀ) and singular ones.
+    #[test]
+    fn the_cofactor_matrix_places_a_triangle_s_normal() {
+        use glam::{DMat3, DVec3};
+        use rand_core::Rng;
+        let mut rng = rand_pcg::Pcg32::new(17, 0x0a02_bdbf_7bb3_c0a7);
+        let mut unit = || f64::from(rng.next_u32()) / f64::from(u32::MAX) * 2.0 - 1.0;
+        for k in 0..200 {
+            let mut m = DMat3::from_cols_array(&std::array::from_fn(|_| unit()));
+            if k % 2 == 1 {
+                // Flattened onto a plane: the third column is a mix of the others.
+                m.z_axis = m.x_axis * unit() + m.y_axis * unit();
+            }
+            let [a, b, c] = [(); 3].map(|_| DVec3::new(unit(), unit(), unit()));
+            let placed = (m * b - m * a).cross(m * c - m * a);
+            let n = cofactor(m) * (b - a).cross(c - a);
+            assert!(
+                (placed - n).length() <= 1e-12 * (1.0 + placed.length()),
+                "{m}"
+            );
+            if k % 2 == 0 {
+                let expected = m.inverse().transpose() * m.determinant();
+                assert!(cofactor(m).abs_diff_eq(expected, 1e-12), "{m}");
+            }
+        }
+        // Squashed flat along z, a box's top keeps its normal and its sides have none.
+        let flat = cofactor(DMat3::from_diagonal(DVec3::new(2.0, 3.0, 0.0)));
+        assert_eq!(flat * DVec3::Z, DVec3::new(0.0, 0.0, 6.0));
+        assert_eq!(flat * DVec3::X, DVec3::ZERO);
     }
 
     #[test]

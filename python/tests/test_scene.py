@@ -221,6 +221,13 @@ def test_instances_place_a_mesh_by_an_n_by_4_by_4_array_of_transforms():
     # The array goes over as bytes: the same scene as the matrices written out.
     listed = scene([quad, {"type": "instance", "of": "quad", "transforms": transforms.tolist()}])
     assert prism.render(listed).tobytes() == a.tobytes()
+    # Scaled to nothing along its normal (Blender allows a scale of 0 on one axis), the
+    # quad is as it was: copied into the scene, where an instance has no inverse.
+    flat = transforms.copy()
+    flat[:, 2, 2] = 0.0
+    flattened = scene([quad, {"type": "instance", "of": "quad", "transforms": flat}])
+    assert (flattened.info()["instances"], flattened.info()["triangles"]) == (0, 2 + 8)
+    assert np.abs(prism.render(flattened) - a).mean() < 1e-3
     bad = transforms.copy()
     bad[2, 3, 0] = 1.0
     with pytest.raises(prism.SceneError, match="last row of transform 2"):

@@ -10,6 +10,18 @@ use super::{
 use crate::math::Vec3;
 use std::ops::Range;
 
+/// What [`SceneBuilder::add_instance`] placed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Placement {
+    /// An instance: its index into [`Scene::instances`].
+    Instance(u32),
+    /// Copies of the object's triangles in world space, flattened onto a plane: their
+    /// range of [`Scene::shapes`].
+    Copies(Range<u32>),
+    /// Nothing that can be seen.
+    Nothing,
+}
+
 /// Fills a [`Scene`]. Indices it hands back (materials, images, shapes, lights) are the
 /// scene's own.
 ///
@@ -183,19 +195,85 @@ impl SceneBuilder {
         self.scene.objects.len() as u32 - 1
     }
 
-    /// Places object `object` by `to_world`; returns the instance's index, or `None`
-    /// for a transform that flattens it (nothing of it can be seen) or is not finite.
-    pub fn add_instance(&mut self, object: u32, to_world: glam::Affine3A) -> Option<u32> {
+    /// Places object `object` by `to_world`: as an instance where the transform can
+    /// be undone, which is every finite transform of a solid; as copies of its
+    /// triangles in world space where it flattens the object onto a plane (a scale of
+    /// 0 along one axis, which a ray cannot be taken back through); and not at all
+    /// where it leaves a line or a point, or is not finite. An error where the copies
+    /// would take the scene past [`crate::util::limits::MAX_SHAPES`].
+    pub fn add_instance(
+        &mut self,
+        object: u32,
+        to_world: glam::Affine3A,
+    ) -> Result<Placement, String> {
         assert!((object as usize) < self.scene.objects.len());
-        let instance = Instance::new(object, to_world);
-        let invertible = instance.to_world().is_finite()
-            && instance.from_world().is_finite()
-            && instance.to_world().matrix3.determinant() != 0.0;
-        if !invertible {
-            return None;
+        if !to_world.is_finite() {
+            return Ok(Placement::Nothing);
         }
-        self.scene.instances.push(instance);
-        Some(self.scene.instances.len() as u32 - 1)
+        let instance = Instance::new(object, to_world);
+        if instance.to_world().matrix3.determinant() != 0.0 && instance.from_world().is_finite() {
+            self.scene.instances.push(instance);
+            return Ok(Placement::Instance(self.scene.instances.len() as u32 - 1));
+        }
+        let linear = glam::DMat3::from_cols_array(&to_world.matrix3.to_cols_array().map(f64::from));
+        let normals = crate::math::cofactor(linear);
+        if normals == glam::DMat3::ZERO {
+            return Ok(Placement::Nothing);
+        }
+        self.add_flattened(object, to_world, normals.as_mat3().into())
+            .map(Placement::Copies)
+    }
+
+    /// Object `object`'s triangles copied into world space by `to_world`, its normals
+    /// by `normals`; the copies' range of shapes.
+    fn add_flattened(
+        &mut self,
+        object: u32,
+        to_world: glam::Affine3A,
+        normals: glam::Mat3A,
+    ) -> Result<Range<u32>, String> {
+        let Scene {
+            objects,
+            shapes,
+            material_of,
+            meshes,
+            ..
+        } = &mut self.scene;
+        let object = &objects[object as usize];
+        let limit = crate::util::limits::MAX_SHAPES;
+        if shapes.len() + object.shapes.len() > limit
+            || shapes.positions().len() + object.shapes.positions().len() > limit
+        {
+            return Err(format!(
+                "placing \"{}\" flat (its transform's determinant is 0) copies its \
+                 triangles, and the copies would give the scene more than {limit} \
+                 triangles or vertices",
+                object.name
+            ));
+        }
+        let first = shapes.len() as u32;
+        shapes
+            .append_placed(
+                &object.shapes,
+                |p| to_world.transform_point3a(p),
+                false,
+                Ok::<_, std::convert::Infallible>,
+            )
+            .unwrap_or_else(|never| match never {});
+        material_of.extend_from_slice(&object.material_of);
+        for mesh in &object.meshes {
+            meshes.push(MeshAttributes {
+                first_shape: first + mesh.first_shape,
+                len: mesh.len,
+                normals: mesh.normals.iter().map(|&n| normals * n).collect(),
+                normal_indices: mesh.normal_indices.clone(),
+                texcoords: mesh.texcoords.clone(),
+                texcoord_indices: mesh.texcoord_indices.clone(),
+                colors: mesh.colors.clone(),
+                color_indices: mesh.color_indices.clone(),
+            });
+        }
+        Ok(first..shapes.len() as u32)
     }
 
     /// A light; returns its index.

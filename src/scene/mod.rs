@@ -16,7 +16,7 @@ pub mod studio;
 mod surface_point;
 pub mod texture;
 
-pub use builder::{MeshMaterials, SceneBuilder};
+pub use builder::{MeshMaterials, Placement, SceneBuilder};
 pub use camera::{Camera, Frame, Projection};
 pub use image::{ImageTexture, Texels};
 pub use instance::{Instance, NO_INSTANCE, Object, ShapeId};

@@ -129,8 +129,9 @@ pub fn build(loaded: &document::Loaded, path: &Path) -> Result<SceneFile> {
                             "{at}: the file places more than {MAX_INSTANCES} instances"
                         )));
                     }
-                    // A transform that flattens the mesh leaves nothing to see.
-                    let _ = scene.add_instance(object, Affine3A::from_mat4(world.as_mat4()));
+                    scene
+                        .add_instance(object, Affine3A::from_mat4(world.as_mat4()))
+                        .map_err(|e| err(format!("{at}: instance {k}: {e}")))?;
                 }
             } else {
                 for (k, world) in placements.iter().enumerate() {
@@ -398,7 +399,12 @@ fn place(
     } else {
         p.triangles.clone()
     };
-    let normal_matrix = linear.inverse().transpose();
+    // A transform that flattens the mesh onto a plane has no inverse, and its plane
+    // still a normal.
+    let normal_matrix = match linear.inverse().transpose() {
+        m if m.is_finite() => m,
+        _ => crate::math::cofactor(linear),
+    };
     let normals: Vec<Vec3> = p
         .normals
         .iter()

@@ -15,8 +15,8 @@ use crate::math::{Aabb, Vec3, cross};
 use crate::options::RenderOptions;
 use crate::scene::material::linear_to_srgb;
 use crate::scene::{
-    Albedo, Camera, Falloff, Group, Light, LightKind, Material, Rectangle, Scene, SceneBuilder,
-    Shape, ShapeId, Surface,
+    Albedo, Camera, Falloff, Group, Light, LightKind, Material, NO_INSTANCE, Placement, Rectangle,
+    Scene, SceneBuilder, Shape, ShapeId, Surface,
 };
 use std::collections::HashMap;
 use toml::Spanned;
@@ -590,14 +590,13 @@ impl Builder {
                             ),
                         ));
                     }
-                    // A transform that flattens the mesh or is not finite places
-                    // nothing that can be seen.
-                    let Some(instance) = self
+                    let placement = self
                         .scene
                         .add_instance(*object, glam::Affine3A::from_mat4(m.as_mat4()))
-                    else {
+                        .map_err(|e| placement_error(source, o, e))?;
+                    if placement == Placement::Nothing {
                         continue;
-                    };
+                    }
                     self.placed_emitters += emitting;
                     if self.placed_emitters > crate::util::limits::MAX_LIGHT_TRIANGLES {
                         return Err(source.error(
@@ -609,16 +608,30 @@ impl Builder {
                             ),
                         ));
                     }
-                    if glows {
-                        self.instance_emitters(instance, lights::DEFAULT_AREA_SAMPLES);
-                    }
+                    // Each placement lights its own triangles: an instance's, or the
+                    // world copies of a flattened one.
+                    let (instance, first) = match placement {
+                        Placement::Instance(instance) => {
+                            if glows {
+                                self.instance_emitters(instance, lights::DEFAULT_AREA_SAMPLES);
+                            }
+                            (instance, 0)
+                        }
+                        Placement::Copies(copies) => {
+                            if glows {
+                                self.emitters(copies.start as usize, lights::DEFAULT_AREA_SAMPLES);
+                            }
+                            (NO_INSTANCE, copies.start)
+                        }
+                        Placement::Nothing => unreachable!("skipped above"),
+                    };
                     for light in lights {
                         let LightKind::Mesh { shapes, .. } = &light.kind else {
                             unreachable!("objects carry mesh lights only")
                         };
                         let placed = shapes.iter().map(|s| ShapeId {
                             instance,
-                            shape: s.shape,
+                            shape: first + s.shape,
                         });
                         if let Some(mesh) = Light::mesh(self.scene.scene(), placed) {
                             self.scene.add_light(Light {

@@ -368,6 +368,32 @@ fn a_mesh_placed_twice_is_instanced_and_lights_where_it_emits() {
     }
 }
 
+/// A node that flattens a mesh placed twice onto a plane (a scale of 0 along one axis)
+/// places world copies of its triangles, normals turned by the cofactor matrix, where
+/// an instance's inverse would not exist; a scale of 0 along two axes places nothing.
+#[test]
+fn a_flattening_node_copies_its_mesh_into_the_scene() {
+    let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let mut b = Builder::default();
+    b.mesh(&tri, None, 4, None);
+    let doc = b.finish(json!({
+        "nodes": [
+            {"mesh": 0},
+            {"mesh": 0, "translation": [0.0, 0.0, 2.0], "scale": [3.0, 1.0, 0.0]},
+            {"mesh": 0, "scale": [0.0, 1.0, 0.0]},
+        ],
+        "scenes": [{"nodes": [0, 1, 2]}],
+    }));
+    let (_dir, path) = write(&doc);
+    let scene = crate::format::load(&path).unwrap().scene;
+    assert_eq!((scene.instances.len(), scene.shapes.len()), (1, 1));
+    let crate::scene::Shape::Triangle(t) = scene.shapes.get(0) else {
+        panic!("{:?}", scene.shapes)
+    };
+    let v = |x, y, z| Vec3::new(x, y, z);
+    assert_eq!(t.v, [v(0.0, 0.0, 2.0), v(3.0, 0.0, 2.0), v(0.0, 1.0, 2.0)]);
+}
+
 /// A mesh without a material, placed twice: its instances wear Prism's matte default,
 /// which is added though no triangle of the scene's own wears it.
 #[test]

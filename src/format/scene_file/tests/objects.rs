@@ -376,6 +376,99 @@ fn instances_of_a_glowing_mesh_are_lights() {
     assert_eq!(s.lights[3].position, Vec3::new(9.0, 0.0, 0.0));
 }
 
+/// A placement that flattens the mesh onto a plane (a scale of 0 along one axis, which
+/// Blender allows) cannot be an instance, whose rays go back through its inverse: the
+/// triangles are copied into the scene, their normals taken by the cofactor matrix, and
+/// lit where they glow. One that leaves a line or a point places nothing.
+#[test]
+fn a_placement_that_flattens_the_mesh_copies_it_into_the_scene() {
+    let dir = Folder::new();
+    // A face toward +z and one toward +x, each with its vertex normal.
+    dir.write(
+        "two.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvn 0 0 1\nvn 1 0 0\n\
+         f 1//1 2//1 3//1\nf 1//2 3//2 4//2\n",
+    );
+    let f = dir.load(
+        "[[object]]\ntype = \"instance\"\nfile = \"two.obj\"\n\
+         material = { emission = [1, 1, 1] }\n\
+         transforms = [[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]],\n\
+                       [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 3], [0, 0, 0, 1]],\n\
+                       [[0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1]]]\n",
+    );
+    let s = &f.scene;
+    assert_eq!((s.instances.len(), s.shapes.len()), (1, 2));
+    let corners = |i: usize| {
+        let Shape::Triangle(t) = s.shapes.get(i) else {
+            panic!()
+        };
+        t.v
+    };
+    // Squashed onto z = 3 and stretched twice along x: the face toward +z keeps its
+    // area (twice over), the one toward +x has none.
+    assert_eq!(
+        corners(0),
+        [v(0.0, 0.0, 3.0), v(2.0, 0.0, 3.0), v(0.0, 1.0, 3.0)]
+    );
+    assert_eq!(
+        corners(1),
+        [v(0.0, 0.0, 3.0), v(0.0, 1.0, 3.0), v(0.0, 0.0, 3.0)]
+    );
+    assert_eq!(s.meshes.len(), 1);
+    assert_eq!(s.meshes[0].first_shape, 0);
+    assert_eq!(s.meshes[0].normals, [v(0.0, 0.0, 2.0), v(0.0, 0.0, 0.0)]);
+    // The instance glows over its two triangles; the flat copies over the one with area.
+    let lights: Vec<(Vec<ShapeId>, f32)> = s
+        .lights
+        .iter()
+        .map(|l| match &l.kind {
+            LightKind::Mesh { shapes, area, .. } => (shapes.clone(), *area),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    let placed = |shape| ShapeId { instance: 0, shape };
+    assert_eq!(
+        lights,
+        [
+            (vec![placed(0), placed(1)], 1.0),
+            (vec![ShapeId::world(0)], 1.0),
+        ]
+    );
+}
+
+/// A quad in the plane z = 0 scaled to nothing along z is the same quad: it renders as
+/// the quad placed as a mesh of the scene, bit for bit.
+#[test]
+fn a_quad_flattened_along_its_normal_renders_as_itself() {
+    use crate::render::{IntegratorKind, RenderSettings, Renderer};
+    let dir = Folder::new();
+    dir.write(
+        "quad.obj",
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n",
+    );
+    let light = "[[light]]\ntype = \"point\"\nposition = [0.5, 0.5, 3]\n";
+    let plain = dir.load(&format!(
+        "[[object]]\ntype = \"mesh\"\nfile = \"quad.obj\"\n{light}"
+    ));
+    let flattened = dir.load(&format!(
+        "[[object]]\ntype = \"instance\"\nfile = \"quad.obj\"\n\
+         transforms = [[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1]]]\n{light}"
+    ));
+    assert_eq!(flattened.scene.instances.len(), 0);
+    let camera = crate::scene::Camera::look_at(v(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 16, 16);
+    let render = |f: &SceneFile| {
+        let settings = RenderSettings {
+            integrator: IntegratorKind::Whitted,
+            ..RenderSettings::default()
+        };
+        let renderer = Renderer::new(&f.scene, &camera, settings).unwrap();
+        renderer.render(&()).unwrap().0.pixels
+    };
+    let (a, b) = (render(&plain), render(&flattened));
+    assert!(a[8 * 16 + 8][0] > 0.0, "the quad is lit");
+    assert_eq!(a, b);
+}
+
 /// Placements handed over by name (Python's arrays) may serve several instance objects,
 /// glowing ones lit each; a name no array holds is an error naming it.
 #[test]
