@@ -26,6 +26,20 @@ pub struct SurfacePoint {
 }
 
 impl SurfacePoint {
+    /// Point `p` of a flat surface of unit normal `ng`, nothing interpolated across it:
+    /// what [`Scene::flat_point`] finds.
+    #[inline]
+    pub fn flat(p: Vec3, ng: Vec3) -> SurfacePoint {
+        SurfacePoint {
+            p,
+            ng,
+            n: ng,
+            uv: [0.0, 0.0],
+            color: Vec3::ONE,
+            smooth: None,
+        }
+    }
+
     /// Where shadow rays toward the side `side` (the geometric normal turned toward
     /// the incoming ray) start: on a smooth mesh, lifted off the flat triangle toward
     /// the surface its vertex normals describe (`terminator_point`).
@@ -112,15 +126,7 @@ impl Scene {
 #[inline]
 fn flat_point_on(shape: &Shape, ray: &Ray, t: f32) -> SurfacePoint {
     let p = ray.at(t);
-    let ng = shape.normal(p);
-    SurfacePoint {
-        p,
-        ng,
-        n: ng,
-        uv: [0.0, 0.0],
-        color: Vec3::ONE,
-        smooth: None,
-    }
+    SurfacePoint::flat(p, shape.normal(p))
 }
 
 /// dP/du of a triangle with texture coordinates `uv`: the solution of

@@ -23,7 +23,7 @@ use crate::accel::simd::SimdLevel;
 use crate::math::{Ray, Vec3};
 use crate::render::{PixelSampler, RayCount};
 use crate::scene::light::sampling::{MeshTriangle, pick_triangle, triangle_point};
-use crate::scene::{LightKind, Scene, Surface};
+use crate::scene::{LightKind, Scene, Shape, Surface, SurfacePoint};
 use std::f32::consts::FRAC_1_PI;
 
 #[cfg(test)]
@@ -164,6 +164,31 @@ pub(super) struct LaneScene {
     flat: bool,
     /// No surface reads texture coordinates: hits need not ask each one.
     untextured: bool,
+    /// Where hits are flat: the unit normal of each of the scene's own shapes, worked
+    /// out once as a hit works it out, when all are flat and few (empty otherwise).
+    /// A hit then reads one row instead of its corners, an edge product and a root.
+    flat_normals: Vec<Vec3>,
+}
+
+/// Scenes of at most this many shapes keep their normals for the lanes: 16 bytes each.
+const FLAT_NORMALS_UP_TO: usize = 1 << 16;
+
+/// The unit normals of `scene`'s own shapes as [`Scene::flat_point`] finds them, if
+/// every one is flat (a triangle or a rectangle, whose normal is the same at every
+/// point) and there are at most [`FLAT_NORMALS_UP_TO`].
+fn flat_normals(scene: &Scene) -> Vec<Vec3> {
+    let shapes = &scene.shapes;
+    if shapes.len() > FLAT_NORMALS_UP_TO {
+        return Vec::new();
+    }
+    (0..shapes.len())
+        .map(|i| match shapes.get(i) {
+            Shape::Triangle(t) => Some(t.normal()),
+            Shape::Rectangle(r) => Some(r.normal()),
+            Shape::Sphere(_) => None,
+        })
+        .collect::<Option<Vec<_>>>()
+        .unwrap_or_default()
 }
 
 struct MeshLight {
@@ -349,6 +374,11 @@ impl Path<'_> {
             lights: meshes.collect::<Option<_>>()?,
             flat,
             untextured: !surfaces.iter().any(Surface::reads_texture_coords),
+            flat_normals: if flat {
+                flat_normals(scene)
+            } else {
+                Vec::new()
+            },
         })
     }
 
@@ -482,8 +512,12 @@ impl Path<'_> {
                 };
                 let s = self.surface(hit.id());
                 let texture_coords = !prepared.untextured && s.reads_texture_coords();
+                let id = hit.id();
                 let sp = if prepared.flat && !texture_coords {
-                    self.scene.flat_point(hit.id(), &ray, hit.t)
+                    match prepared.flat_normals.get(id.shape as usize) {
+                        Some(&ng) if id.is_world() => SurfacePoint::flat(ray.at(hit.t), ng),
+                        _ => self.scene.flat_point(id, &ray, hit.t),
+                    }
                 } else {
                     self.scene
                         .surface_point(hit.id(), &ray, hit.t, texture_coords)

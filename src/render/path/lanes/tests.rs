@@ -7,7 +7,8 @@ use crate::accel::{Accel, AccelKind};
 use crate::math::{Ray, Vec3, normalize};
 use crate::render::{Integrator, PixelSampler, RayCount, WeightedColor};
 use crate::scene::{
-    Albedo, Background, Light, Material, MeshAttributes, Scene, Shape, Sphere, Surface, Triangle,
+    Albedo, Background, Light, Material, MeshAttributes, Rectangle, Scene, Shape, Sphere, Surface,
+    Triangle,
 };
 use rand_core::Rng;
 use rand_pcg::Pcg32;
@@ -199,6 +200,30 @@ fn bare_room() -> Scene {
     s
 }
 
+/// The bare room with a leaning panel (a rectangle) for its ball: every shape flat, so
+/// the lanes read each hit's normal from their table.
+fn flat_room() -> Scene {
+    let mut s = bare_room();
+    let ball = (0..s.shapes.len())
+        .find(|&i| matches!(s.shapes.get(i), Shape::Sphere(_)))
+        .expect("the room has a ball");
+    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    s.shapes.set(
+        ball,
+        Shape::Rectangle(Rectangle {
+            v: [
+                v(-0.1, -1.0, -0.5),
+                v(0.6, -1.0, -0.2),
+                v(0.6, 0.1, 0.0),
+                v(-0.1, 0.1, -0.3),
+            ],
+        }),
+    );
+    let m = s.material_of[ball] as usize;
+    s.surfaces[m].albedo = Albedo::Color(Vec3::new(0.5, 0.4, 0.3));
+    s
+}
+
 /// The room without vertex attributes, its back wall textured: a checker of four
 /// texels read at the wall's own texture coordinates.
 fn textured_room() -> Scene {
@@ -292,6 +317,7 @@ fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
         (room(), false, true),
         (blazing_room(), false, true),
         (bare_room(), true, true),
+        (flat_room(), true, true),
         (textured_room(), true, false),
     ];
     for (s, flat, untextured) in rooms {
@@ -305,6 +331,11 @@ fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
                 .expect("a Lambertian room lit by meshes");
             assert_eq!(lights.flat, flat);
             assert_eq!(lights.untextured, untextured);
+            // A flat room's hits read their normals from the table.
+            let all_flat =
+                (0..s.shapes.len()).all(|i| !matches!(s.shapes.get(i), Shape::Sphere(_)));
+            let table = if flat && all_flat { s.shapes.len() } else { 0 };
+            assert_eq!(lights.flat_normals.len(), table);
             for n in [1, 5, LANES - 1, LANES] {
                 for packet in 0..24u32 {
                     let rays = rays(&mut rng, n);
