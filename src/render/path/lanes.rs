@@ -23,7 +23,7 @@ use crate::accel::simd::SimdLevel;
 use crate::math::{Ray, Vec3};
 use crate::render::{PixelSampler, RayCount};
 use crate::scene::light::sampling::{MeshTriangle, pick_triangle, triangle_point};
-use crate::scene::{LightKind, Scene, Shape, Surface, SurfacePoint};
+use crate::scene::{Albedo, LightKind, Scene, Shape, Surface, SurfacePoint};
 use std::f32::consts::FRAC_1_PI;
 
 #[cfg(test)]
@@ -164,28 +164,57 @@ pub(super) struct LaneScene {
     flat: bool,
     /// No surface reads texture coordinates: hits need not ask each one.
     untextured: bool,
-    /// Where hits are flat: the unit normal of each of the scene's own shapes, worked
-    /// out once as a hit works it out, when all are flat and few (empty otherwise).
-    /// A hit then reads one row instead of its corners, an edge product and a root.
-    flat_normals: Vec<Vec3>,
+    /// Where hits are flat: what a hit on each of the scene's own shapes needs, worked
+    /// out once as a hit works it out, when all are flat and few (empty otherwise). A
+    /// hit then reads one row instead of its corners, an edge product and a root, and
+    /// its surface.
+    flat_hits: Vec<FlatHit>,
 }
 
-/// Scenes of at most this many shapes keep their normals for the lanes: 16 bytes each.
-const FLAT_NORMALS_UP_TO: usize = 1 << 16;
+/// A flat shape as its hits see it.
+#[derive(Clone, Copy)]
+struct FlatHit {
+    /// The unit normal, as [`Scene::flat_point`] finds it.
+    ng: [f32; 3],
+    /// The reflectance `albedo * diffuse` of a surface of one colour that neither
+    /// glows nor reads texture coordinates (`plain`); zero for the others, whose hits
+    /// ask their surface.
+    diffuse: [f32; 3],
+    plain: bool,
+}
 
-/// The unit normals of `scene`'s own shapes as [`Scene::flat_point`] finds them, if
-/// every one is flat (a triangle or a rectangle, whose normal is the same at every
-/// point) and there are at most [`FLAT_NORMALS_UP_TO`].
-fn flat_normals(scene: &Scene) -> Vec<Vec3> {
+/// Scenes of at most this many shapes keep their [`FlatHit`]s for the lanes: 28 bytes
+/// each.
+const FLAT_HITS_UP_TO: usize = 1 << 16;
+
+/// The [`FlatHit`] of each of `scene`'s own shapes, if every one is flat (a triangle or
+/// a rectangle, whose normal is the same at every point) and there are at most
+/// [`FLAT_HITS_UP_TO`].
+fn flat_hits(scene: &Scene, surfaces: &[Surface]) -> Vec<FlatHit> {
     let shapes = &scene.shapes;
-    if shapes.len() > FLAT_NORMALS_UP_TO {
+    if shapes.len() > FLAT_HITS_UP_TO {
         return Vec::new();
     }
     (0..shapes.len())
-        .map(|i| match shapes.get(i) {
-            Shape::Triangle(t) => Some(t.normal()),
-            Shape::Rectangle(r) => Some(r.normal()),
-            Shape::Sphere(_) => None,
+        .map(|i| {
+            let ng = match shapes.get(i) {
+                Shape::Triangle(t) => t.normal(),
+                Shape::Rectangle(r) => r.normal(),
+                Shape::Sphere(_) => return None,
+            };
+            let s = &surfaces[scene.material_of[i] as usize];
+            let plain = match s.albedo {
+                Albedo::Color(c) if s.emission == Vec3::ZERO && !s.reads_texture_coords() => {
+                    // As a hit finds it: the albedo times the flat point's white.
+                    Some(c * Vec3::ONE * s.diffuse)
+                }
+                _ => None,
+            };
+            Some(FlatHit {
+                ng: ng.to_array(),
+                diffuse: plain.unwrap_or(Vec3::ZERO).to_array(),
+                plain: plain.is_some(),
+            })
         })
         .collect::<Option<Vec<_>>>()
         .unwrap_or_default()
@@ -374,8 +403,8 @@ impl Path<'_> {
             lights: meshes.collect::<Option<_>>()?,
             flat,
             untextured: !surfaces.iter().any(Surface::reads_texture_coords),
-            flat_normals: if flat {
-                flat_normals(scene)
+            flat_hits: if flat {
+                flat_hits(scene, surfaces)
             } else {
                 Vec::new()
             },
@@ -510,13 +539,34 @@ impl Path<'_> {
                     alive &= !(1 << i);
                     continue;
                 };
-                let s = self.surface(hit.id());
-                let texture_coords = !prepared.untextured && s.reads_texture_coords();
                 let id = hit.id();
+                let row = match prepared.flat_hits.get(id.shape as usize) {
+                    Some(row) if id.is_world() => Some(row),
+                    _ => None,
+                };
+                if let Some(row) = row.filter(|row| row.plain) {
+                    // What the steps below find on a plain flat surface.
+                    let ng_in = Vec3::from_array(row.ng);
+                    let g = if ray.dir.dot(ng_in) < 0.0 {
+                        ng_in
+                    } else {
+                        -ng_in
+                    };
+                    let at = ray.at(hit.t);
+                    diffuse.set(i, Vec3::from_array(row.diffuse));
+                    p.set(i, at);
+                    ng.set(i, g);
+                    ns.set(i, g);
+                    wo.set(i, -ray.dir);
+                    from.set(i, at);
+                    continue;
+                }
+                let s = self.surface(id);
+                let texture_coords = !prepared.untextured && s.reads_texture_coords();
                 let sp = if prepared.flat && !texture_coords {
-                    match prepared.flat_normals.get(id.shape as usize) {
-                        Some(&ng) if id.is_world() => SurfacePoint::flat(ray.at(hit.t), ng),
-                        _ => self.scene.flat_point(id, &ray, hit.t),
+                    match row {
+                        Some(row) => SurfacePoint::flat(ray.at(hit.t), Vec3::from_array(row.ng)),
+                        None => self.scene.flat_point(id, &ray, hit.t),
                     }
                 } else {
                     self.scene

@@ -331,11 +331,11 @@ fn lanes_give_each_path_the_radiance_and_rays_of_the_path_at_a_time() {
                 .expect("a Lambertian room lit by meshes");
             assert_eq!(lights.flat, flat);
             assert_eq!(lights.untextured, untextured);
-            // A flat room's hits read their normals from the table.
+            // A flat room's hits read their normals and plain surfaces from the table.
             let all_flat =
                 (0..s.shapes.len()).all(|i| !matches!(s.shapes.get(i), Shape::Sphere(_)));
             let table = if flat && all_flat { s.shapes.len() } else { 0 };
-            assert_eq!(lights.flat_normals.len(), table);
+            assert_eq!(lights.flat_hits.len(), table);
             for n in [1, 5, LANES - 1, LANES] {
                 for packet in 0..24u32 {
                     let rays = rays(&mut rng, n);
