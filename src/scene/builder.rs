@@ -251,6 +251,24 @@ impl SceneBuilder {
                 object.name
             ));
         }
+        // The corners of the object's box bound every placed coordinate.
+        let b = object.bounds();
+        let corner = |i: u32| {
+            let pick = |bit: u32, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
+            Vec3::new(
+                pick(1, b.min.x, b.max.x),
+                pick(2, b.min.y, b.max.y),
+                pick(4, b.min.z, b.max.z),
+            )
+        };
+        let finite = object.shapes.is_empty()
+            || (0..8).all(|i| to_world.transform_point3a(corner(i)).is_finite());
+        if !finite {
+            return Err(format!(
+                "placing \"{}\" takes a vertex past the range of floats",
+                object.name
+            ));
+        }
         let first = shapes.len() as u32;
         shapes
             .append_placed(

@@ -434,6 +434,13 @@ fn a_placement_that_flattens_the_mesh_copies_it_into_the_scene() {
             (vec![ShapeId::world(0)], 1.0),
         ]
     );
+    // Copies that would leave the range of floats are an error naming the mesh.
+    dir.write("far.obj", "v 0 0 0\nv 1e10 0 0\nv 0 1 0\nf 1 2 3\n");
+    let e = dir.error(
+        "[[object]]\nname = \"far\"\ntype = \"instance\"\nfile = \"far.obj\"\n\
+         transforms = [[[1e30, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1]]]\n",
+    );
+    assert!(e.contains("takes a vertex past the range of floats"), "{e}");
 }
 
 /// A quad in the plane z = 0 scaled to nothing along z is the same quad: it renders as
