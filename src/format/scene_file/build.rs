@@ -577,6 +577,28 @@ impl Builder {
             }
             Placed::Copies(_) => 0,
         };
+        if let Placed::Copies(loaded) = &placed {
+            // Each placement copies the mesh: checked whole before the first copy, so
+            // many placements of a large mesh fail at once rather than fill memory.
+            let scene = self.scene.scene();
+            let count = matrices.len() as u64;
+            let limit = crate::util::limits::MAX_SHAPES as u64;
+            let shapes = scene.shapes.len() as u64 + count * loaded.shapes.len() as u64;
+            let positions = scene.shapes.positions().len() as u64
+                + count * loaded.shapes.positions().len() as u64;
+            if shapes > limit || positions > limit {
+                return Err(source.error(
+                    of,
+                    format!(
+                        "expected at most {limit} triangles and vertices in the scene, found \
+                         {count} placements of a mesh that carries lights of its own (so each \
+                         is a copy) of {} triangles and {} vertices",
+                        loaded.shapes.len(),
+                        loaded.shapes.positions().len()
+                    ),
+                ));
+            }
+        }
         for k in 0..matrices.len() {
             let m = matrices.placement(k, t);
             match &placed {
@@ -979,6 +1001,14 @@ fn merge(
     t: &Transform,
     material: Option<u32>,
 ) -> Result<(), String> {
+    let limit = crate::util::limits::MAX_SHAPES;
+    if scene.scene().shapes.len() + loaded.shapes.len() > limit
+        || scene.scene().shapes.positions().len() + loaded.shapes.positions().len() > limit
+    {
+        return Err(format!(
+            "placing this mesh would give the scene more than {limit} triangles or vertices"
+        ));
+    }
     let shape_base = scene.scene().shapes.len() as u32;
     let mirrors = t.mirrors();
     let scale = t.uniform_scale();

@@ -476,6 +476,63 @@ fn a_quad_flattened_along_its_normal_renders_as_itself() {
     assert_eq!(a, b);
 }
 
+/// A mesh file that carries lights of other kinds (a glTF point light) is copied at
+/// each placement; placements whose copies would pass the scene's bound on triangles
+/// are an error before the first copy is made, not a fill of memory.
+#[test]
+fn copies_of_a_lit_mesh_are_bounded_before_they_are_made() {
+    use crate::format::scene_file::from_value::from_value;
+    let dir = Folder::new();
+    let triangles = 16_385usize;
+    let corners: Vec<u8> = [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]]
+        .iter()
+        .cycle()
+        .take(3 * triangles)
+        .flat_map(|c| c.iter().flat_map(|x| x.to_le_bytes()))
+        .collect();
+    std::fs::write(dir.path("lamp.bin"), &corners).unwrap();
+    let gltf = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "buffers": [{"uri": "lamp.bin", "byteLength": corners.len()}],
+        "bufferViews": [{"buffer": 0, "byteLength": corners.len()}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3 * triangles,
+                       "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point"}]}},
+        "nodes": [{"mesh": 0}, {"extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        "scenes": [{"nodes": [0, 1]}],
+        "scene": 0,
+    });
+    dir.write("lamp.gltf", &gltf.to_string());
+    let moved = |k: usize| {
+        let mut m = [[0.0; 4]; 4];
+        (0..4).for_each(|i| m[i][i] = 1.0);
+        m[0][3] = k as f64;
+        m
+    };
+    let value = serde_json::json!({
+        "object": [{"type": "instance", "file": "lamp.gltf", "transforms": "t"}],
+    });
+    let load = |count: usize| {
+        let transforms = (0..count).map(moved).collect();
+        let named = std::collections::HashMap::from([("t".to_string(), transforms)]);
+        from_value(&value, dir.dir.path(), &Default::default(), named)
+    };
+    // Two placements: two copies, each with its point light.
+    let f = load(2).unwrap();
+    assert_eq!(
+        (f.scene.shapes.len(), f.scene.lights.len()),
+        (2 * triangles, 2)
+    );
+    // 16 385 copies of 16 385 triangles pass 2^28.
+    let e = load(triangles).unwrap_err().to_string();
+    assert!(
+        e.contains("found 16385 placements of a mesh that carries lights of its own"),
+        "{e}"
+    );
+}
+
 /// Placements handed over by name (Python's arrays) may serve several instance objects,
 /// glowing ones lit each; a name no array holds is an error naming it.
 #[test]
