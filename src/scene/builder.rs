@@ -195,6 +195,16 @@ impl SceneBuilder {
         self.scene.objects.len() as u32 - 1
     }
 
+    /// Whether the scene can take `triangles` more triangles over `vertices` more
+    /// vertices and stay within [`crate::util::limits::MAX_SHAPES`] of each: what a
+    /// reader asks before it places a mesh, so a scene never grows past the bound.
+    pub fn has_room_for(&self, triangles: u64, vertices: u64) -> bool {
+        let limit = crate::util::limits::MAX_SHAPES as u64;
+        let shapes = &self.scene.shapes;
+        (shapes.len() as u64).saturating_add(triangles) <= limit
+            && (shapes.positions().len() as u64).saturating_add(vertices) <= limit
+    }
+
     /// Places object `object` by `to_world`: as an instance where the transform can
     /// be undone, which is every finite transform of a solid; as copies of its
     /// triangles in world space where it flattens the object onto a plane (a scale of
@@ -220,18 +230,37 @@ impl SceneBuilder {
         if normals == glam::DMat3::ZERO {
             return Ok(Placement::Nothing);
         }
-        self.add_flattened(object, to_world, normals.as_mat3().into())
+        self.add_flattened(&instance, normals.as_mat3().into())
             .map(Placement::Copies)
     }
 
-    /// Object `object`'s triangles copied into world space by `to_world`, its normals
-    /// by `normals`; the copies' range of shapes.
+    /// The triangles of the object `placement` places, copied into world space by its
+    /// transform, their normals by `normals`; the copies' range of shapes.
     fn add_flattened(
         &mut self,
-        object: u32,
-        to_world: glam::Affine3A,
+        placement: &Instance,
         normals: glam::Mat3A,
     ) -> Result<Range<u32>, String> {
+        let object = &self.scene.objects[placement.object() as usize];
+        let (triangles, vertices) = (object.shapes.len(), object.shapes.positions().len());
+        if !self.has_room_for(triangles as u64, vertices as u64) {
+            return Err(format!(
+                "placing \"{}\" flat (its transform's determinant is 0) copies its \
+                 triangles, and the copies would give the scene more than {} \
+                 triangles or vertices",
+                object.name,
+                crate::util::limits::MAX_SHAPES
+            ));
+        }
+        // The corners of the object's box bound every placed coordinate.
+        let placed = placement.world_bounds(&object.bounds());
+        if triangles > 0 && !(placed.min.is_finite() && placed.max.is_finite()) {
+            return Err(format!(
+                "placing \"{}\" takes a vertex past the range of floats",
+                object.name
+            ));
+        }
+        let to_world = placement.to_world();
         let Scene {
             objects,
             shapes,
@@ -239,36 +268,7 @@ impl SceneBuilder {
             meshes,
             ..
         } = &mut self.scene;
-        let object = &objects[object as usize];
-        let limit = crate::util::limits::MAX_SHAPES;
-        if shapes.len() + object.shapes.len() > limit
-            || shapes.positions().len() + object.shapes.positions().len() > limit
-        {
-            return Err(format!(
-                "placing \"{}\" flat (its transform's determinant is 0) copies its \
-                 triangles, and the copies would give the scene more than {limit} \
-                 triangles or vertices",
-                object.name
-            ));
-        }
-        // The corners of the object's box bound every placed coordinate.
-        let b = object.bounds();
-        let corner = |i: u32| {
-            let pick = |bit: u32, lo: f32, hi: f32| if i & bit == 0 { lo } else { hi };
-            Vec3::new(
-                pick(1, b.min.x, b.max.x),
-                pick(2, b.min.y, b.max.y),
-                pick(4, b.min.z, b.max.z),
-            )
-        };
-        let finite = object.shapes.is_empty()
-            || (0..8).all(|i| to_world.transform_point3a(corner(i)).is_finite());
-        if !finite {
-            return Err(format!(
-                "placing \"{}\" takes a vertex past the range of floats",
-                object.name
-            ));
-        }
+        let object = &objects[placement.object() as usize];
         let first = shapes.len() as u32;
         shapes
             .append_placed(

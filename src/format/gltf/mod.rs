@@ -371,9 +371,7 @@ fn place(
     if p.triangles.is_empty() {
         return Ok(());
     }
-    if scene.scene().shapes.len() + p.triangles.len() > MAX_SHAPES
-        || scene.scene().shapes.positions().len() + p.positions.len() > MAX_SHAPES
-    {
+    if !scene.has_room_for(p.triangles.len() as u64, p.positions.len() as u64) {
         return Err(format!(
             "placing its mesh would give the scene more than {MAX_SHAPES} triangles or \
              vertices"

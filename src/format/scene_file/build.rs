@@ -580,13 +580,11 @@ impl Builder {
         if let Placed::Copies(loaded) = &placed {
             // Each placement copies the mesh: checked whole before the first copy, so
             // many placements of a large mesh fail at once rather than fill memory.
-            let scene = self.scene.scene();
             let count = matrices.len() as u64;
-            let limit = crate::util::limits::MAX_SHAPES as u64;
-            let shapes = scene.shapes.len() as u64 + count * loaded.shapes.len() as u64;
-            let positions = scene.shapes.positions().len() as u64
-                + count * loaded.shapes.positions().len() as u64;
-            if shapes > limit || positions > limit {
+            let limit = crate::util::limits::MAX_SHAPES;
+            let triangles = count.saturating_mul(loaded.shapes.len() as u64);
+            let vertices = count.saturating_mul(loaded.shapes.positions().len() as u64);
+            if !self.scene.has_room_for(triangles, vertices) {
                 return Err(source.error(
                     of,
                     format!(
@@ -1001,12 +999,11 @@ fn merge(
     t: &Transform,
     material: Option<u32>,
 ) -> Result<(), String> {
-    let limit = crate::util::limits::MAX_SHAPES;
-    if scene.scene().shapes.len() + loaded.shapes.len() > limit
-        || scene.scene().shapes.positions().len() + loaded.shapes.positions().len() > limit
-    {
+    let (triangles, vertices) = (loaded.shapes.len(), loaded.shapes.positions().len());
+    if !scene.has_room_for(triangles as u64, vertices as u64) {
         return Err(format!(
-            "placing this mesh would give the scene more than {limit} triangles or vertices"
+            "placing this mesh would give the scene more than {} triangles or vertices",
+            crate::util::limits::MAX_SHAPES
         ));
     }
     let shape_base = scene.scene().shapes.len() as u32;
