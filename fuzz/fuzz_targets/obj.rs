@@ -1,15 +1,5 @@
-//! The Wavefront OBJ reader on arbitrary text; a mesh it accepts names only its own
-//! vertices.
+//! `prism_fuzz::obj` (src/lib.rs) under libFuzzer.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use std::path::Path;
 
-fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else {
-        return;
-    };
-    if let Ok(mesh) = prism::format::obj::parse_mesh(text, Path::new("mesh.obj")) {
-        let n = mesh.vertices.len();
-        assert!(mesh.triangles.iter().flatten().all(|&i| (i as usize) < n));
-    }
-});
+fuzz_target!(|data: &[u8]| prism_fuzz::obj::check(data));
