@@ -28,10 +28,6 @@ pub mod objx {
 /// are only ever looked up inside that folder.
 pub mod mtlx {
     use prism::format::mtlx;
-    use std::sync::OnceLock;
-
-    static FOLDER: OnceLock<tempfile::TempDir> = OnceLock::new();
-
     pub fn check(data: &[u8]) {
         let Ok(text) = std::str::from_utf8(data) else {
             return;
@@ -39,13 +35,8 @@ pub mod mtlx {
         if text.contains(['/', '\\']) {
             return;
         }
-        let folder = FOLDER.get_or_init(|| {
-            let dir = tempfile::tempdir().unwrap();
-            let checker = include_bytes!("../../scenes/example/checker.ppm");
-            std::fs::write(dir.path().join("checker.ppm"), checker).unwrap();
-            dir
-        });
-        let path = folder.path().join("materials.mtlx");
+        let folder = super::checker_folder();
+        let path = folder.join("materials.mtlx");
         let _ = mtlx::parse(text, &path, &mut mtlx::MaterialLibrary::new());
     }
 }
@@ -242,10 +233,6 @@ pub mod render_objx {
     use prism::accel::AccelKind;
     use prism::format::{cmr, objx};
     use prism::render::{RenderSettings, Renderer};
-    use std::sync::OnceLock;
-
-    static FOLDER: OnceLock<tempfile::TempDir> = OnceLock::new();
-
     const MATERIALS: &str = include_str!("../../scenes/example/example.mtlx");
     const CAMERA: &str = include_str!("../../scenes/example/example.cmr");
 
@@ -253,17 +240,12 @@ pub mod render_objx {
         let Ok(text) = std::str::from_utf8(data) else {
             return;
         };
-        let folder = FOLDER.get_or_init(|| {
-            let dir = tempfile::tempdir().unwrap();
-            let checker = include_bytes!("../../scenes/example/checker.ppm");
-            std::fs::write(dir.path().join("checker.ppm"), checker).unwrap();
-            dir
-        });
-        let path = folder.path().join("scene.objx");
+        let folder = super::checker_folder();
+        let path = folder.join("scene.objx");
         let Ok(scene) = objx::parse(text, &path, |_| Ok(MATERIALS.to_owned())) else {
             return;
         };
-        let camera = cmr::parse(CAMERA, &folder.path().join("camera.cmr")).unwrap();
+        let camera = cmr::parse(CAMERA, &folder.join("camera.cmr")).unwrap();
         let settings = RenderSettings {
             width: Some(8),
             height: Some(8),
@@ -440,6 +422,20 @@ pub fn then_workers_gone(check: fn(&[u8]), data: &[u8]) {
     while thread_count() > threads && std::time::Instant::now() < deadline {
         std::thread::sleep(std::time::Duration::from_micros(50));
     }
+}
+
+/// A folder of the harness's own holding the example's texture (`checker.ppm`), made
+/// once: the 2014 readers look textures up beside the file they read.
+fn checker_folder() -> &'static std::path::Path {
+    static FOLDER: std::sync::OnceLock<tempfile::TempDir> = std::sync::OnceLock::new();
+    FOLDER
+        .get_or_init(|| {
+            let dir = tempfile::tempdir().unwrap();
+            let checker = include_bytes!("../../scenes/example/checker.ppm");
+            std::fs::write(dir.path().join("checker.ppm"), checker).unwrap();
+            dir
+        })
+        .path()
 }
 
 /// The threads of this process.
