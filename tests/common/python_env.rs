@@ -19,12 +19,17 @@ pub fn runs(program: &Path, args: &[&str]) -> bool {
 }
 
 /// A command in the environment, with the environment active and none of the
-/// variables this test binary got from Cargo (the nested build is Cargo's own).
+/// variables this test binary got from Cargo (the nested build is Cargo's own), but
+/// for the user's `CARGO_HOME` and `CARGO_INCREMENTAL` (CI's 0: an incremental
+/// build of the extension would write its caches for nothing).
 pub fn in_venv(venv: &Path, program: &str) -> Command {
     let bin = venv.join("bin");
     let mut cmd = Command::new(bin.join(program));
     for (key, _) in std::env::vars_os() {
-        if key.to_string_lossy().starts_with("CARGO_") && key != "CARGO_HOME" {
+        if key.to_string_lossy().starts_with("CARGO_")
+            && key != "CARGO_HOME"
+            && key != "CARGO_INCREMENTAL"
+        {
             cmd.env_remove(key);
         }
     }
