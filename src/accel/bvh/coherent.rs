@@ -430,7 +430,7 @@ impl Bvh<'_> {
                 widest = widest_of(&bound);
                 continue;
             }
-            let node = &self.nodes[entry.child as usize];
+            let node = self.node(entry);
             if let Some(frustum) = &frustum {
                 let (mask, t) = frustum.enter(node, widest);
                 stack.push_children(node, mask, &t);
@@ -520,7 +520,7 @@ impl Bvh<'_> {
                 });
                 continue;
             }
-            let node = &self.nodes[entry.child as usize];
+            let node = self.node(entry);
             if let Some(frustum) = &frustum {
                 let (mask, t) = frustum.enter(node, widest);
                 stack.push_children(node, mask, &t);

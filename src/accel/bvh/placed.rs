@@ -85,7 +85,7 @@ impl Bvh<'_> {
                 self.placed_leaf_closest(entry, &lanes, ray, t_max, best);
                 continue;
             }
-            let node = &self.nodes[entry.child as usize];
+            let node = self.node(entry);
             let (mask, t_near) = boxes.hit(node, bound);
             next = node.only_child(mask, &t_near);
             if next.is_some() {
@@ -159,7 +159,7 @@ impl Bvh<'_> {
                 }
                 continue;
             }
-            let node = &self.nodes[entry.child as usize];
+            let node = self.node(entry);
             let (mut mask, t_near) = boxes.hit(node, t_max);
             next = node.only_child(mask, &t_near);
             if next.is_some() {
