@@ -1,6 +1,9 @@
-//! The binary tree collapsed into eight-wide nodes: each node takes its binary node's
-//! children, then repeatedly the children of the largest inner one among them, until it
-//! holds eight.
+//! The binary tree collapsed into eight-wide nodes, chosen by dynamic programming over
+//! the binary tree (Ylitie, Karras and Laine, "Efficient incoherent ray traversal on
+//! GPUs through compressed wide BVHs", 2017): of every way to cut each binary subtree
+//! into at most eight members, the one of least surface-area cost, a wide node costing
+//! its area and a leaf its area times its blocks of four. The leaves are the binary
+//! tree's; only which binary nodes become wide nodes is chosen.
 
 use super::build::Tree;
 use super::leaf4::Leaf4;
@@ -24,7 +27,8 @@ impl Collapsed {
     pub(super) fn collapse(&mut self, shapes: &Shapes, tree: &Tree, order: &[u32]) {
         let slot = self.nodes.len();
         self.nodes.push(EMPTY_NODE);
-        self.collapse_into(shapes, tree, order, slot);
+        let plan = Plan::of(tree);
+        self.collapse_into(shapes, (tree, 0), order, slot, &plan);
     }
 
     /// Stores the shapes `leaf` as a leaf: their indices when all are triangles, else
@@ -88,30 +92,37 @@ impl Collapsed {
         );
     }
 
-    /// Fills `nodes[slot]` with up to eight descendants of binary node `tree`, and
-    /// appends what they hold.
-    fn collapse_into(&mut self, shapes: &Shapes, tree: &Tree, order: &[u32], slot: usize) {
-        let (members, len) = members(tree);
+    /// Fills `nodes[slot]` with the members `plan` gives binary node `tree` (with its
+    /// index in the plan), and appends what they hold.
+    fn collapse_into(
+        &mut self,
+        shapes: &Shapes,
+        tree: Indexed,
+        order: &[u32],
+        slot: usize,
+        plan: &Plan,
+    ) {
+        let (members, len) = plan.members(tree);
         let members = &members[..len];
         let mut node = EMPTY_NODE;
         let mut inner = [(tree, 0usize); WIDTH];
         let mut inner_len = 0;
         for (lane, &m) in members.iter().enumerate() {
-            node.set_box(lane, m.bounds());
-            if let Tree::Inner { .. } = m {
+            node.set_box(lane, m.0.bounds());
+            if let Tree::Inner { .. } = m.0 {
                 node.child[lane] = self.nodes.len() as u32;
                 self.nodes.push(EMPTY_NODE);
                 inner[inner_len] = (m, node.child[lane] as usize);
                 inner_len += 1;
             } else {
-                let e = self.leaf_of(shapes, m, order);
+                let e = self.leaf_of(shapes, m.0, order);
                 node.child[lane] = e.child;
                 node.count[lane] = e.count;
             }
         }
         self.nodes[slot] = node;
         for &(m, child_slot) in &inner[..inner_len] {
-            self.collapse_into(shapes, m, order, child_slot);
+            self.collapse_into(shapes, m, order, child_slot, plan);
         }
     }
 
@@ -125,38 +136,212 @@ impl Collapsed {
     }
 }
 
-/// Up to eight descendants of `tree`: its children, then repeatedly the children of
-/// the largest inner one among them (the last of equals), in order.
-fn members(tree: &Tree) -> ([&Tree; WIDTH], usize) {
-    let mut members = [tree; WIDTH];
-    let mut len = 1;
-    if let Tree::Inner { children, .. } = tree {
-        members[..2].copy_from_slice(&[&children[0], &children[1]]);
-        len = 2;
+/// A binary node and its index in depth-first order (the root 0, a node's left child
+/// right after it, its right child after the left's subtree).
+type Indexed<'t> = (&'t Tree, usize);
+
+/// The children of inner node `(tree, index)`, indexed.
+fn children(tree: Indexed) -> Option<[Indexed; 2]> {
+    let (Tree::Inner { children, .. }, i) = tree else {
+        return None;
+    };
+    Some([
+        (&children[0], i + 1),
+        (&children[1], i + 1 + children[0].nodes()),
+    ])
+}
+
+/// The cheapest cut of every binary subtree, by depth-first index: for `k` slots
+/// (entry `k - 1`), how its inner node spreads over them: 0 when it takes one slot,
+/// itself a wide node, or `j` when its left child takes `j` of them and its right
+/// child the rest. Leaves always take one slot.
+struct Plan {
+    split: Vec<[u8; WIDTH]>,
+}
+
+impl Plan {
+    fn of(tree: &Tree) -> Plan {
+        let mut plan = Plan {
+            split: vec![[0; WIDTH]; tree.nodes()],
+        };
+        plan.cost((tree, 0));
+        plan
     }
-    while len < WIDTH {
-        let mut widest: Option<(usize, f32)> = None;
-        for (i, m) in members[..len].iter().enumerate() {
-            if let Tree::Inner { bounds, .. } = m {
-                let a = area(bounds);
-                if widest.is_none_or(|(_, w)| a.total_cmp(&w).is_ge()) {
-                    widest = Some((i, a));
-                }
+
+    /// The least cost of `tree`'s subtree as at most `k` members of a wide node, for
+    /// each `k` (entry `k - 1`), the choices made recorded.
+    fn cost(&mut self, tree: Indexed) -> [f32; WIDTH] {
+        let Some([left, right]) = children(tree) else {
+            let Tree::Leaf { bounds, count, .. } = tree.0 else {
+                unreachable!("a node without children is a leaf")
+            };
+            return [area(bounds) * (*count as usize).div_ceil(4) as f32; WIDTH];
+        };
+        let (l, r) = (self.cost(left), self.cost(right));
+        // Spread over k slots: the left child takes j of them, the right k - j. The
+        // first split stands unless one is cheaper, so a NaN area (a degenerate box)
+        // still gives each child a slot.
+        let spread = |k: usize| {
+            (2..k).map(|j| (l[j - 1] + r[k - j - 1], j as u8)).fold(
+                (l[0] + r[k - 2], 1),
+                |best, c| if c.0 < best.0 { c } else { best },
+            )
+        };
+        // As a wide node of its own, its children spread over all eight of its slots.
+        let (wide, j) = spread(WIDTH);
+        let mut split = [0; WIDTH];
+        split[0] = j;
+        let mut cost = [area(tree.0.bounds()) + wide; WIDTH];
+        for k in 2..=WIDTH {
+            let (c, j) = spread(k);
+            if c < cost[k - 1] {
+                (cost[k - 1], split[k - 1]) = (c, j);
             }
         }
-        let Some((i, _)) = widest else { break };
-        let Tree::Inner { children, .. } = members[i] else {
-            unreachable!("only inner members are opened")
-        };
-        members.copy_within(i + 1..len, i + 2);
-        members[i] = &children[0];
-        members[i + 1] = &children[1];
-        len += 1;
+        self.split[tree.1] = split;
+        cost
     }
-    (members, len)
+
+    /// The members of the wide node made of inner node `tree`: its children's cuts
+    /// over eight slots, in order.
+    fn members<'t>(&self, tree: Indexed<'t>) -> ([Indexed<'t>; WIDTH], usize) {
+        let mut out = [tree; WIDTH];
+        let mut len = 0;
+        match children(tree) {
+            Some([left, right]) => {
+                // A node that takes one slot keeps in entry 0 how it spreads as a
+                // wide node (one slot never splits).
+                let j = self.split[tree.1][0] as usize;
+                self.cut(left, j, &mut out, &mut len);
+                self.cut(right, WIDTH - j, &mut out, &mut len);
+            }
+            None => len = 1,
+        }
+        (out, len)
+    }
+
+    /// Appends the members of `tree`'s cheapest cut into `k` slots.
+    fn cut<'t>(
+        &self,
+        tree: Indexed<'t>,
+        k: usize,
+        out: &mut [Indexed<'t>; WIDTH],
+        len: &mut usize,
+    ) {
+        if let Some([left, right]) = children(tree) {
+            let j = self.split[tree.1][k - 1] as usize;
+            if k > 1 && j > 0 {
+                self.cut(left, j, out, len);
+                self.cut(right, k - j, out, len);
+                return;
+            }
+        }
+        out[*len] = tree;
+        *len += 1;
+    }
 }
 
 fn area(b: &Aabb) -> f32 {
     let e = b.extent();
     e.x * e.y + e.y * e.z + e.z * e.x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    /// Scattered boxes of several sizes, as a mesh's triangles are.
+    fn boxes(n: usize, seed: u32) -> Vec<Aabb> {
+        (0..n as u32)
+            .map(|i| {
+                let h =
+                    |k: u32| ((i ^ seed).wrapping_mul(2_654_435_761).rotate_left(k) % 1000) as f32;
+                let p = Vec3::new(h(0), h(11), h(22));
+                Aabb {
+                    min: p,
+                    max: p + Vec3::splat(1.0 + h(7) % 40.0),
+                }
+            })
+            .collect()
+    }
+
+    /// A member's cost: a leaf's area times its blocks, or an inner node's area and
+    /// the cheapest wide node of it.
+    fn member_cost(m: &Tree) -> f64 {
+        match m {
+            Tree::Leaf { bounds, count, .. } => {
+                area(bounds) as f64 * (*count as usize).div_ceil(4) as f64
+            }
+            Tree::Inner {
+                bounds, children, ..
+            } => {
+                let mut best = f64::INFINITY;
+                for a in cuts(&children[0]) {
+                    for b in cuts(&children[1]) {
+                        if a.len() + b.len() <= WIDTH {
+                            let c: f64 = a.iter().chain(&b).map(|m| member_cost(m)).sum();
+                            best = best.min(c);
+                        }
+                    }
+                }
+                area(bounds) as f64 + best
+            }
+        }
+    }
+
+    /// Every cut of `t`'s subtree into at most eight members.
+    fn cuts(t: &Tree) -> Vec<Vec<&Tree>> {
+        let mut all = vec![vec![t]];
+        if let Tree::Inner { children, .. } = t {
+            for a in cuts(&children[0]) {
+                for b in cuts(&children[1]) {
+                    if a.len() + b.len() <= WIDTH {
+                        all.push(a.iter().chain(&b).copied().collect());
+                    }
+                }
+            }
+        }
+        all
+    }
+
+    #[test]
+    fn each_wide_node_is_the_cheapest_cut_of_its_binary_subtree() {
+        for (n, seed) in [(12, 1), (20, 2), (27, 3), (33, 4)] {
+            let binary = super::super::build::build(&boxes(n, seed));
+            let plan = Plan::of(&binary.tree);
+            // Every wide node the collapse makes, from the root down.
+            let mut pending = vec![(&binary.tree, 0)];
+            let mut wide = 0;
+            while let Some(node) = pending.pop() {
+                let (members, len) = plan.members(node);
+                let chosen: f64 = members[..len].iter().map(|m| member_cost(m.0)).sum();
+                let best = member_cost(node.0) - area(node.0.bounds()) as f64;
+                assert!(
+                    (chosen - best).abs() <= 1e-4 * best,
+                    "{n} boxes: a wide node costs {chosen}, its cheapest cut {best}"
+                );
+                // The members hold each leaf below once.
+                let leaves = |t: &Tree| match t {
+                    Tree::Leaf { count, .. } => *count as usize,
+                    Tree::Inner { .. } => 0,
+                };
+                let below = |t: &Tree| -> usize {
+                    fn sum(t: &Tree) -> usize {
+                        match t {
+                            Tree::Leaf { count, .. } => *count as usize,
+                            Tree::Inner { children, .. } => sum(&children[0]) + sum(&children[1]),
+                        }
+                    }
+                    sum(t)
+                };
+                let held: usize = members[..len].iter().map(|m| below(m.0)).sum();
+                assert_eq!(held, below(node.0));
+                assert!(len <= WIDTH && (len >= 2 || leaves(node.0) > 0));
+                pending.extend(members[..len].iter().filter(|m| leaves(m.0) == 0));
+                wide += 1;
+            }
+            assert!(wide >= 1);
+        }
+    }
 }
