@@ -342,12 +342,12 @@ fn partition(items: &mut [PrimRef], split: &Split) -> [Side; 2] {
 }
 
 /// Cost of testing `n` shapes: leaves test them four at a time.
-fn packets(n: usize) -> f32 {
+pub(super) fn packets(n: usize) -> f32 {
     n.div_ceil(4) as f32
 }
 
 /// Half the surface area: the SAH only compares areas, so the factor 2 is dropped.
-fn half_area(b: &Aabb) -> f32 {
+pub(super) fn half_area(b: &Aabb) -> f32 {
     if b.is_empty() {
         return 0.0;
     }

@@ -5,7 +5,7 @@
 //! its area and a leaf its area times its blocks of four. The leaves are the binary
 //! tree's; only which binary nodes become wide nodes is chosen.
 
-use super::build::Tree;
+use super::build::{Tree, half_area, packets};
 use super::leaf4::Leaf4;
 use super::{EMPTY_NODE, Entry, Node8, STORED, WIDTH};
 use crate::math::Aabb;
@@ -175,7 +175,7 @@ impl Plan {
             let Tree::Leaf { bounds, count, .. } = tree.0 else {
                 unreachable!("a node without children is a leaf")
             };
-            return [area(bounds) * (*count as usize).div_ceil(4) as f32; WIDTH];
+            return [leaf_cost(bounds, *count); WIDTH];
         };
         let (l, r) = (self.cost(left), self.cost(right));
         // Spread over k slots: the left child takes j of them, the right k - j. The
@@ -191,7 +191,7 @@ impl Plan {
         let (wide, j) = spread(WIDTH);
         let mut split = [0; WIDTH];
         split[0] = j;
-        let mut cost = [area(tree.0.bounds()) + wide; WIDTH];
+        let mut cost = [half_area(tree.0.bounds()) + wide; WIDTH];
         for k in 2..=WIDTH {
             let (c, j) = spread(k);
             if c < cost[k - 1] {
@@ -241,9 +241,10 @@ impl Plan {
     }
 }
 
-fn area(b: &Aabb) -> f32 {
-    let e = b.extent();
-    e.x * e.y + e.y * e.z + e.z * e.x
+/// A leaf's cost as a member: its area times the blocks of four its test takes, as
+/// the build prices it.
+fn leaf_cost(bounds: &Aabb, count: u32) -> f32 {
+    half_area(bounds) * packets(count as usize)
 }
 
 #[cfg(test)]
@@ -270,9 +271,7 @@ mod tests {
     /// the cheapest wide node of it.
     fn member_cost(m: &Tree) -> f64 {
         match m {
-            Tree::Leaf { bounds, count, .. } => {
-                area(bounds) as f64 * (*count as usize).div_ceil(4) as f64
-            }
+            Tree::Leaf { bounds, count, .. } => leaf_cost(bounds, *count) as f64,
             Tree::Inner {
                 bounds, children, ..
             } => {
@@ -285,8 +284,16 @@ mod tests {
                         }
                     }
                 }
-                area(bounds) as f64 + best
+                half_area(bounds) as f64 + best
             }
+        }
+    }
+
+    /// The shapes of `t`'s leaves.
+    fn shapes_below(t: &Tree) -> usize {
+        match t {
+            Tree::Leaf { count, .. } => *count as usize,
+            Tree::Inner { children, .. } => shapes_below(&children[0]) + shapes_below(&children[1]),
         }
     }
 
@@ -316,29 +323,20 @@ mod tests {
             while let Some(node) = pending.pop() {
                 let (members, len) = plan.members(node);
                 let chosen: f64 = members[..len].iter().map(|m| member_cost(m.0)).sum();
-                let best = member_cost(node.0) - area(node.0.bounds()) as f64;
+                let best = member_cost(node.0) - half_area(node.0.bounds()) as f64;
                 assert!(
                     (chosen - best).abs() <= 1e-4 * best,
                     "{n} boxes: a wide node costs {chosen}, its cheapest cut {best}"
                 );
-                // The members hold each leaf below once.
-                let leaves = |t: &Tree| match t {
-                    Tree::Leaf { count, .. } => *count as usize,
-                    Tree::Inner { .. } => 0,
-                };
-                let below = |t: &Tree| -> usize {
-                    fn sum(t: &Tree) -> usize {
-                        match t {
-                            Tree::Leaf { count, .. } => *count as usize,
-                            Tree::Inner { children, .. } => sum(&children[0]) + sum(&children[1]),
-                        }
-                    }
-                    sum(t)
-                };
-                let held: usize = members[..len].iter().map(|m| below(m.0)).sum();
-                assert_eq!(held, below(node.0));
-                assert!(len <= WIDTH && (len >= 2 || leaves(node.0) > 0));
-                pending.extend(members[..len].iter().filter(|m| leaves(m.0) == 0));
+                // The members hold the subtree's shapes, and at most eight.
+                let held: usize = members[..len].iter().map(|m| shapes_below(m.0)).sum();
+                assert_eq!(held, shapes_below(node.0));
+                assert!((2..=WIDTH).contains(&len));
+                pending.extend(
+                    members[..len]
+                        .iter()
+                        .filter(|m| matches!(m.0, Tree::Inner { .. })),
+                );
                 wide += 1;
             }
             assert!(wide >= 1);
