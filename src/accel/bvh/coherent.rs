@@ -399,6 +399,11 @@ impl Bvh<'_> {
                 continue;
             }
             if entry.count > 0 {
+                // The entry after this leaf is asked for now: the leaf's tests against
+                // every ray take long enough to hide most of its wait.
+                if let Some(next) = stack.peek() {
+                    self.prefetch(next);
+                }
                 // Each arm updates the hits itself: one loop after a `match` that
                 // returns the distances measured 7 % slower (they went through memory).
                 for_each_shape!(self, entry, |shape, prim| {
@@ -499,6 +504,9 @@ impl Bvh<'_> {
         let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {
             if entry.count > 0 {
+                if let Some(next) = stack.peek() {
+                    self.prefetch(next);
+                }
                 for_each_shape!(self, entry, |shape, prim| {
                     let (mask, _) = match prim {
                         Prim::Flat(flat) => lanes.meet(&flat, &bound),

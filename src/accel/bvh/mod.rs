@@ -372,6 +372,41 @@ impl Bvh<'_> {
         node
     }
 
+    /// Asks for the memory of `entry` ahead of its visit: a node's four cache lines,
+    /// or a copied leaf's first block.
+    #[inline(always)]
+    fn prefetch(&self, entry: Entry) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+            let (at, lines): (*const i8, usize) = if entry.count == 0 {
+                (
+                    self.nodes
+                        .as_ptr()
+                        .wrapping_add(entry.child as usize)
+                        .cast(),
+                    4,
+                )
+            } else if entry.count & STORED != 0 {
+                (
+                    self.stored
+                        .as_ptr()
+                        .wrapping_add(entry.child as usize)
+                        .cast(),
+                    3,
+                )
+            } else {
+                return;
+            };
+            for line in 0..lines {
+                // SAFETY: a prefetch reads nothing and faults on no address.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(at.wrapping_add(64 * line)) };
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = entry;
+    }
+
     /// Updates `best` with the hits of the shapes of leaf `entry`.
     #[inline(always)]
     fn leaf_closest(

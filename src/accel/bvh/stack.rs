@@ -36,6 +36,14 @@ impl Stack {
         Some(unsafe { self.items.get_unchecked(self.len).assume_init() })
     }
 
+    /// The entry [`Stack::pop`] would give next.
+    #[inline(always)]
+    pub(super) fn peek(&self) -> Option<Entry> {
+        let top = self.len.checked_sub(1)?;
+        // SAFETY: as in `pop`.
+        Some(unsafe { self.items.get_unchecked(top).assume_init() })
+    }
+
     #[inline]
     pub(super) fn push(&mut self, e: Entry) {
         debug_assert!(self.len < STACK);
@@ -91,5 +99,33 @@ impl Stack {
         // SAFETY: as above.
         unsafe { *self.items.get_unchecked_mut(i) = MaybeUninit::new(e) };
         self.len += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn entry(child: u32, t: f32) -> Entry {
+        Entry { child, count: 0, t }
+    }
+
+    /// What `peek` shows is what `pop` then gives, nearest first, down to an empty
+    /// stack, where both give nothing.
+    #[test]
+    fn peek_shows_what_pop_gives_next() {
+        let mut stack = Stack::new(entry(0, 0.0));
+        let base = stack.len;
+        for (child, t) in [(1, 3.0), (2, 1.0), (3, 2.0)] {
+            stack.push_sorted(entry(child, t), base);
+        }
+        let mut popped = Vec::new();
+        while let Some(next) = stack.peek() {
+            let e = stack.pop().expect("peek saw an entry");
+            assert_eq!((next.child, next.t), (e.child, e.t));
+            popped.push(e.child);
+        }
+        assert_eq!(popped, [2, 3, 1, 0]);
+        assert!(stack.pop().is_none());
     }
 }
