@@ -65,9 +65,14 @@ fn blender_suite() {
 /// `what`, unless it succeeds. Its output is kept and printed through the test's own,
 /// which `cargo test` shows for a failure only: the suites run side by side, and their
 /// output would otherwise interleave.
+///
+/// Blender's temporary files go to a folder of the test's own, removed after it:
+/// Blender leaves its session folder behind in the system's when it ends abruptly.
 fn passes(repo: &Path, mut command: Command, what: &str) {
+    let scratch = tempfile::tempdir().expect("a temporary folder");
     let output = command
         .env("PRISM_PYTHON_PATH", repo.join("python"))
+        .env("TMPDIR", scratch.path())
         .output()
         .unwrap_or_else(|e| panic!("{what} could not start: {e}"));
     print!("{}", String::from_utf8_lossy(&output.stdout));

@@ -4,6 +4,7 @@ converges to the pixels `prism render` writes, and a simulated drag changes the 
 Skips, saying why, where Chromium, its driver or selenium are missing."""
 
 import io
+import os
 import shutil
 import subprocess
 import time
@@ -16,7 +17,9 @@ from conftest import SCENES
 SHOWCASE = SCENES / "showcase" / "showcase.toml"
 
 
-def _browser():
+def _browser(scratch):
+    """Headless Chromium, its temporary files (profile, singleton socket) kept in
+    `scratch`, so that none outlive the test."""
     try:
         from selenium import webdriver
     except ImportError:
@@ -30,9 +33,10 @@ def _browser():
     options.binary_location = chromium
     for flag in ("--headless=new", "--no-sandbox", "--disable-gpu",
                  "--disable-dev-shm-usage", "--force-color-profile=srgb",
-                 "--window-size=1200,900"):
+                 "--window-size=1200,900", f"--user-data-dir={scratch / 'profile'}"):
         options.add_argument(flag)
-    service = webdriver.ChromeService(executable_path=driver)
+    service = webdriver.ChromeService(executable_path=driver,
+                                      env={**os.environ, "TMPDIR": str(scratch)})
     from selenium.common.exceptions import WebDriverException
     try:
         return webdriver.Chrome(options=options, service=service)
@@ -70,7 +74,7 @@ def _wait(test, seconds=60):
 
 def test_the_page_converges_to_prism_renders_image_and_a_drag_moves_the_view(
         prism_bin, tmp_path):
-    browser = _browser()
+    browser = _browser(tmp_path)
     server = subprocess.Popen([str(prism_bin), "preview", str(SHOWCASE), "--width", "160"],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
