@@ -214,6 +214,23 @@ impl<'s> Intersector<'s> {
         }
     }
 
+    /// Which of up to [`PACKET_RAYS`] rays (bit `i` for ray `i`) that need not run
+    /// together meet a shape before their `t_max[i]`: the answers of
+    /// [`Intersector::occluded`] with every shape blocking. The BVH tests its root's
+    /// boxes against them all at once, any other intersector takes them one at a time.
+    #[inline]
+    pub fn occluded_many(&self, rays: &[Ray], t_max: &[f32]) -> u32 {
+        match self {
+            Intersector::Bvh(a) => a.occluded_many(rays, t_max),
+            _ => rays
+                .iter()
+                .zip(t_max)
+                .enumerate()
+                .map(|(i, (ray, &t))| u32::from(self.occluded(ray, t, |_| true)) << i)
+                .sum(),
+        }
+    }
+
     /// Which of up to [`PACKET_RAYS`] rays (bit `i` for ray `i`) are blocked before
     /// their `t_max[i]`: the answers of [`Intersector::occluded`], as one packet in the BVH.
     #[inline]
@@ -323,6 +340,22 @@ impl<'s> Accel<'s> {
                 i.closest(ray, t_max, hit);
             }
         }
+    }
+
+    /// Which of up to [`PACKET_RAYS`] rays (bit `i` for ray `i`) that need not run
+    /// together meet a shape before their `t_max[i]`: the answers of
+    /// [`Accel::occluded`] with every shape blocking.
+    #[inline]
+    pub fn occluded_many(&self, rays: &[Ray], t_max: &[f32]) -> u32 {
+        let mut blocked = self.world.occluded_many(rays, t_max);
+        if let Some(i) = &self.instances {
+            for (k, (ray, &t)) in rays.iter().zip(t_max).enumerate() {
+                if blocked & (1 << k) == 0 && i.occluded(ray, t, &|_| true) {
+                    blocked |= 1 << k;
+                }
+            }
+        }
+        blocked
     }
 
     /// Which of up to [`PACKET_RAYS`] rays (bit `i` for ray `i`) are blocked before

@@ -112,7 +112,7 @@ impl<const N: usize> Rays<N> {
     /// and the smallest entry distance among them. The slab test of [`super::Boxes4`],
     /// with the rays in the lanes instead of the boxes.
     #[inline(always)]
-    fn enter(&self, node: &Node8, lane: usize, bound: &[f32; N]) -> (u32, f32) {
+    pub(super) fn enter(&self, node: &Node8, lane: usize, bound: &[f32; N]) -> (u32, f32) {
         let (h, l) = (lane / 4, lane % 4);
         let lo = [node.min[0][h][l], node.min[1][h][l], node.min[2][h][l]];
         let hi = [node.max[0][h][l], node.max[1][h][l], node.max[2][h][l]];

@@ -8,8 +8,8 @@
 //! Each lane repeats the single-ray shape test operation for operation, and keeps a
 //! hit only when it is strictly nearer than the lane's best so far, so of equally near
 //! shapes the first (the lowest index) stays: the answers of [`Bvh::closest`], bit for
-//! bit. Shadow rays still walk the tree: most of a room's reach their light, and
-//! meeting every shape cost them more than the walk.
+//! bit. Shadow rays still walk the tree (`scattered`): most of a room's reach their
+//! light, and meeting every shape cost them more than the walk.
 
 use super::Bvh;
 use super::coherent::{PACKET_RAYS, Rays, lane_flag};

@@ -13,6 +13,7 @@ mod collapse;
 mod few;
 mod leaf4;
 mod placed;
+mod scattered;
 mod stack;
 
 pub use coherent::PACKET_RAYS;
@@ -325,12 +326,29 @@ impl<'s> Bvh<'s> {
         if self.shape_count == 0 {
             return false;
         }
-        let lanes = RayLanes::new(ray);
-        let mut stack = Stack::new(self.root);
+        self.occluded_below(
+            &mut Stack::new(self.root),
+            &boxes,
+            &RayLanes::new(ray),
+            t_max,
+            &blocks,
+        )
+    }
+
+    /// The walk of [`Bvh::occluded`] from the entries on `stack`.
+    #[inline(always)]
+    fn occluded_below(
+        &self,
+        stack: &mut Stack,
+        boxes: &impl BoxTest,
+        lanes: &RayLanes,
+        t_max: f32,
+        blocks: &impl Fn(u32) -> bool,
+    ) -> bool {
         let mut next: Option<Entry> = None;
         while let Some(entry) = next.take().or_else(|| stack.pop()) {
             if entry.count > 0 {
-                if self.leaf_blocks(entry, &lanes, t_max, &blocks) {
+                if self.leaf_blocks(entry, lanes, t_max, blocks) {
                     return true;
                 }
                 continue;

@@ -21,12 +21,17 @@ pub(super) struct Stack {
 impl Stack {
     #[inline]
     pub(super) fn new(root: Entry) -> Stack {
-        let mut stack = Stack {
-            items: [const { MaybeUninit::uninit() }; STACK],
-            len: 0,
-        };
+        let mut stack = Stack::empty();
         stack.push(root);
         stack
+    }
+
+    #[inline]
+    pub(super) fn empty() -> Stack {
+        Stack {
+            items: [const { MaybeUninit::uninit() }; STACK],
+            len: 0,
+        }
     }
 
     #[inline]

@@ -1,0 +1,135 @@
+//! Shadow rays that need not run together (one toward a light from each of a pixel's
+//! paths), each walking the tree alone, but past the root together: the root's eight
+//! boxes are tested against all of them at once, the rays in the lanes, and each ray
+//! starts its own walk from the children it enters. In a small tree the root is most of
+//! a ray's walk (a room's shadow ray visits 1.3 nodes), and its test and the set-up of
+//! a ray's box test were a third of the walk's time: a ray whose root children are all
+//! leaves now needs neither.
+//!
+//! Each ray's answer is the one [`Bvh::occluded`] gives it: the root's boxes are
+//! tested by the slab test of the packets ([`Rays`]), which culls no box a hit lies in,
+//! and below the root every ray walks as a single ray does.
+
+#[cfg(target_arch = "x86_64")]
+use super::boxes::Boxes8;
+use super::boxes::{BoxTest, Boxes4};
+use super::coherent::{PACKET_RAYS, Rays};
+use super::leaf4::RayLanes;
+use super::stack::Stack;
+use super::{Bvh, WIDTH};
+use crate::math::Ray;
+
+impl Bvh<'_> {
+    /// Which of up to [`PACKET_RAYS`] rays (bit `i` for ray `i`) meet a shape with
+    /// `0 < t < t_max[i]`: [`Bvh::occluded`] for each ray, every shape blocking, for
+    /// rays that need not run together.
+    pub fn occluded_many(&self, rays: &[Ray], t_max: &[f32]) -> u32 {
+        assert!(rays.len() <= PACKET_RAYS && t_max.len() == rays.len());
+        if self.root.count > 0 || rays.len() < 2 {
+            // One leaf, or one ray: nothing to share.
+            return (0..rays.len())
+                .map(|i| u32::from(self.occluded(&rays[i], t_max[i], |_| true)) << i)
+                .sum();
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.simd == super::SimdLevel::Avx2 {
+            if crate::accel::simd::avx512_wanted() {
+                // SAFETY: the processor runs AVX-512 F, VL, DQ and BW.
+                return unsafe { self.occluded_many_avx512(rays, t_max) };
+            }
+            // SAFETY: `simd` is AVX2 only where the processor runs AVX2 and FMA.
+            return unsafe { self.occluded_many_avx2(rays, t_max) };
+        }
+        self.occluded_many_in::<false>(rays, t_max)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,fma")]
+    unsafe fn occluded_many_avx512(&self, rays: &[Ray], t_max: &[f32]) -> u32 {
+        self.occluded_many_in::<true>(rays, t_max)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn occluded_many_avx2(&self, rays: &[Ray], t_max: &[f32]) -> u32 {
+        self.occluded_many_in::<true>(rays, t_max)
+    }
+
+    /// `WIDE` where the caller is compiled for AVX2 and FMA (the box test below the
+    /// root is then [`Boxes8`]).
+    #[inline(always)]
+    fn occluded_many_in<const WIDE: bool>(&self, rays: &[Ray], t_max: &[f32]) -> u32 {
+        if self.shape_count == 0 {
+            return 0;
+        }
+        let lanes = Rays::<PACKET_RAYS>::new(rays);
+        // Lanes without a ray, and NaN limits (met by nothing, as a single ray's), get
+        // -inf: no box is entered for them.
+        let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
+        for (b, &t) in bound.iter_mut().zip(t_max) {
+            *b = if t.is_nan() { f32::NEG_INFINITY } else { t };
+        }
+        let root = self.node(self.root);
+        let mut entered = [0u32; WIDTH];
+        for (lane, rays_in) in entered.iter_mut().enumerate() {
+            *rays_in = lanes.enter(root, lane, &bound).0;
+        }
+        let mut blocked = 0;
+        let mut stack = Stack::empty();
+        for (i, ray) in rays.iter().enumerate() {
+            // The root's children this ray enters, stacked as the single ray's walk
+            // stacks them.
+            stack.len = 0;
+            let mut inner = false;
+            for (lane, &rays_in) in entered.iter().enumerate() {
+                if rays_in >> i & 1 == 1 {
+                    let child = root.entry(lane, 0.0);
+                    inner |= child.count == 0;
+                    stack.push(child);
+                }
+            }
+            if stack.len == 0 {
+                continue;
+            }
+            let ray_lanes = RayLanes::new(ray);
+            let t = t_max[i];
+            let hit = if !inner {
+                // Leaves alone: no box test to set up.
+                self.occluded_below(&mut stack, &NoBoxes, &ray_lanes, t, &|_| true)
+            } else {
+                self.occluded_below_root::<WIDE>(&mut stack, ray, &ray_lanes, t)
+            };
+            blocked |= u32::from(hit) << i;
+        }
+        blocked
+    }
+
+    /// The walk below the root with the box test for `ray`.
+    #[inline(always)]
+    fn occluded_below_root<const WIDE: bool>(
+        &self,
+        stack: &mut Stack,
+        ray: &Ray,
+        lanes: &RayLanes,
+        t_max: f32,
+    ) -> bool {
+        let blocks = |_| true;
+        #[cfg(target_arch = "x86_64")]
+        if WIDE && let Some(boxes) = Boxes8::new(ray) {
+            return self.occluded_below(stack, &boxes, lanes, t_max, &blocks);
+        }
+        self.occluded_below(stack, &Boxes4::<false>::new(ray), lanes, t_max, &blocks)
+    }
+}
+
+/// The box test of a walk that meets leaves only.
+struct NoBoxes;
+
+impl BoxTest for NoBoxes {
+    fn hit(&self, _: &super::Node8, _: f32) -> (u32, [f32; WIDTH]) {
+        unreachable!("a walk of leaves alone tests no box")
+    }
+}
+
+#[cfg(test)]
+mod tests;
