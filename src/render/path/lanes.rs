@@ -77,6 +77,31 @@ impl V3 {
         self.y[i] = y;
         self.z[i] = z;
     }
+
+    /// `self + a * b` in the lanes of `bits`, channel by channel as [`Vec3`]'s
+    /// operators take it: chosen in every lane rather than gathered into vectors one
+    /// lane at a time.
+    #[inline(always)]
+    fn add_product_where(&mut self, bits: u32, a: &V3, b: &V3) {
+        for i in 0..LANES {
+            let on = bits >> i & 1 == 1;
+            let sum = |s: f32, a: f32, b: f32| if on { s + a * b } else { s };
+            self.x[i] = sum(self.x[i], a.x[i], b.x[i]);
+            self.y[i] = sum(self.y[i], a.y[i], b.y[i]);
+            self.z[i] = sum(self.z[i], a.z[i], b.z[i]);
+        }
+    }
+
+    /// `self + a` in the lanes of `bits` (see [`V3::add_product_where`]).
+    #[inline(always)]
+    fn add_where(&mut self, bits: u32, a: &V3) {
+        for i in 0..LANES {
+            let on = bits >> i & 1 == 1;
+            self.x[i] = if on { self.x[i] + a.x[i] } else { self.x[i] };
+            self.y[i] = if on { self.y[i] + a.y[i] } else { self.y[i] };
+            self.z[i] = if on { self.z[i] + a.z[i] } else { self.z[i] };
+        }
+    }
 }
 
 /// `a . b` in the order of [`Vec3::dot`]: `(x + y) + z`.
@@ -617,9 +642,7 @@ impl Path<'_> {
                     samplers,
                     count,
                 );
-                for i in each(lit) {
-                    l.set(i, l.get(i) + beta.get(i) * direct.get(i));
-                }
+                l.add_product_where(lit, &beta, &direct);
             }
             if depth >= self.max_depth {
                 break;
@@ -773,11 +796,11 @@ impl Path<'_> {
             }
             // A limit that is NaN or not positive is met by nothing: the light is seen.
             let blocked = self.accel.occluded_many(&rays[..m], &limits[..m]);
+            let mut seen = 0;
             for (k, &i) in at.iter().enumerate().take(m) {
-                if blocked >> k & 1 == 0 {
-                    sum.set(i, sum.get(i) + contribution.get(i));
-                }
+                seen |= u32::from(blocked >> k & 1 == 0) << i;
             }
+            sum.add_where(seen, &contribution);
         }
         sum
     }
