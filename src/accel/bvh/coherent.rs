@@ -280,6 +280,18 @@ fn widest_of(bound: &Lanes) -> f32 {
     m[0]
 }
 
+/// The lanes' bounds for shadow rays limited by `t_max`: a NaN limit is met by
+/// nothing, as for a single ray, and lanes without a ray meet nothing either; as -inf
+/// neither can lower or poison a packet's widest bound.
+#[inline(always)]
+pub(super) fn shadow_bounds(t_max: &[f32]) -> Lanes {
+    let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
+    for (b, &t) in bound.iter_mut().zip(t_max) {
+        *b = if t.is_nan() { f32::NEG_INFINITY } else { t };
+    }
+    bound
+}
+
 impl Frustum {
     /// The frustum of the first `n` rays, or `None` when a direction changes sign
     /// across them on some axis (the range of inverses would span infinity), a value
@@ -494,12 +506,7 @@ impl Bvh<'_> {
         let all = (1u32 << rays.len()) - 1;
         let mut blocked = 0u32;
         // A blocked ray's bound drops to -inf: it needs nothing more.
-        let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
-        // A NaN limit is met by nothing, as for a single ray; as -inf it also cannot
-        // lower or poison the packet's widest bound.
-        for (b, &t) in bound.iter_mut().zip(t_max) {
-            *b = if t.is_nan() { f32::NEG_INFINITY } else { t };
-        }
+        let mut bound = shadow_bounds(t_max);
         let mut widest = widest_of(&bound);
         let mut stack = Stack::new(self.root);
         while let Some(entry) = stack.pop() {

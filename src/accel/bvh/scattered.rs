@@ -10,10 +10,10 @@
 //! tested by the slab test of the packets ([`Rays`]), which culls no box a hit lies in,
 //! and below the root every ray walks as a single ray does.
 
+use super::boxes::Boxes4;
 #[cfg(target_arch = "x86_64")]
 use super::boxes::Boxes8;
-use super::boxes::{BoxTest, Boxes4};
-use super::coherent::{PACKET_RAYS, Rays};
+use super::coherent::{PACKET_RAYS, Rays, shadow_bounds};
 use super::leaf4::RayLanes;
 use super::stack::Stack;
 use super::{Bvh, WIDTH};
@@ -63,12 +63,7 @@ impl Bvh<'_> {
             return 0;
         }
         let lanes = Rays::<PACKET_RAYS>::new(rays);
-        // Lanes without a ray, and NaN limits (met by nothing, as a single ray's), get
-        // -inf: no box is entered for them.
-        let mut bound = [f32::NEG_INFINITY; PACKET_RAYS];
-        for (b, &t) in bound.iter_mut().zip(t_max) {
-            *b = if t.is_nan() { f32::NEG_INFINITY } else { t };
-        }
+        let bound = shadow_bounds(t_max);
         let root = self.node(self.root);
         let mut entered = [0u32; WIDTH];
         for (lane, rays_in) in entered.iter_mut().enumerate() {
@@ -93,11 +88,18 @@ impl Bvh<'_> {
             }
             let ray_lanes = RayLanes::new(ray);
             let t = t_max[i];
-            let hit = if !inner {
-                // Leaves alone: no box test to set up.
-                self.occluded_below(&mut stack, &NoBoxes, &ray_lanes, t, &|_| true)
-            } else {
+            let hit = if inner {
                 self.occluded_below_root::<WIDE>(&mut stack, ray, &ray_lanes, t)
+            } else {
+                // Leaves alone, in the order the walk pops them: no box test to set up.
+                let mut hit = false;
+                while let Some(leaf) = stack.pop() {
+                    if self.leaf_blocks(leaf, &ray_lanes, t, &|_| true) {
+                        hit = true;
+                        break;
+                    }
+                }
+                hit
             };
             blocked |= u32::from(hit) << i;
         }
@@ -119,15 +121,6 @@ impl Bvh<'_> {
             return self.occluded_below(stack, &boxes, lanes, t_max, &blocks);
         }
         self.occluded_below(stack, &Boxes4::<false>::new(ray), lanes, t_max, &blocks)
-    }
-}
-
-/// The box test of a walk that meets leaves only.
-struct NoBoxes;
-
-impl BoxTest for NoBoxes {
-    fn hit(&self, _: &super::Node8, _: f32) -> (u32, [f32; WIDTH]) {
-        unreachable!("a walk of leaves alone tests no box")
     }
 }
 
