@@ -254,10 +254,7 @@ fn prepare<'a>(
     };
     // Checks the thread count (among the rest) before any thread starts.
     let renderer = Renderer::new(scene, camera, settings)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Error::Settings(format!("cannot start threads: {e}")))?;
+    let pool = crate::render::workers::pool(options.threads)?;
     let (w, h) = (renderer.camera().width, renderer.camera().height);
     if u64::from(w) * u64::from(h) > MAX_BENCH_PIXELS {
         return Err(Error::Settings(format!(

@@ -16,6 +16,7 @@ mod settings;
 pub mod shadows;
 mod spread;
 pub mod whitted;
+pub mod workers;
 
 pub use crate::options::{IntegratorKind, Region};
 pub use camera::CameraRays;
@@ -384,10 +385,7 @@ impl<'a> Renderer<'a> {
     }
 
     fn pool(&self) -> Result<rayon::ThreadPool> {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(self.plan.threads.unwrap_or(0))
-            .build()
-            .map_err(|e| crate::error::Error::Settings(format!("cannot start threads: {e}")))
+        workers::pool(self.plan.threads)
     }
 
     fn render_in_pool(
