@@ -140,9 +140,10 @@ impl FlatEmitter<'_> {
                     return None;
                 }
                 let q = ray.at(t) - light.position;
-                let s = cross(q, *v).dot(normal) / self.area;
-                let r = cross(*u, q).dot(normal) / self.area;
-                if s.abs() > 0.5 || r.abs() > 0.5 {
+                // The point's coordinates along the edges, times the area.
+                let s = cross(q, *v).dot(normal);
+                let r = cross(*u, q).dot(normal);
+                if beyond_half(s, self.area) || beyond_half(r, self.area) {
                     return None;
                 }
                 t
@@ -348,6 +349,18 @@ impl Light {
     }
 }
 
+/// Whether `x / area` rounds to a magnitude above one half, for `area` zero or at least
+/// 2^-125, without the division: where `|x| > area / 2`. `area / 2` is exact, and the
+/// float next above it is `area / 2 (1 + 2^-23 / m)` for its mantissa `m` in [1, 2),
+/// whose quotient `1/2 + 2^-24 / m` is past the midpoint `1/2 + 2^-25` between one
+/// half and the float after it, so it rounds up. No float lies where the quotient
+/// would round down to one half. NaNs, infinities and a zero area answer as the
+/// quotient does.
+#[inline(always)]
+fn beyond_half(x: f32, area: f32) -> bool {
+    x.abs() > 0.5 * area
+}
+
 /// Where `ray` meets the plane through `at` with unit `normal` from the side the
 /// normal faces.
 #[inline]
@@ -496,5 +509,74 @@ impl SphereCone {
     pub fn near_side(&self, cos: f32) -> f32 {
         let along = self.dist_c * cos;
         along - (self.r2 - (self.d2 - along * along)).max(0.0).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::beyond_half;
+
+    /// For areas from 2^-100 to 2^100 and the special ones, every float within 300
+    /// steps of plus and minus half the area (where rounding decides, the float next
+    /// above half the area among them), and numbers far from it, answered as
+    /// `|x / area| > 1/2` answers.
+    #[test]
+    fn beyond_half_answers_as_the_quotient_does() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut areas = vec![
+            0.0,
+            1.0,
+            3.0,
+            0.1,
+            12.345,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NAN,
+        ];
+        for _ in 0..2000 {
+            let bits = next();
+            let exponent = (bits % 201) as i32 - 100;
+            let mantissa = 1.0 + ((bits >> 8) % (1 << 23)) as f32 / (1 << 23) as f32;
+            areas.push(mantissa * 2f32.powi(exponent));
+        }
+        let specials = [
+            0.0,
+            -0.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            1e-30,
+            1e30,
+        ];
+        let (mut beyond, mut within) = (0, 0);
+        for &area in &areas {
+            let half = (0.5 * area).abs();
+            let near = (-300i32..=300).filter_map(|k| {
+                let bits = half.to_bits().checked_add_signed(k)?;
+                Some(f32::from_bits(bits))
+            });
+            let far = (0..20).map(|_| f32::from_bits(next() as u32));
+            for x in near.chain(far).chain(specials) {
+                for x in [x, -x] {
+                    let expected = (x / area).abs() > 0.5;
+                    assert_eq!(beyond_half(x, area), expected, "x {x:e}, area {area:e}");
+                    if expected {
+                        beyond += 1;
+                    } else {
+                        within += 1;
+                    }
+                }
+            }
+        }
+        assert!(
+            beyond > 100_000 && within > 100_000,
+            "{beyond} beyond, {within} within"
+        );
     }
 }
