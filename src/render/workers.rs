@@ -40,7 +40,7 @@ pub fn flush_denormals() {
     {
         let mut csr = 0u32;
         // SAFETY: stmxcsr and ldmxcsr read and write the thread's own SSE control
-        // word; the bits set change how denormals round, nothing else.
+        // word; the bits set change how denormals are read and written, nothing else.
         unsafe {
             std::arch::asm!("stmxcsr [{}]", in(reg) &mut csr, options(nostack, preserves_flags));
             csr |= FLUSH_TO_ZERO | DENORMALS_ARE_ZERO;
