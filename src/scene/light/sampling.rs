@@ -515,6 +515,7 @@ impl SphereCone {
 #[cfg(test)]
 mod tests {
     use super::beyond_half;
+    use rand_core::Rng;
 
     /// For areas from 2^-100 to 2^100 and the special ones, every float within 300
     /// steps of plus and minus half the area (where rounding decides, the float next
@@ -522,13 +523,8 @@ mod tests {
     /// `|x / area| > 1/2` answers.
     #[test]
     fn beyond_half_answers_as_the_quotient_does() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = rand_pcg::Pcg32::new(0xa4ea, 5);
+        let mut next = move || rng.next_u64();
         let mut areas = vec![
             0.0,
             1.0,
