@@ -75,7 +75,7 @@ impl<'s> Instances<'s> {
     pub fn build(objects: &'s [Object], instances: &'s [Instance]) -> Instances<'s> {
         let trees: Vec<Bvh<'s>> = objects
             .iter()
-            .map(|o| Bvh::build(&o.shapes, Leaves::Indexed))
+            .map(|o| Bvh::build_object(&o.shapes, Leaves::Indexed))
             .collect();
         let object_bounds: Vec<Aabb> = objects.par_iter().map(Object::bounds).collect();
         let boxes: Vec<PackedBox> = instances

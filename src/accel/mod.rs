@@ -8,7 +8,7 @@ mod list;
 mod octree;
 pub mod simd;
 
-pub use bvh::{Bvh, Leaves, MAX_SHAPES, PACKET_RAYS};
+pub use bvh::{Bvh, INDOOR_SHAPES, Leaves, MAX_SHAPES, PACKET_RAYS};
 pub use instances::Instances;
 pub use list::ListAccel;
 pub use octree::Octree;

@@ -108,6 +108,11 @@ impl<const N: usize> Rays<N> {
         r
     }
 
+    /// The rays' origins and directions, axis by axis.
+    pub(super) fn axes(&self) -> (&[[f32; N]; 3], &[[f32; N]; 3]) {
+        (&self.origin, &self.dir)
+    }
+
     /// Rays (bit `i` for ray `i`) that enter child `lane` of `node` before their bound,
     /// and the smallest entry distance among them. The slab test of [`super::Boxes4`],
     /// with the rays in the lanes instead of the boxes.
@@ -502,8 +507,15 @@ impl Bvh<'_> {
             return 0;
         }
         let lanes = Rays::new(rays);
-        let frustum = Frustum::of(&lanes, rays.len());
         let all = (1u32 << rays.len()) - 1;
+        if let Some(indoors) = &self.indoors {
+            // A packet whose rays all keep off the walls walks the tree without them.
+            let clear = indoors.clear_lanes(&lanes.origin, &lanes.dir, &shadow_bounds(t_max));
+            if clear & all == all {
+                return indoors.tree().occluded_packet_in(rays, t_max, blocks);
+            }
+        }
+        let frustum = Frustum::of(&lanes, rays.len());
         let mut blocked = 0u32;
         // A blocked ray's bound drops to -inf: it needs nothing more.
         let mut bound = shadow_bounds(t_max);

@@ -15,11 +15,13 @@ mod leaf4;
 mod placed;
 mod scattered;
 mod stack;
+mod walls;
 
 pub use coherent::PACKET_RAYS;
 
 pub use leaf4::MAX_SHAPES;
 pub use placed::PlacedRay;
+pub use walls::INDOOR_SHAPES;
 
 /// How a BVH's leaves hold their triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,6 +50,7 @@ use glam::Vec4;
 use leaf4::{Leaf4, RayLanes, padded_bounds};
 use rayon::prelude::*;
 use stack::{Entry, Stack};
+use walls::Indoors;
 
 /// Entries the traversal stack needs: each level pushes at most eight and pops one.
 const STACK: usize = (WIDTH - 1) * MAX_DEPTH as usize + WIDTH;
@@ -145,6 +148,9 @@ pub struct Bvh<'s> {
     /// A scene of a few flat shapes, for [`Bvh::closest_many`] and
     /// [`Bvh::occluded_many`].
     few: Option<FewFlats>,
+    /// A small scene's walls, and a tree without them for the shadow rays that keep
+    /// off them.
+    indoors: Option<Box<Indoors<'s>>>,
 }
 
 impl<'s> Bvh<'s> {
@@ -158,28 +164,54 @@ impl<'s> Bvh<'s> {
     /// processor lacks it).
     pub fn build_with(shapes: &'s Shapes, simd: SimdLevel, leaves: Leaves) -> Bvh<'s> {
         assert!(shapes.len() <= MAX_SHAPES, "too many shapes for the BVH");
+        let all: Vec<u32> = (0..shapes.len() as u32).collect();
+        let mut bvh = Bvh::build_over(shapes, &all, simd, leaves);
+        bvh.few = FewFlats::of(shapes);
+        bvh.indoors = Indoors::of(shapes, simd, leaves).map(Box::new);
+        bvh
+    }
+
+    /// Builds over an object's `shapes` for its placed copies ([`Bvh::closest_placed`],
+    /// [`Bvh::occluded_placed`]), without what only a scene's own rays use.
+    pub fn build_object(shapes: &'s Shapes, leaves: Leaves) -> Bvh<'s> {
+        assert!(shapes.len() <= MAX_SHAPES, "too many shapes for the BVH");
+        let all: Vec<u32> = (0..shapes.len() as u32).collect();
+        Bvh::build_over(shapes, &all, SimdLevel::current(), leaves)
+    }
+
+    /// Builds over the shapes of `shapes` that `subset` names (each once), which its
+    /// hits name by their index in `shapes`.
+    fn build_over(shapes: &'s Shapes, subset: &[u32], simd: SimdLevel, leaves: Leaves) -> Bvh<'s> {
         let mut bvh = Bvh {
             shapes,
             root: EMPTY_ROOT,
             nodes: Vec::new(),
             prims: Vec::new(),
             stored: Vec::new(),
-            shape_count: shapes.len(),
+            shape_count: subset.len(),
             simd: simd.supported(),
-            few: FewFlats::of(shapes),
+            few: None,
+            indoors: None,
         };
-        if shapes.is_empty() {
+        if subset.is_empty() {
             return bvh;
         }
         let mut out = Collapsed::default();
-        if shapes.len() <= TINY_SCENE {
-            let all: Vec<u32> = (0..shapes.len() as u32).collect();
-            bvh.root = out.leaf(shapes, &all);
+        if subset.len() <= TINY_SCENE {
+            bvh.root = out.leaf(shapes, subset);
         } else {
-            let boxes: Vec<Aabb> = shapes.par_iter().map(|s| padded_bounds(&s)).collect();
-            let binary = build::build(&boxes);
+            let boxes: Vec<Aabb> = subset
+                .par_iter()
+                .map(|&i| padded_bounds(&shapes.get(i as usize)))
+                .collect();
+            let mut binary = build::build(&boxes);
+            if subset.len() < shapes.len() {
+                for shape in &mut binary.order {
+                    *shape = subset[*shape as usize];
+                }
+            }
             out.nodes.reserve_exact(binary.tree.nodes() / 2 + 1);
-            out.prims.reserve_exact(shapes.len());
+            out.prims.reserve_exact(subset.len());
             out.collapse(shapes, &binary.tree, &binary.order);
         }
         if leaves == Leaves::Copied {
@@ -214,6 +246,7 @@ impl<'s> Bvh<'s> {
             + self.prims.capacity() * size_of::<u32>()
             + self.stored.capacity() * size_of::<Leaf4>()
             + self.few.as_ref().map_or(0, FewFlats::memory_bytes)
+            + self.indoors.as_ref().map_or(0, |i| i.memory_bytes())
     }
 
     /// The nearest hit with `0 < t < t_max`; of equally near ones, the lowest index.
@@ -289,6 +322,17 @@ impl<'s> Bvh<'s> {
     /// traversal stops at the first such.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
+        match &self.indoors {
+            Some(indoors) if indoors.clear(ray, t_max) => {
+                indoors.tree().occluded_whole(ray, t_max, blocks)
+            }
+            _ => self.occluded_whole(ray, t_max, blocks),
+        }
+    }
+
+    /// [`Bvh::occluded`] on the whole tree.
+    #[inline]
+    fn occluded_whole(&self, ray: &Ray, t_max: f32, blocks: impl Fn(u32) -> bool) -> bool {
         if self.root.count > 0 {
             return self.leaf_blocks(self.root, &RayLanes::new(ray), t_max, &blocks);
         }

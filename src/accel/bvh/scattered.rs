@@ -59,17 +59,55 @@ impl Bvh<'_> {
     /// root is then [`Boxes8`]).
     #[inline(always)]
     fn occluded_many_in<const WIDE: bool>(&self, rays: &[Ray], t_max: &[f32]) -> u32 {
+        let lanes = Rays::<PACKET_RAYS>::new(rays);
+        let bound = shadow_bounds(t_max);
+        let all = u32::MAX >> (32 - rays.len());
+        let Some(indoors) = &self.indoors else {
+            return self.walk_many::<WIDE>(&lanes, rays, &bound, all);
+        };
+        // The rays that keep off the walls walk the tree without them.
+        let (origin, dir) = lanes.axes();
+        let clear = indoors.clear_lanes(origin, dir, &bound) & all;
+        let mut blocked = 0;
+        if clear != 0 {
+            blocked |= indoors
+                .tree()
+                .walk_many::<WIDE>(&lanes, rays, &bound, clear);
+        }
+        if clear != all {
+            blocked |= self.walk_many::<WIDE>(&lanes, rays, &bound, all & !clear);
+        }
+        blocked
+    }
+
+    /// Which of the rays in `which` (bit `i` for ray `i`) meet a shape before their
+    /// `bound`: the root's boxes tested against them all at once in `lanes`, then
+    /// each ray's own walk.
+    #[inline(always)]
+    fn walk_many<const WIDE: bool>(
+        &self,
+        lanes: &Rays<PACKET_RAYS>,
+        rays: &[Ray],
+        bound: &[f32; PACKET_RAYS],
+        which: u32,
+    ) -> u32 {
         if self.shape_count == 0 {
             return 0;
         }
-        let lanes = Rays::<PACKET_RAYS>::new(rays);
-        let bound = shadow_bounds(t_max);
+        let mut blocked = 0;
+        if self.root.count > 0 {
+            for i in (0..rays.len()).filter(|&i| which >> i & 1 == 1) {
+                let hit =
+                    self.leaf_blocks(self.root, &RayLanes::new(&rays[i]), bound[i], &|_| true);
+                blocked |= u32::from(hit) << i;
+            }
+            return blocked;
+        }
         let root = self.node(self.root);
         let mut entered = [0u32; WIDTH];
         for (lane, rays_in) in entered.iter_mut().enumerate() {
-            *rays_in = lanes.enter(root, lane, &bound).0;
+            *rays_in = lanes.enter(root, lane, bound).0 & which;
         }
-        let mut blocked = 0;
         let mut stack = Stack::empty();
         for (i, ray) in rays.iter().enumerate() {
             // The root's children this ray enters, stacked as the single ray's walk
@@ -87,7 +125,7 @@ impl Bvh<'_> {
                 continue;
             }
             let ray_lanes = RayLanes::new(ray);
-            let t = t_max[i];
+            let t = bound[i];
             let hit = if inner {
                 self.occluded_below_root::<WIDE>(&mut stack, ray, &ray_lanes, t)
             } else {
