@@ -1,5 +1,5 @@
-//! A room's walls cast no shadow inside it. A triangle lying flat on a face of the
-//! scene's bounding box (a floor, a back wall, a ceiling) has the whole scene on one
+//! A room's walls cast no shadow inside it. A triangle or rectangle lying flat on a
+//! face of the scene's bounding box (a floor, a back wall, a ceiling) has the whole scene on one
 //! side, so a shadow ray that stays on that side cannot meet it. Yet in the tree it is
 //! a leaf like any other, and every shadow ray leaving the wall starts inside that
 //! leaf's box and tests it. In a small scene such rays walk a second tree built
@@ -9,7 +9,7 @@
 //! The test proves what the triangle test would answer, not merely what exact
 //! arithmetic would: a skipped wall could not have reported a hit, rounding included.
 //! Take a wall in the plane `x = c`. Its edges have no `x` part, so in the
-//! Möller–Trumbore test the numerator of `t` is `(o_x - c) C` and the determinant
+//! Möller–Trumbore test (a rectangle's is the triangle's of three of its corners) the numerator of `t` is `(o_x - c) C` and the determinant
 //! `-d_x C`, each to a relative error of at most `2u / κ + u` (`u` the unit roundoff,
 //! `C` the edges' in-plane cross product, at least `κ` times their lengths' product):
 //! the other products are exact zeros, and the two that are not are bounded by
@@ -22,8 +22,8 @@
 //! overflows makes the test's `t` infinite or NaN, which is no hit either.
 
 use super::{Bvh, Leaves, SimdLevel};
-use crate::math::Ray;
-use crate::scene::{Shapes, Stored};
+use crate::math::{Aabb, Ray};
+use crate::scene::{Shape, Shapes, Stored};
 
 /// Scenes of at most this many shapes get the second tree: their shadow rays spend
 /// much of a short walk on the wall they leave, and the tree costs a few megabytes at
@@ -76,36 +76,31 @@ struct Walls {
 }
 
 impl Walls {
-    /// The walls of `shapes`, if any: each a triangle whose three corners share the
-    /// box's least or greatest coordinate on an axis, of usable shape. With them the
-    /// indices of every other shape.
+    /// The walls of `shapes`, if any: each a triangle or rectangle whose corners all
+    /// share the box's least or greatest coordinate on an axis, of usable shape. With
+    /// them the indices of every other shape.
     fn of(shapes: &Shapes) -> Option<(Walls, Vec<u32>)> {
         let bounds = shapes.bounds();
         let mut faces = Vec::new();
         let mut others = Vec::with_capacity(shapes.len());
         for i in 0..shapes.len() {
-            let face = match shapes.stored(i) {
+            // The corners the leaf test takes its origin and edges from, then any other
+            // (a rectangle's fourth is its third repeated for a triangle).
+            let v = match shapes.stored(i) {
                 Stored::Triangle(c) => {
-                    let v = c.map(|k| shapes.positions()[k as usize].to_array());
-                    (0..3).find_map(|axis| {
-                        let plane = v[0][axis];
-                        let inward = if plane == bounds.min[axis] {
-                            1.0
-                        } else if plane == bounds.max[axis] {
-                            -1.0
-                        } else {
-                            return None;
-                        };
-                        let flat = v[1][axis] == plane && v[2][axis] == plane;
-                        (flat && usable(&v, axis)).then_some(Face {
-                            axis,
-                            plane,
-                            inward,
-                        })
-                    })
+                    let [a, b, c] = c.map(|k| shapes.positions()[k as usize]);
+                    Some([a, b, c, c])
+                }
+                Stored::Other(Shape::Rectangle(r)) => {
+                    let [a, b, c, d] = r.v;
+                    Some([a, b, d, c])
                 }
                 Stored::Other(_) => None,
             };
+            let face = v.and_then(|v| {
+                let v = v.map(|p| p.to_array());
+                (0..3).find_map(|axis| wall_face(&v, axis, &bounds))
+            });
             match face {
                 Some(face) if !faces.contains(&face) => faces.push(face),
                 Some(_) => {}
@@ -125,8 +120,27 @@ impl Walls {
     }
 }
 
-/// Whether the triangle with corners `v`, flat on `axis`, is shaped as the error
-/// bound assumes: edges (as the leaf test subtracts them) neither tiny nor huge, and
+/// The face of `bounds` that the shape with corners `v` lies flat on along `axis`, if
+/// it does and is a usable wall.
+fn wall_face(v: &[[f32; 3]; 4], axis: usize, bounds: &Aabb) -> Option<Face> {
+    let plane = v[0][axis];
+    let inward = if plane == bounds.min[axis] {
+        1.0
+    } else if plane == bounds.max[axis] {
+        -1.0
+    } else {
+        return None;
+    };
+    let flat = v.iter().all(|p| p[axis] == plane);
+    (flat && usable(&[v[0], v[1], v[2]], axis)).then_some(Face {
+        axis,
+        plane,
+        inward,
+    })
+}
+
+/// Whether the triangle with corners `v` (or the rectangle with these three), flat
+/// on `axis`, is shaped as the error bound assumes: edges (as the leaf test subtracts them) neither tiny nor huge, and
 /// not nearly parallel.
 fn usable(v: &[[f32; 3]; 3], axis: usize) -> bool {
     let edge = |k: usize| [0, 1, 2].map(|a| f64::from(v[k][a] - v[0][a]));

@@ -24,7 +24,7 @@ fn on_plane(axis: usize, plane: f32, a: f32, b: f32) -> Vec3 {
     Vec3::from_array(p)
 }
 
-/// Rays aimed at random walls from just inside them, at every scale, with limits a
+/// Rays aimed at random walls (triangles and rectangles) from just inside them, at every scale, with limits a
 /// hair short of the crossing, past it, infinite, NaN, zero and negative: where the
 /// walls' test clears a ray, the triangle test itself finds no hit. Near misses of
 /// the margin are counted, so the test is known to probe where rounding decides.
@@ -45,7 +45,17 @@ fn a_wall_meets_no_ray_its_test_clears() {
         if !usable(&v.map(|p| p.to_array()), axis) {
             continue;
         }
-        let shapes = Shapes::from(vec![Shape::Triangle(Triangle { v })]);
+        // Every other wall a rectangle on the same three corners.
+        let rectangle = rng.next_u32() & 1 == 1;
+        let shape = if rectangle {
+            let [a, b, d] = v;
+            Shape::Rectangle(Rectangle {
+                v: [a, b, b + d - a, d],
+            })
+        } else {
+            Shape::Triangle(Triangle { v })
+        };
+        let shapes = Shapes::from(vec![shape]);
         let leaf = Leaf4::new(&shapes, &[0]);
         let face = Face {
             axis,
@@ -55,7 +65,11 @@ fn a_wall_meets_no_ray_its_test_clears() {
         for _ in 0..64 {
             // A point of the triangle (or near it), and an origin above it.
             let (s, t) = (unit(&mut rng) * 1.2 - 0.1, unit(&mut rng) * 1.2 - 0.1);
-            let target = v[0] + (v[1] - v[0]) * s * (1.0 - t) + (v[2] - v[0]) * s * t;
+            let target = if rectangle {
+                v[0] + (v[1] - v[0]) * s + (v[2] - v[0]) * t
+            } else {
+                v[0] + (v[1] - v[0]) * s * (1.0 - t) + (v[2] - v[0]) * s * t
+            };
             let mut normal = [0.0; 3];
             normal[axis] = inward;
             let height = scale * power(&mut rng, -50, 2) * unit(&mut rng);
@@ -104,12 +118,13 @@ fn a_wall_meets_no_ray_its_test_clears() {
     assert!(close_calls > 500, "{close_calls} close calls");
 }
 
-/// A room: a box whose six faces are walls (the front one split into four), with a
-/// tilted panel, blocks, a sphere and a rectangle inside it.
+/// A room: a box whose six faces are walls (the back one a rectangle, the front one
+/// split into four around a window), with a leaning panel, blocks, a sphere and a
+/// rectangle inside it.
 fn room(rng: &mut Pcg32) -> Shapes {
     let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.5), Vec3::new(1.0, 2.0, 1.0));
     let mut shapes = Vec::new();
-    let mut quad = |a: Vec3, b: Vec3, c: Vec3, d: Vec3| {
+    let quad = |shapes: &mut Vec<Shape>, a: Vec3, b: Vec3, c: Vec3, d: Vec3| {
         shapes.push(Shape::Triangle(Triangle { v: [a, b, c] }));
         shapes.push(Shape::Triangle(Triangle { v: [a, c, d] }));
     };
@@ -117,56 +132,66 @@ fn room(rng: &mut Pcg32) -> Shapes {
         |x: usize, y: usize, z: usize| Vec3::new([lo.x, hi.x][x], [lo.y, hi.y][y], [lo.z, hi.z][z]);
     // Floor, ceiling, left, right, back.
     quad(
+        &mut shapes,
         corner(0, 0, 0),
         corner(1, 0, 0),
         corner(1, 0, 1),
         corner(0, 0, 1),
     );
     quad(
+        &mut shapes,
         corner(0, 1, 0),
         corner(0, 1, 1),
         corner(1, 1, 1),
         corner(1, 1, 0),
     );
     quad(
+        &mut shapes,
         corner(0, 0, 0),
         corner(0, 0, 1),
         corner(0, 1, 1),
         corner(0, 1, 0),
     );
     quad(
+        &mut shapes,
         corner(1, 0, 0),
         corner(1, 1, 0),
         corner(1, 1, 1),
         corner(1, 0, 1),
     );
-    quad(
-        corner(0, 0, 0),
-        corner(0, 1, 0),
-        corner(1, 1, 0),
-        corner(1, 0, 0),
-    );
+    shapes.push(Shape::Rectangle(Rectangle {
+        v: [
+            corner(0, 0, 0),
+            corner(0, 1, 0),
+            corner(1, 1, 0),
+            corner(1, 0, 0),
+        ],
+    }));
     // The front, with a window left open in its middle.
     let front = |x: f32, y: f32| Vec3::new(x, y, hi.z);
     quad(
+        &mut shapes,
         front(-1.0, 0.0),
         front(1.0, 0.0),
         front(1.0, 0.5),
         front(-1.0, 0.5),
     );
     quad(
+        &mut shapes,
         front(-1.0, 1.5),
         front(1.0, 1.5),
         front(1.0, 2.0),
         front(-1.0, 2.0),
     );
     quad(
+        &mut shapes,
         front(-1.0, 0.5),
         front(-0.5, 0.5),
         front(-0.5, 1.5),
         front(-1.0, 1.5),
     );
     quad(
+        &mut shapes,
         front(0.5, 0.5),
         front(1.0, 0.5),
         front(1.0, 1.5),
@@ -174,6 +199,7 @@ fn room(rng: &mut Pcg32) -> Shapes {
     );
     // A panel leaning on the left wall.
     quad(
+        &mut shapes,
         Vec3::new(-1.0, 0.0, -1.0),
         Vec3::new(-0.7, 0.0, -1.0),
         Vec3::new(-1.0, 1.0, -0.4),
@@ -216,8 +242,8 @@ fn shadow_rays_in_a_room_are_answered_as_brute_force_answers() {
             let bvh = Bvh::build_with(&shapes, simd, leaves);
             let indoors = bvh.indoors.as_ref().expect("the room's walls");
             assert_eq!(indoors.walls.faces.len(), 6);
-            // The front's four quads, the floor's and the others: 5 x 2 + 4 x 2 walls.
-            assert_eq!(indoors.tree.shape_count(), shapes.len() - 18);
+            // Four sides of two triangles, the back's rectangle, the front's four quads.
+            assert_eq!(indoors.tree.shape_count(), shapes.len() - 17);
             for _ in 0..300 {
                 let n = 1 + rng.next_u32() as usize % PACKET_RAYS;
                 let mut rays = Vec::new();
@@ -310,7 +336,7 @@ fn walls_are_triangles_flat_on_the_scene_box() {
     let (walls, others) = Walls::of(&shapes).unwrap();
     assert_eq!(walls.faces.len(), 6);
     // The leaning panel touches the floor and the left wall but lies on neither.
-    for i in 18..22u32 {
+    for i in 17..21u32 {
         assert!(others.contains(&i), "shape {i}");
     }
     // A sliver on the floor is not a wall: its edges are nearly parallel.
