@@ -124,86 +124,46 @@ fn a_wall_meets_no_ray_its_test_clears() {
 fn room(rng: &mut Pcg32) -> Shapes {
     let (lo, hi) = (Vec3::new(-1.0, 0.0, -1.5), Vec3::new(1.0, 2.0, 1.0));
     let mut shapes = Vec::new();
-    let quad = |shapes: &mut Vec<Shape>, a: Vec3, b: Vec3, c: Vec3, d: Vec3| {
+    let quad = |shapes: &mut Vec<Shape>, [a, b, c, d]: [Vec3; 4]| {
         shapes.push(Shape::Triangle(Triangle { v: [a, b, c] }));
         shapes.push(Shape::Triangle(Triangle { v: [a, c, d] }));
     };
     let corner =
-        |x: usize, y: usize, z: usize| Vec3::new([lo.x, hi.x][x], [lo.y, hi.y][y], [lo.z, hi.z][z]);
-    // Floor, ceiling, left, right, back.
-    quad(
-        &mut shapes,
-        corner(0, 0, 0),
-        corner(1, 0, 0),
-        corner(1, 0, 1),
-        corner(0, 0, 1),
-    );
-    quad(
-        &mut shapes,
-        corner(0, 1, 0),
-        corner(0, 1, 1),
-        corner(1, 1, 1),
-        corner(1, 1, 0),
-    );
-    quad(
-        &mut shapes,
-        corner(0, 0, 0),
-        corner(0, 0, 1),
-        corner(0, 1, 1),
-        corner(0, 1, 0),
-    );
-    quad(
-        &mut shapes,
-        corner(1, 0, 0),
-        corner(1, 1, 0),
-        corner(1, 1, 1),
-        corner(1, 0, 1),
-    );
+        |[x, y, z]: [usize; 3]| Vec3::new([lo.x, hi.x][x], [lo.y, hi.y][y], [lo.z, hi.z][z]);
+    // Floor, ceiling, left and right.
+    for q in [
+        [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]],
+        [[0, 1, 0], [0, 1, 1], [1, 1, 1], [1, 1, 0]],
+        [[0, 0, 0], [0, 0, 1], [0, 1, 1], [0, 1, 0]],
+        [[1, 0, 0], [1, 1, 0], [1, 1, 1], [1, 0, 1]],
+    ] {
+        quad(&mut shapes, q.map(corner));
+    }
     shapes.push(Shape::Rectangle(Rectangle {
-        v: [
-            corner(0, 0, 0),
-            corner(0, 1, 0),
-            corner(1, 1, 0),
-            corner(1, 0, 0),
-        ],
+        v: [[0, 0, 0], [0, 1, 0], [1, 1, 0], [1, 0, 0]].map(corner),
     }));
     // The front, with a window left open in its middle.
-    let front = |x: f32, y: f32| Vec3::new(x, y, hi.z);
-    quad(
-        &mut shapes,
-        front(-1.0, 0.0),
-        front(1.0, 0.0),
-        front(1.0, 0.5),
-        front(-1.0, 0.5),
-    );
-    quad(
-        &mut shapes,
-        front(-1.0, 1.5),
-        front(1.0, 1.5),
-        front(1.0, 2.0),
-        front(-1.0, 2.0),
-    );
-    quad(
-        &mut shapes,
-        front(-1.0, 0.5),
-        front(-0.5, 0.5),
-        front(-0.5, 1.5),
-        front(-1.0, 1.5),
-    );
-    quad(
-        &mut shapes,
-        front(0.5, 0.5),
-        front(1.0, 0.5),
-        front(1.0, 1.5),
-        front(0.5, 1.5),
-    );
+    for [x0, y0, x1, y1] in [
+        [-1.0, 0.0, 1.0, 0.5],
+        [-1.0, 1.5, 1.0, 2.0],
+        [-1.0, 0.5, -0.5, 1.5],
+        [0.5, 0.5, 1.0, 1.5],
+    ] {
+        let front = |x: f32, y: f32| Vec3::new(x, y, hi.z);
+        quad(
+            &mut shapes,
+            [front(x0, y0), front(x1, y0), front(x1, y1), front(x0, y1)],
+        );
+    }
     // A panel leaning on the left wall.
     quad(
         &mut shapes,
-        Vec3::new(-1.0, 0.0, -1.0),
-        Vec3::new(-0.7, 0.0, -1.0),
-        Vec3::new(-1.0, 1.0, -0.4),
-        Vec3::new(-1.0, 1.0, -0.4),
+        [
+            Vec3::new(-1.0, 0.0, -1.0),
+            Vec3::new(-0.7, 0.0, -1.0),
+            Vec3::new(-0.7, 1.0, -0.4),
+            Vec3::new(-1.0, 1.0, -0.4),
+        ],
     );
     for _ in 0..40 {
         let a = Vec3::new(
@@ -377,18 +337,7 @@ fn walls_are_triangles_flat_on_the_scene_box() {
     let shapes = Shapes::from(vec![Shape::Sphere(top)]);
     assert!(Walls::of(&shapes).is_none());
     // Too many shapes for a second tree.
-    let many: Vec<Shape> = (0..=INDOOR_SHAPES)
-        .map(|i| {
-            let x = i as f32;
-            Shape::Triangle(Triangle {
-                v: [
-                    Vec3::new(x, 0.0, 0.0),
-                    Vec3::new(x + 1.0, 0.0, 0.0),
-                    Vec3::new(x, 0.0, 1.0),
-                ],
-            })
-        })
-        .collect();
+    let many = vec![Shape::Triangle(floor); INDOOR_SHAPES + 1];
     let shapes = Shapes::from(many);
     assert!(Indoors::of(&shapes, SimdLevel::Baseline, Leaves::Indexed).is_none());
 }
