@@ -1,25 +1,26 @@
 //! A room's walls cast no shadow inside it. A triangle or rectangle lying flat on a
-//! face of the scene's bounding box (a floor, a back wall, a ceiling) has the whole scene on one
-//! side, so a shadow ray that stays on that side cannot meet it. Yet in the tree it is
-//! a leaf like any other, and every shadow ray leaving the wall starts inside that
-//! leaf's box and tests it. In a small scene such rays walk a second tree built
-//! without those triangles, where each ray's segment is shown, by a test of a few
+//! face of the scene's bounding box (a floor, a back wall, a ceiling) has the whole
+//! scene on one side, so a shadow ray that stays on that side cannot meet it. Yet in
+//! the tree it is a leaf like any other, and every shadow ray leaving the wall starts
+//! inside that leaf's box and tests it. In a small scene such rays walk a second tree
+//! built without the walls, where each ray's segment is shown, by a test of a few
 //! comparisons, to keep off every one of them.
 //!
 //! The test proves what the triangle test would answer, not merely what exact
 //! arithmetic would: a skipped wall could not have reported a hit, rounding included.
 //! Take a wall in the plane `x = c`. Its edges have no `x` part, so in the
-//! Möller–Trumbore test (a rectangle's is the triangle's of three of its corners) the numerator of `t` is `(o_x - c) C` and the determinant
-//! `-d_x C`, each to a relative error of at most `2u / κ + u` (`u` the unit roundoff,
-//! `C` the edges' in-plane cross product, at least `κ` times their lengths' product):
-//! the other products are exact zeros, and the two that are not are bounded by
-//! Cauchy–Schwarz. So `t` is `-(o_x - c) / d_x` to within `4u / κ + 4u`, where
-//! `o_x - c` is the very float the test subtracts. A ray on the wall's inner side
-//! moving away from it, or along it, meets it at no `t > 0`; one moving toward it
-//! meets it no sooner than its limit when the plane lies a margin of [`MARGIN`]
-//! beyond the limit. The bounds on the wall's edges and on the ray's height and slope
-//! keep every product clear of underflow, so the relative errors hold; a product that
-//! overflows makes the test's `t` infinite or NaN, which is no hit either.
+//! Möller–Trumbore test (a rectangle's is the triangle's of three of its corners) the
+//! numerator of `t` is `(o_x - c) C` and the determinant `-d_x C`, each to a relative
+//! error of at most `2u / κ + u` (`u` the unit roundoff, `C` the edges' in-plane
+//! cross product, at least `κ` times their lengths' product): the other products are
+//! exact zeros, and the two that are not are bounded by Cauchy–Schwarz. So `t` is
+//! `-(o_x - c) / d_x` to within `4u / κ + 4u`, where `o_x - c` is the very float the
+//! test subtracts. A ray on the wall's inner side moving away from it, or along it,
+//! meets it at no `t > 0`; one moving toward it meets it no sooner than its limit
+//! when the plane lies a margin of [`MARGIN`] beyond the limit. The bounds on the
+//! wall's edges and on the ray's height and slope keep every product clear of
+//! underflow, so the relative errors hold; a product that overflows makes the test's
+//! `t` infinite or NaN, which is no hit either.
 
 use super::{Bvh, Leaves, SimdLevel};
 use crate::math::{Aabb, Ray};
@@ -69,7 +70,7 @@ impl Face {
     }
 }
 
-/// The faces of the scene's box that hold walls, and the shapes that are not walls.
+/// The faces of the scene's box that hold walls.
 #[derive(Debug)]
 struct Walls {
     faces: Vec<Face>,
@@ -140,8 +141,8 @@ fn wall_face(v: &[[f32; 3]; 4], axis: usize, bounds: &Aabb) -> Option<Face> {
 }
 
 /// Whether the triangle with corners `v` (or the rectangle with these three), flat
-/// on `axis`, is shaped as the error bound assumes: edges (as the leaf test subtracts them) neither tiny nor huge, and
-/// not nearly parallel.
+/// on `axis`, is shaped as the error bound assumes: edges (as the leaf test subtracts
+/// them) neither tiny nor huge, and not nearly parallel.
 fn usable(v: &[[f32; 3]; 3], axis: usize) -> bool {
     let edge = |k: usize| [0, 1, 2].map(|a| f64::from(v[k][a] - v[0][a]));
     let (e1, e2) = (edge(1), edge(2));

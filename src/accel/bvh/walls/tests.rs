@@ -24,10 +24,11 @@ fn on_plane(axis: usize, plane: f32, a: f32, b: f32) -> Vec3 {
     Vec3::from_array(p)
 }
 
-/// Rays aimed at random walls (triangles and rectangles) from just inside them, at every scale, with limits a
-/// hair short of the crossing, past it, infinite, NaN, zero and negative: where the
-/// walls' test clears a ray, the triangle test itself finds no hit. Near misses of
-/// the margin are counted, so the test is known to probe where rounding decides.
+/// Rays aimed at random walls (triangles and rectangles) from just inside them, at
+/// every scale, with limits a hair short of the crossing, past it, infinite, NaN, zero
+/// and negative: where the walls' test clears a ray, the triangle test itself finds no
+/// hit. Near misses of the margin are counted, so the test is known to probe where
+/// rounding decides.
 #[test]
 fn a_wall_meets_no_ray_its_test_clears() {
     let mut rng = Pcg32::new(0x3a11, 5);
