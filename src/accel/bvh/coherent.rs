@@ -503,19 +503,35 @@ impl Bvh<'_> {
     /// The mask of blocked rays (bit `i` for ray `i`).
     #[inline(always)]
     fn occluded_packet_in(&self, rays: &[Ray], t_max: &[f32], blocks: impl Fn(u32) -> bool) -> u32 {
+        let lanes = Rays::new(rays);
+        let all = (1u32 << rays.len()) - 1;
+        // A packet whose rays all keep off the walls walks the tree without them.
+        let tree = match &self.indoors {
+            Some(indoors)
+                if indoors.clear_lanes(&lanes.origin, &lanes.dir, &shadow_bounds(t_max)) & all
+                    == all =>
+            {
+                indoors.tree()
+            }
+            _ => self,
+        };
+        tree.occluded_packet_walk(&lanes, rays, t_max, blocks)
+    }
+
+    /// [`Bvh::occluded_packet_in`] down this tree, the rays already in `lanes`.
+    #[inline(always)]
+    fn occluded_packet_walk(
+        &self,
+        lanes: &Rays,
+        rays: &[Ray],
+        t_max: &[f32],
+        blocks: impl Fn(u32) -> bool,
+    ) -> u32 {
         if self.shape_count == 0 {
             return 0;
         }
-        let lanes = Rays::new(rays);
         let all = (1u32 << rays.len()) - 1;
-        if let Some(indoors) = &self.indoors {
-            // A packet whose rays all keep off the walls walks the tree without them.
-            let clear = indoors.clear_lanes(&lanes.origin, &lanes.dir, &shadow_bounds(t_max));
-            if clear & all == all {
-                return indoors.tree().occluded_packet_in(rays, t_max, blocks);
-            }
-        }
-        let frustum = Frustum::of(&lanes, rays.len());
+        let frustum = Frustum::of(lanes, rays.len());
         let mut blocked = 0u32;
         // A blocked ray's bound drops to -inf: it needs nothing more.
         let mut bound = shadow_bounds(t_max);
