@@ -25,7 +25,7 @@ pub use observer::{CancelOn, Observer, Progress, Rows};
 use passes::SamplePass;
 pub use passes::{Progressive, SampleSums, sample_totals};
 pub use path::Path;
-pub use sampler::{PixelSampler, PixelStreams};
+pub use sampler::{PixelSampler, PixelStreams, StreamLanes};
 use settings::Plan;
 pub use settings::{DEFAULT_MAX_DEPTH, DEFAULT_MIN_WEIGHT, RenderSettings, check_threads};
 pub use whitted::{Casters, Whitted};
@@ -96,6 +96,13 @@ pub trait Integrator: Sync {
     /// [`PixelSampler::for_sample`], a box filter over the supersampled pixel) rather
     /// than the pinhole ray through its centre and lens rays aimed at its focus.
     fn spreads_samples(&self) -> bool {
+        false
+    }
+
+    /// Whether the model's work on a packet runs in sixteen-lane registers (AVX-512),
+    /// so that the pixel streams it draws from may be made in them too: where the rest
+    /// runs on eight, sixteen-lane work slows the processor's clock for all of it.
+    fn sixteen_lanes(&self) -> bool {
         false
     }
 

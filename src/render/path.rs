@@ -448,6 +448,10 @@ impl Integrator for Path<'_> {
         true
     }
 
+    fn sixteen_lanes(&self) -> bool {
+        self.lanes.is_some() && crate::accel::simd::avx512_wanted()
+    }
+
     #[inline]
     fn trace_camera_ray(
         &self,

@@ -12,7 +12,7 @@
 
 use super::{
     CameraRays, Integrator, NO_RAY, Observer, PixelSampler, PixelStreams, RayCount, Renderer,
-    TILE_COLUMNS, WeightedColor,
+    StreamLanes, TILE_COLUMNS, WeightedColor,
 };
 use crate::accel::{Accel, PACKET_RAYS};
 use crate::math::Ray;
@@ -67,6 +67,11 @@ impl Renderer<'_> {
             pixel: [0; PACKET_RAYS],
             len: 0,
         };
+        let lanes = if integrator.sixteen_lanes() {
+            StreamLanes::Sixteen
+        } else {
+            StreamLanes::Eight
+        };
         for x0 in (0..row_len).step_by(TILE_COLUMNS) {
             for r in 0..rows {
                 for c in x0..(x0 + TILE_COLUMNS).min(row_len) {
@@ -82,7 +87,7 @@ impl Renderer<'_> {
                     while first < samples.end {
                         let at = packet.len;
                         let n = ((samples.end - first) as usize).min(PACKET_RAYS - at);
-                        streams.samples_into(first, &mut packet.samplers[at..at + n]);
+                        streams.samples_into(first, &mut packet.samplers[at..at + n], lanes);
                         for i in at..at + n {
                             let sampler = &mut packet.samplers[i];
                             let jitter = sampler.next_2d();
