@@ -178,14 +178,12 @@ impl PixelStreams {
         }
     }
 
-    /// The stream of sample `index` ([`PixelSampler::for_sample`]).
+    /// The stream of sample `index` ([`PixelSampler::for_sample`]): a batch of one.
     pub fn sample(&self, index: u32) -> PixelSampler {
-        #[cfg(target_arch = "x86_64")]
-        if SimdLevel::current() == SimdLevel::Avx2 {
-            // SAFETY: the processor has AVX2: `SimdLevel::current` checked.
-            return unsafe { self.sample_avx2(index) };
-        }
-        self.sample_in(index)
+        let mut one = [PixelSampler::idle()];
+        self.samples_into(index, &mut one, StreamLanes::Eight);
+        let [stream] = one;
+        stream
     }
 
     /// The streams of samples `first..first + out.len()`, into `out`, made in the
@@ -208,12 +206,6 @@ impl PixelStreams {
         #[cfg(not(target_arch = "x86_64"))]
         let _ = lanes;
         self.samples_into_in(first, out);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn sample_avx2(&self, index: u32) -> PixelSampler {
-        self.sample_in(index)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -250,13 +242,6 @@ impl PixelStreams {
         }
     }
 
-    #[inline(always)]
-    fn sample_in(&self, index: u32) -> PixelSampler {
-        let mut stream = self.stream(index);
-        stream.sobol = self.sobol_points(index);
-        stream
-    }
-
     /// Sample `index`'s stream, its Sobol points still to be filled in.
     #[inline(always)]
     fn stream(&self, index: u32) -> PixelSampler {
@@ -266,10 +251,14 @@ impl PixelStreams {
         stream
     }
 
-    /// [`PixelStreams::sobol_points`] of samples `first..first + n` (`n` at most
-    /// [`BATCH_SAMPLES`]), worked out step by step over all their pairs at once: one
-    /// sample's steps wait on one another (the scramble's four multiplications each),
-    /// while the samples' do not, so the processor overlaps them.
+    /// Point `index` of the two-dimensional Sobol sequence (its first two dimensions:
+    /// a (0, 2)-sequence) for every pair, the index shuffled and each coordinate
+    /// Owen-scrambled by the pair's seeds, for each sample `index` of `first..first +
+    /// n` (`n` at most [`BATCH_SAMPLES`]). Written on bit-reversed words, where the
+    /// scramble works, and without tables, so that the pairs fill vector lanes; worked
+    /// out step by step over all the samples' pairs at once, since one sample's steps
+    /// wait on one another (the scramble's four multiplications each) while the
+    /// samples' do not, so the processor overlaps them.
     #[inline(always)]
     fn sobol_batch(&self, first: u32, n: usize) -> [[(f32, f32); PAIRS]; BATCH_SAMPLES] {
         debug_assert!(n <= BATCH_SAMPLES);
@@ -287,6 +276,9 @@ impl PixelStreams {
         for r in 0..rows {
             for j in 0..ROW {
                 let index = first.wrapping_add((2 * r + j / PAIRS) as u32);
+                // The shuffled index (Owen-scrambled like a fraction, on its reversed
+                // bits). The first dimension is its bits reversed (van der Corput); the
+                // second the XOR of reversed direction numbers over its bits.
                 let shuffled = laine_karras(index.reverse_bits(), shuffle[j]).reverse_bits();
                 x[r][j] = shuffled;
                 y[r][j] = sobol_second_reversed(shuffled);
@@ -304,31 +296,6 @@ impl PixelStreams {
                 let j = (k % 2) * PAIRS + pair;
                 *point = (unit(x[k / 2][j]), unit(y[k / 2][j]));
             }
-        }
-        points
-    }
-
-    /// Point `index` of the two-dimensional Sobol sequence (its first two dimensions:
-    /// a (0, 2)-sequence) for every pair, the index shuffled and each coordinate
-    /// Owen-scrambled by the pair's seeds. Written on bit-reversed words, where the
-    /// scramble works, and without tables, so that the pairs fill vector lanes.
-    #[inline(always)]
-    fn sobol_points(&self, index: u32) -> [(f32, f32); SOBOL_PAIRS as usize] {
-        let reversed = index.reverse_bits();
-        let mut x = [0u32; SOBOL_PAIRS as usize];
-        let mut y = [0u32; SOBOL_PAIRS as usize];
-        for pair in 0..SOBOL_PAIRS as usize {
-            // The shuffled index (Owen-scrambled like a fraction, on its reversed bits).
-            let shuffled = laine_karras(reversed, self.shuffle[pair]).reverse_bits();
-            // First dimension: the index's bits reversed (van der Corput), scrambled.
-            x[pair] = laine_karras(shuffled, self.scramble_x[pair]).reverse_bits();
-            // Second: the XOR of reversed direction numbers over its bits, scrambled.
-            let second = sobol_second_reversed(shuffled);
-            y[pair] = laine_karras(second, self.scramble_y[pair]).reverse_bits();
-        }
-        let mut points = [(0.0, 0.0); SOBOL_PAIRS as usize];
-        for (point, (x, y)) in points.iter_mut().zip(x.into_iter().zip(y)) {
-            *point = (unit(x), unit(y));
         }
         points
     }
@@ -555,7 +522,9 @@ mod tests {
             let key = (pixel_key ^ (pixel_key >> 32)) as u32;
             let streams = PixelStreams::new(seed, x, y);
             let mut one = PixelSampler::for_sample(seed, x, y, index);
-            let mut scalar = streams.sample_in(index);
+            let mut scalar = [PixelSampler::idle()];
+            streams.samples_into_in(index, &mut scalar);
+            let [mut scalar] = scalar;
             let mut packed = [PixelSampler::idle(), PixelSampler::idle()];
             streams.samples_into(index, &mut packed[..1], StreamLanes::Sixteen);
             let [mut packed, idle] = packed;
