@@ -121,6 +121,31 @@ impl<const N: usize> Rays<N> {
         let (h, l) = (lane / 4, lane % 4);
         let lo = [node.min[0][h][l], node.min[1][h][l], node.min[2][h][l]];
         let hi = [node.max[0][h][l], node.max[1][h][l], node.max[2][h][l]];
+        let (hits, t_near) = self.slab(lo, hi, bound);
+        let mut first = f32::INFINITY;
+        for i in 0..N {
+            let hit = hits[i] != 0;
+            first = if hit && t_near[i] < first {
+                t_near[i]
+            } else {
+                first
+            };
+        }
+        (lane_bits(&hits), first)
+    }
+
+    /// Whether any ray enters the box from `lo` to `hi` before its bound: [`Rays::enter`]
+    /// for a box of its own.
+    #[inline(always)]
+    pub(super) fn enter_any(&self, lo: [f32; 3], hi: [f32; 3], bound: &[f32; N]) -> bool {
+        let (hits, _) = self.slab(lo, hi, bound);
+        hits.iter().fold(0, |any, &h| any | h) != 0
+    }
+
+    /// The slab test of every ray against one box: each ray's answer in its lane, as
+    /// [`lane_flag`] gives it, and its entry distance.
+    #[inline(always)]
+    fn slab(&self, lo: [f32; 3], hi: [f32; 3], bound: &[f32; N]) -> ([u32; N], [f32; N]) {
         let mut t_near = [0.0f32; N];
         let mut t_far = *bound;
         for axis in 0..3 {
@@ -139,17 +164,10 @@ impl<const N: usize> Rays<N> {
             }
         }
         let mut hits = [0u32; N];
-        let mut first = f32::INFINITY;
         for i in 0..N {
-            let hit = t_near[i] <= t_far[i] * BOX_SLACK;
-            hits[i] = lane_flag(hit);
-            first = if hit && t_near[i] < first {
-                t_near[i]
-            } else {
-                first
-            };
+            hits[i] = lane_flag(t_near[i] <= t_far[i] * BOX_SLACK);
         }
-        (lane_bits(&hits), first)
+        (hits, t_near)
     }
 
     /// Rays that meet the triangle or rectangle `f` before their bound, with the

@@ -11,11 +11,12 @@
 //! bit. Shadow rays still walk the tree (`scattered`): most of a room's reach their
 //! light, and meeting every shape cost them more than the walk.
 
-use super::Bvh;
+use super::build::half_area;
 use super::coherent::{PACKET_RAYS, Rays, lane_flag};
-use super::leaf4::{Flat, Prim};
+use super::leaf4::{Flat, Prim, padded_bounds};
+use super::{Bvh, TINY_SCENE};
 use crate::accel::Hit;
-use crate::math::Ray;
+use crate::math::{Aabb, Ray};
 use crate::scene::Shapes;
 
 /// Scenes of at most this many shapes, all triangles or rectangles, are met this way.
@@ -23,9 +24,81 @@ use crate::scene::Shapes;
 /// more cubes (60) still 5 % less.
 pub const FEW_SHAPES: usize = 64;
 
-/// Every shape of a scene of [`FEW_SHAPES`] flat shapes at most, in index order.
+/// Every shape of a scene of [`FEW_SHAPES`] flat shapes at most, in index order, in
+/// runs of neighbours.
 pub(super) struct FewFlats {
     flats: Vec<Flat>,
+    runs: Vec<Run>,
+}
+
+/// Consecutive shapes that lie together (a face of a block, a wall's two triangles),
+/// with the box that holds every hit their tests report: when none of the rays enters
+/// it before its best hit so far, the run is passed over, its hits no nearer. The runs
+/// keep the shapes' order, so ties still go to the lowest index.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Run {
+    /// One past the run's last shape; it starts where the run before it ends.
+    end: u32,
+    /// The union of the shapes' [`padded_bounds`], or `None` for a run that nearly
+    /// every batch enters (a room's walls), met without its box test.
+    bounds: Option<([f32; 3], [f32; 3])>,
+}
+
+/// A run's box test, in units of one shape's test against the same rays.
+const RUN_TEST_COST: f32 = 0.5;
+/// The rays a batch typically holds, for the odds that one of them enters a box.
+const RAYS_PER_BATCH: i32 = 13;
+
+/// The shapes cut into runs of consecutive indices at least cost: a run with a box
+/// costs its box test plus its shapes' tests times the odds that some ray of a batch
+/// enters the box, a ray entering it with the odds of its area over the scene's (as
+/// the SAH has it); a run without one costs its shapes' tests. Scenes of
+/// [`TINY_SCENE`] shapes or fewer stay one run, without a box.
+fn runs(bounds: &[Aabb]) -> Vec<Run> {
+    let n = bounds.len();
+    let scene = bounds.iter().fold(Aabb::EMPTY, |a, &b| a.union(b));
+    let scene_area = half_area(&scene);
+    if n <= TINY_SCENE || !(scene_area > 0.0 && scene_area.is_finite()) {
+        return vec![Run {
+            end: n as u32,
+            bounds: None,
+        }];
+    }
+    // best[j]: the least cost of the first j shapes, where its last run starts, and
+    // whether that run has a box.
+    let mut best = vec![(0.0f32, 0usize, false); n + 1];
+    for j in 1..=n {
+        best[j] = (f32::INFINITY, 0, false);
+        let mut b = Aabb::EMPTY;
+        for i in (0..j).rev() {
+            b = b.union(bounds[i]);
+            let odds = (half_area(&b) / scene_area).clamp(0.0, 1.0);
+            let entered = 1.0 - (1.0 - odds).powi(RAYS_PER_BATCH);
+            let shapes = (j - i) as f32;
+            let boxed = RUN_TEST_COST + shapes * entered;
+            let cost = best[i].0 + boxed.min(shapes);
+            if cost < best[j].0 {
+                best[j] = (cost, i, boxed < shapes);
+            }
+        }
+    }
+    let mut runs: Vec<Run> = Vec::new();
+    let mut j = n;
+    while j > 0 {
+        let (_, i, boxed) = best[j];
+        let b = bounds[i..j].iter().fold(Aabb::EMPTY, |a, &b| a.union(b));
+        match runs.last_mut() {
+            // Neighbours without boxes are one run.
+            Some(next) if !boxed && next.bounds.is_none() => {}
+            _ => runs.push(Run {
+                end: j as u32,
+                bounds: boxed.then_some((b.min.to_array(), b.max.to_array())),
+            }),
+        }
+        j = i;
+    }
+    runs.reverse();
+    runs
 }
 
 impl FewFlats {
@@ -40,11 +113,17 @@ impl FewFlats {
                 Prim::Sphere(_) => None,
             })
             .collect::<Option<Vec<_>>>()?;
-        Some(FewFlats { flats })
+        let bounds: Vec<Aabb> = (0..shapes.len())
+            .map(|i| padded_bounds(&shapes.get(i)))
+            .collect();
+        Some(FewFlats {
+            flats,
+            runs: runs(&bounds),
+        })
     }
 
     pub(super) fn memory_bytes(&self) -> usize {
-        self.flats.capacity() * size_of::<Flat>()
+        self.flats.capacity() * size_of::<Flat>() + self.runs.capacity() * size_of::<Run>()
     }
 
     /// The closest hit of each ray with `0 < t < t_max` into `hits`, the rays in the
@@ -67,17 +146,28 @@ impl FewFlats {
         bound[..rays.len()].fill(t_max);
         let mut best_t = bound;
         let mut best_shape = [u32::MAX; N];
-        for (shape, flat) in self.flats.iter().enumerate() {
-            // Each shape is met against `t_max` rather than the best so far, so the
-            // shapes' tests do not wait on one another. A hit counts only strictly
-            // before the best so far: a tie keeps the lower index. The lanes are
-            // blended as bits, which the compiler keeps in vector registers (as
-            // branches it made them one lane at a time).
-            let (met, t) = lanes.meet_each(flat, &bound);
-            for i in 0..N {
-                let keep = met[i] & lane_flag(t[i] < best_t[i]);
-                best_t[i] = f32::from_bits(t[i].to_bits() & keep | best_t[i].to_bits() & !keep);
-                best_shape[i] = shape as u32 & keep | best_shape[i] & !keep;
+        let mut first = 0;
+        for run in &self.runs {
+            let shapes = first..run.end;
+            first = run.end;
+            if let Some((lo, hi)) = run.bounds
+                && !lanes.enter_any(lo, hi, &best_t)
+            {
+                continue;
+            }
+            for shape in shapes {
+                let flat = &self.flats[shape as usize];
+                // Each shape is met against `t_max` rather than the best so far, so
+                // the shapes' tests do not wait on one another. A hit counts only
+                // strictly before the best so far: a tie keeps the lower index. The
+                // lanes are blended as bits, which the compiler keeps in vector
+                // registers (as branches it made them one lane at a time).
+                let (met, t) = lanes.meet_each(flat, &bound);
+                for i in 0..N {
+                    let keep = met[i] & lane_flag(t[i] < best_t[i]);
+                    best_t[i] = f32::from_bits(t[i].to_bits() & keep | best_t[i].to_bits() & !keep);
+                    best_shape[i] = shape & keep | best_shape[i] & !keep;
+                }
             }
         }
         for (i, hit) in hits.iter_mut().enumerate() {

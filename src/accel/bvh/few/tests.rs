@@ -182,3 +182,111 @@ proptest! {
         answers_as_single_rays(&shapes, &rays, t_max)?;
     }
 }
+
+/// The twelve triangles of the box from `lo` to `hi`, two a face.
+fn block(lo: [f32; 3], hi: [f32; 3]) -> Vec<Shape> {
+    let corner = |k: usize| {
+        Vec3::new(
+            if k & 1 == 0 { lo[0] } else { hi[0] },
+            if k & 2 == 0 { lo[1] } else { hi[1] },
+            if k & 4 == 0 { lo[2] } else { hi[2] },
+        )
+    };
+    // Each face's corners in order round it.
+    let faces = [
+        [0, 1, 3, 2],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 3, 7, 6],
+        [0, 2, 6, 4],
+        [1, 3, 7, 5],
+    ];
+    faces
+        .iter()
+        .flat_map(|f| {
+            let [a, b, c, d] = f.map(corner);
+            [
+                Shape::Triangle(Triangle { v: [a, b, c] }),
+                Shape::Triangle(Triangle { v: [a, c, d] }),
+            ]
+        })
+        .collect()
+}
+
+/// A room of ten wall triangles holding three blocks, as a scene file lists them.
+fn room_of_blocks() -> Vec<Shape> {
+    let room = block([-2.0, 0.0, -2.0], [2.0, 3.0, 2.0]);
+    let blocks = [
+        block([-1.2, 0.0, -1.0], [-0.4, 0.9, -0.2]),
+        block([0.3, 0.0, 0.2], [1.1, 1.8, 1.0]),
+        block([-0.3, 2.0, -0.3], [0.3, 2.6, 0.3]),
+    ];
+    room[..10].iter().copied().chain(blocks.concat()).collect()
+}
+
+#[test]
+fn a_room_s_blocks_are_runs_of_their_own() {
+    let shapes = Shapes::from(room_of_blocks());
+    let few = FewFlats::of(&shapes).unwrap();
+    let ends: Vec<u32> = few.runs.iter().map(|r| r.end).collect();
+    assert!(ends.len() > 1, "{ends:?}");
+    assert_eq!(ends.last(), Some(&(shapes.len() as u32)));
+    // No run mixes a wall with a block, nor two blocks.
+    let mut start = 0;
+    for &end in &ends {
+        let group = |i: u32| if i < 10 { 0 } else { 1 + (i - 10) / 12 };
+        assert_eq!(group(start), group(end - 1), "run {start}..{end}");
+        start = end;
+    }
+    // A tiny scene is one run, met by every batch.
+    let tiny = Shapes::from(block([0.0; 3], [1.0; 3]));
+    let few = FewFlats::of(&tiny).unwrap();
+    assert_eq!(few.runs.len(), 1);
+    assert_eq!(few.runs[0].bounds, None);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// Rays from anywhere in a room of blocks toward the blocks' corners and edges, a
+    /// hair off or exactly, and toward random points: each ray's closest hit is the
+    /// single ray's, bit for bit, though the batch passes over runs none of its rays
+    /// enters.
+    #[test]
+    fn rays_past_a_room_s_blocks_meet_them_as_single_rays(
+        rays in prop::collection::vec(
+            (
+                (-1.99f32..1.99, 0.01f32..2.99, -1.99f32..1.99),
+                0usize..108,
+                0usize..3,
+                prop::array::uniform3(prop_oneof![2 => Just(0.0f32), 1 => -1e-6f32..1e-6]),
+                any::<bool>(),
+            ),
+            1..=PACKET_RAYS,
+        ),
+    ) {
+        let shapes = room_of_blocks();
+        let targets: Vec<Vec3> = shapes[10..]
+            .iter()
+            .flat_map(|s| match s {
+                Shape::Triangle(t) => t.v,
+                _ => unreachable!(),
+            })
+            .collect();
+        let shapes = Shapes::from(shapes);
+        let rays: Vec<Ray> = rays
+            .iter()
+            .map(|&((x, y, z), target, edge, jitter, on_edge)| {
+                let o = Vec3::new(x, y, z);
+                // A corner, or the middle of an edge to the next corner.
+                let a = targets[target % targets.len()];
+                let b = targets[(target / 3) * 3 + (target + 1 + edge) % 3];
+                let aim = if on_edge { (a + b) * 0.5 } else { a } + Vec3::from(jitter);
+                Ray::new(o, aim - o)
+            })
+            .filter(|r| r.dir != Vec3::ZERO)
+            .collect();
+        prop_assume!(!rays.is_empty());
+        answers_as_single_rays(&shapes, &rays, f32::INFINITY)?;
+    }
+}
