@@ -5,11 +5,17 @@
 //! holds its hit are branches the processor cannot foresee, where meeting every shape
 //! is straight-line vector arithmetic.
 //!
+//! What the sweep keeps of a tree is one level of boxes over runs of neighbouring
+//! shapes (a block's face, a wall's triangles): a batch passes over a run when none of
+//! its rays enters the run's box, one test for all its lanes. A batch of scattered rays
+//! rarely misses a whole block, but often misses each of its faces.
+//!
 //! Each lane repeats the single-ray shape test operation for operation, and keeps a
 //! hit only when it is strictly nearer than the lane's best so far, so of equally near
 //! shapes the first (the lowest index) stays: the answers of [`Bvh::closest`], bit for
 //! bit. Shadow rays still walk the tree (`scattered`): most of a room's reach their
-//! light, and meeting every shape cost them more than the walk.
+//! light, and meeting every shape cost them more than the walk (with the runs, and
+//! the walls left out, the same as the walk).
 
 use super::build::half_area;
 use super::coherent::{PACKET_RAYS, Rays, lane_flag};
