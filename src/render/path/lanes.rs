@@ -1,8 +1,9 @@
 //! The samples of one pixel traced side by side: sixteen paths step together, vertex
-//! by vertex, and the arithmetic of each step — the BSDF's frame, the light samples'
-//! densities and weights, the next direction, Russian roulette — runs over all
-//! sixteen at once in vector registers, while the steps that follow pointers (the
-//! intersector, the surface at a hit, the sample streams) go one path at a time.
+//! by vertex, and the arithmetic of each step — the surface at a hit on a plain flat
+//! shape, the BSDF's frame, the light samples' densities and weights, the next
+//! direction, Russian roulette — runs over all sixteen at once in vector registers,
+//! while the steps that follow pointers (the intersector, any other surface at a hit,
+//! the sample streams) go one path at a time.
 //!
 //! Each lane does what [`Path::radiance`] does for its path, operation for operation
 //! in the same order, so a pixel's value is the same bit for bit either way (and
@@ -23,7 +24,7 @@ use crate::accel::simd::SimdLevel;
 use crate::math::{Ray, Vec3};
 use crate::render::{PixelSampler, RayCount};
 use crate::scene::light::sampling::{MeshTriangle, pick_triangle, triangle_point};
-use crate::scene::{Albedo, LightKind, Scene, Shape, Surface, SurfacePoint};
+use crate::scene::{Albedo, LightKind, NO_INSTANCE, Scene, Shape, Surface, SurfacePoint};
 use std::f32::consts::FRAC_1_PI;
 
 #[cfg(test)]
@@ -178,6 +179,80 @@ fn each(mut bits: u32) -> impl Iterator<Item = usize> {
             i
         })
     })
+}
+
+/// Each lane's closest hit, as arrays: what a hit on a plain flat shape needs is then
+/// read for all the lanes at once.
+struct LaneHits {
+    t: Lanes,
+    /// The shape met, `u32::MAX` where none was.
+    shape: [u32; LANES],
+    instance: [u32; LANES],
+}
+
+impl LaneHits {
+    const NONE: LaneHits = LaneHits {
+        t: [0.0; LANES],
+        shape: [u32::MAX; LANES],
+        instance: [NO_INSTANCE; LANES],
+    };
+
+    #[inline(always)]
+    fn set(&mut self, i: usize, hit: Option<Hit>) {
+        let hit = hit.unwrap_or(Hit {
+            t: 0.0,
+            shape: u32::MAX,
+            instance: NO_INSTANCE,
+        });
+        self.t[i] = hit.t;
+        self.shape[i] = hit.shape;
+        self.instance[i] = hit.instance;
+    }
+
+    /// Lane `i`'s hit, which it has.
+    #[inline(always)]
+    fn get(&self, i: usize) -> Hit {
+        Hit {
+            t: self.t[i],
+            shape: self.shape[i],
+            instance: self.instance[i],
+        }
+    }
+
+    /// The lanes with a hit. A shape's index is below `u32::MAX`: the shapes of a
+    /// scene are counted in `u32`.
+    #[inline(always)]
+    fn met(&self) -> u32 {
+        lanes_where(|i| self.shape[i] != u32::MAX)
+    }
+
+    /// Of `lanes`, those whose hit is on one of the scene's own shapes with a plain row
+    /// in `rows`.
+    #[inline(always)]
+    fn plain(&self, lanes: u32, rows: &[FlatHit]) -> u32 {
+        let mut bits = 0;
+        for i in each(lanes) {
+            let row = rows.get(self.shape[i] as usize);
+            let plain = self.instance[i] == NO_INSTANCE && row.is_some_and(|row| row.plain);
+            bits |= u32::from(plain) << i;
+        }
+        bits
+    }
+}
+
+/// What a lane's step needs of the surface at its hit, found one path at a time.
+struct LaneSurface {
+    /// The radiance the surface sends back along the ray, if it glows toward it, and
+    /// the density the light's own samples would have drawn the hit with (none on a
+    /// camera ray or a surface that is no light).
+    emitted: Option<(Vec3, Option<f32>)>,
+    diffuse: Vec3,
+    p: Vec3,
+    /// The normals on the side the path arrives from.
+    ng: Vec3,
+    ns: Vec3,
+    /// Where the shadow rays leave from.
+    from: Vec3,
 }
 
 /// What the lanes work out once about a scene they trace.
@@ -530,8 +605,10 @@ impl Path<'_> {
         let mut wo = V3::ZERO;
         let mut diffuse = V3::ZERO;
         let mut from = V3::ZERO;
-        let mut lane_hits = [None; LANES];
-        lane_hits[..n].copy_from_slice(hits);
+        let mut lane_hits = LaneHits::NONE;
+        for (i, hit) in hits.iter().enumerate() {
+            lane_hits.set(i, *hit);
+        }
         while alive != 0 {
             if depth > 0 {
                 // The hits of the paths still going, together.
@@ -550,80 +627,59 @@ impl Path<'_> {
                 self.accel
                     .closest_many(&rays[..m], f32::INFINITY, &mut found[..m]);
                 for k in 0..m {
-                    lane_hits[at[k]] = found[k];
+                    lane_hits.set(at[k], found[k]);
                 }
             }
-            // The surfaces at the hits, one path at a time.
-            for i in each(alive) {
-                count.rays += 1;
+            count.rays += u64::from(alive.count_ones());
+            // A path that meets nothing ends.
+            alive &= lane_hits.met();
+            // The surfaces at the hits on plain flat shapes, all at once...
+            let plain = lane_hits.plain(alive, &prepared.flat_hits);
+            if plain != 0 {
+                // The rows one lane at a time, then the arithmetic in vector lanes.
+                let mut row_ng = V3::ZERO;
+                let mut row_diffuse = V3::ZERO;
+                for i in each(plain) {
+                    let row = &prepared.flat_hits[lane_hits.shape[i] as usize];
+                    row_ng.put(i, row.ng);
+                    row_diffuse.put(i, row.diffuse);
+                }
+                for i in 0..LANES {
+                    let on = plain >> i & 1 == 1;
+                    let (o, d, t) = (origin.at(i), dir.at(i), lane_hits.t[i]);
+                    let ng_in = row_ng.at(i);
+                    let g = if dot(d, ng_in) < 0.0 {
+                        ng_in
+                    } else {
+                        ng_in.map(|c| -c)
+                    };
+                    let at = [o[0] + d[0] * t, o[1] + d[1] * t, o[2] + d[2] * t];
+                    let keep = |v: [f32; 3], mine: [f32; 3]| if on { mine } else { v };
+                    diffuse.put(i, keep(diffuse.at(i), row_diffuse.at(i)));
+                    p.put(i, keep(p.at(i), at));
+                    ng.put(i, keep(ng.at(i), g));
+                    ns.put(i, keep(ns.at(i), g));
+                    wo.put(i, keep(wo.at(i), d.map(|c| -c)));
+                    from.put(i, keep(from.at(i), at));
+                }
+            }
+            // ...and the others one path at a time.
+            for i in each(alive & !plain) {
                 let ray = Ray {
                     origin: origin.get(i),
                     dir: dir.get(i),
                 };
-                let Some(hit) = lane_hits[i] else {
-                    alive &= !(1 << i);
-                    continue;
-                };
-                let id = hit.id();
-                let row = match prepared.flat_hits.get(id.shape as usize) {
-                    Some(row) if id.is_world() => Some(row),
-                    _ => None,
-                };
-                if let Some(row) = row.filter(|row| row.plain) {
-                    // What the steps below find on a plain flat surface.
-                    let ng_in = Vec3::from_array(row.ng);
-                    let g = if ray.dir.dot(ng_in) < 0.0 {
-                        ng_in
-                    } else {
-                        -ng_in
-                    };
-                    let at = ray.at(hit.t);
-                    diffuse.set(i, Vec3::from_array(row.diffuse));
-                    p.set(i, at);
-                    ng.set(i, g);
-                    ns.set(i, g);
-                    wo.set(i, -ray.dir);
-                    from.set(i, at);
-                    continue;
-                }
-                let s = self.surface(id);
-                let texture_coords = !prepared.untextured && s.reads_texture_coords();
-                let sp = if prepared.flat && !texture_coords {
-                    match row {
-                        Some(row) => SurfacePoint::flat(ray.at(hit.t), Vec3::from_array(row.ng)),
-                        None => self.scene.flat_point(id, &ray, hit.t),
-                    }
-                } else {
-                    self.scene
-                        .surface_point(hit.id(), &ray, hit.t, texture_coords)
-                };
-                let entering = ray.dir.dot(sp.ng) < 0.0;
-                let (g, sn) = if entering {
-                    (sp.ng, sp.n)
-                } else {
-                    (-sp.ng, -sp.n)
-                };
-                if entering && s.emission != Vec3::ZERO {
-                    let light = self.light_of(hit.id()).map(|(_, light)| light);
-                    let le = s.emission
-                        * self.scene.map(&s.emission_map, &sp)
-                        * light.map_or(1.0, |light| light.intensity);
-                    let w = match light {
-                        Some(light) if depth > 0 => {
-                            let pdf = light.pdf_incident(last_p.get(i), sp.p, sp.ng);
-                            power_heuristic(last_pdf[i], pdf)
-                        }
-                        _ => 1.0,
-                    };
+                let at = self.surface_lane(prepared, &ray, lane_hits.get(i), depth, last_p.get(i));
+                if let Some((le, pdf)) = at.emitted {
+                    let w = pdf.map_or(1.0, |pdf| power_heuristic(last_pdf[i], pdf));
                     l.set(i, l.get(i) + beta.get(i) * le * w);
                 }
-                let albedo = self.scene.albedo(s, &sp, hit.id()) * sp.color;
-                diffuse.set(i, albedo * s.diffuse);
-                p.set(i, sp.p);
-                ng.set(i, g);
-                ns.set(i, sn);
+                diffuse.set(i, at.diffuse);
+                p.set(i, at.p);
+                ng.set(i, at.ng);
+                ns.set(i, at.ns);
                 wo.set(i, -ray.dir);
-                from.set(i, sp.shadow_origin(g));
+                from.set(i, at.from);
             }
             if alive == 0 {
                 break;
@@ -697,6 +753,61 @@ impl Path<'_> {
         for (i, o) in out.iter_mut().enumerate().take(n) {
             let v = l.get(i);
             *o = if v.is_finite() { v } else { Vec3::ZERO };
+        }
+    }
+
+    /// The surface at `hit` for a lane, one path at a time: a hit that is not on a plain
+    /// flat shape (a light, a texture, vertex normals or colours, an instance). Kept out
+    /// of line, away from the lanes' own loop.
+    #[inline(never)]
+    fn surface_lane(
+        &self,
+        prepared: &LaneScene,
+        ray: &Ray,
+        hit: Hit,
+        depth: u32,
+        last_p: Vec3,
+    ) -> LaneSurface {
+        let id = hit.id();
+        let row = match prepared.flat_hits.get(id.shape as usize) {
+            Some(row) if id.is_world() => Some(row),
+            _ => None,
+        };
+        let s = self.surface(id);
+        let texture_coords = !prepared.untextured && s.reads_texture_coords();
+        let sp = if prepared.flat && !texture_coords {
+            match row {
+                Some(row) => SurfacePoint::flat(ray.at(hit.t), Vec3::from_array(row.ng)),
+                None => self.scene.flat_point(id, ray, hit.t),
+            }
+        } else {
+            self.scene.surface_point(id, ray, hit.t, texture_coords)
+        };
+        let entering = ray.dir.dot(sp.ng) < 0.0;
+        let (g, sn) = if entering {
+            (sp.ng, sp.n)
+        } else {
+            (-sp.ng, -sp.n)
+        };
+        let emitted = (entering && s.emission != Vec3::ZERO).then(|| {
+            let light = self.light_of(id).map(|(_, light)| light);
+            let le = s.emission
+                * self.scene.map(&s.emission_map, &sp)
+                * light.map_or(1.0, |light| light.intensity);
+            let pdf = match light {
+                Some(light) if depth > 0 => Some(light.pdf_incident(last_p, sp.p, sp.ng)),
+                _ => None,
+            };
+            (le, pdf)
+        });
+        let albedo = self.scene.albedo(s, &sp, id) * sp.color;
+        LaneSurface {
+            emitted,
+            diffuse: albedo * s.diffuse,
+            p: sp.p,
+            ng: g,
+            ns: sn,
+            from: sp.shadow_origin(g),
         }
     }
 
